@@ -1,0 +1,42 @@
+# Two commands set up and use volumen on a fresh Debian machine with Python >= 3.11:
+#   make demo   - create .venv, install, write the phantom montages and renderings into out/
+#   make test   - create .venv, install with test extras, run the whole suite
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+# two workers on the two cores; NUMBA caches compiled kernels beside the sources
+PYTEST_ARGS ?= -n 2
+
+.PHONY: demo test install system-data clean
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+
+$(STAMP): pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e ".[test,video]"
+	touch $(STAMP)
+
+install: $(STAMP)
+
+# Optional real data: Debian's mricron-data ships MRI brain templates used by
+# volumen.data.sample(). Installing it needs root and apt; when that is not
+# possible the tests that use it skip with the reason printed.
+system-data:
+	@if [ -f /usr/share/mricron/templates/ch2better.nii.gz ]; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian package mricron-data (MRI templates)"; \
+	  (apt-get install -y -qq mricron-data >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq mricron-data >/dev/null 2>&1)) || \
+	  echo "mricron-data could not be installed; tests using it will skip"; \
+	else echo "not root: mricron-data not installed; tests using it will skip"; fi
+
+demo: $(STAMP)
+	$(VENV)/bin/volumen demo --out out
+
+test: $(STAMP) system-data
+	$(PY) -m pytest $(PYTEST_ARGS)
+
+clean:
+	rm -rf $(VENV) out test-output

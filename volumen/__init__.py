@@ -1,0 +1,27 @@
+"""volumen: seeing inside medical volumes (CT, MRI).
+
+``import volumen`` is cheap: the readers, renderers and Qt are imported only
+when first used.
+"""
+
+from __future__ import annotations
+
+from .core import Volume
+from .errors import VolumeReadError, VolumeWriteError, VolumenError
+
+__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "save", "__version__"]
+__version__ = "0.1.0"
+
+
+def load(path, **options) -> Volume:
+    """Read a volume file or DICOM folder; see :func:`volumen.io.load`."""
+    from .io import load as _load
+
+    return _load(path, **options)
+
+
+def save(volume: Volume, path, **options) -> None:
+    """Write a volume; see :func:`volumen.io.save`."""
+    from .io import save as _save
+
+    _save(volume, path, **options)

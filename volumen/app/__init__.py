@@ -1,0 +1,1 @@
+"""volumen.app (see DESIGN.md section 1)."""

@@ -1,0 +1,1 @@
+"""volumen.bench (see DESIGN.md section 1)."""

@@ -1,0 +1,1 @@
+"""volumen.endoscopy (see DESIGN.md section 1)."""

@@ -1,0 +1,104 @@
+"""Typed errors of volumen.
+
+Every failure to read or write a volume is a :class:`VolumeReadError` (or a
+subclass) that names the file and says what is wrong, so the command line and
+the application can show one clear line instead of a traceback.
+"""
+
+from __future__ import annotations
+
+import os
+
+__all__ = [
+    "VolumenError",
+    "VolumeReadError",
+    "MissingPathError",
+    "UnknownFormatError",
+    "CorruptDataError",
+    "DataSizeError",
+    "SeriesError",
+    "MultipleSeriesError",
+    "MissingDependencyError",
+    "NonFiniteValuesError",
+    "VolumeWriteError",
+    "SampleDataMissingError",
+]
+
+
+class VolumenError(Exception):
+    """Base class of every error volumen raises on purpose."""
+
+
+class VolumeReadError(VolumenError):
+    """A volume could not be read.
+
+    Parameters
+    ----------
+    path : str or os.PathLike or None
+        The file or folder that failed.
+    problem : str
+        What is wrong, in words a user understands.
+    """
+
+    def __init__(self, path, problem: str):
+        self.path = None if path is None else os.fspath(path)
+        self.problem = problem
+        where = f"{self.path}: " if self.path is not None else ""
+        super().__init__(f"{where}{problem}")
+
+
+class MissingPathError(VolumeReadError, FileNotFoundError):
+    """The path does not exist."""
+
+
+class UnknownFormatError(VolumeReadError):
+    """The file's format is not one volumen reads (or writes)."""
+
+
+class CorruptDataError(VolumeReadError):
+    """The file exists and claims a known format, but its content is broken."""
+
+
+class DataSizeError(CorruptDataError):
+    """The data is shorter or longer than its header (or the caller) says."""
+
+
+class SeriesError(VolumeReadError):
+    """A DICOM series is inconsistent (mixed sizes, orientations, missing pixels...)."""
+
+
+class MultipleSeriesError(SeriesError):
+    """A folder holds several DICOM series and none was chosen.
+
+    ``series`` lists ``(uid, description, n_slices)`` for each one.
+    """
+
+    def __init__(self, path, series: list[tuple[str, str, int]]):
+        self.series = list(series)
+        lines = "\n".join(f"  {uid}  {desc or '(no description)'}  {n} slices" for uid, desc, n in self.series)
+        super().__init__(
+            path,
+            f"holds {len(self.series)} DICOM series; choose one with series=UID "
+            f"(or --series UID):\n{lines}",
+        )
+
+
+class MissingDependencyError(VolumeReadError):
+    """Reading needs a package that is not installed; the message names it."""
+
+
+class NonFiniteValuesError(VolumeReadError):
+    """The data holds NaN or infinite values and the caller asked for an error."""
+
+
+class VolumeWriteError(VolumenError):
+    """A volume could not be written."""
+
+    def __init__(self, path, problem: str):
+        self.path = None if path is None else os.fspath(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: {problem}")
+
+
+class SampleDataMissingError(VolumeReadError):
+    """Sample data that volumen looks for on the machine is not installed."""

@@ -1,0 +1,181 @@
+"""``load`` and ``save``: find the format, call its module, apply the shared checks.
+
+Each format lives in its own module with ``read(path, **options) -> Volume`` and,
+where writable, ``write(volume, path) -> None``. This module only picks the
+module (by folder, suffix or magic bytes) and applies what every format shares:
+the non-finite value policy, ``resample=True`` and the ``source`` entry in meta.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from pathlib import Path
+from typing import Literal, Sequence
+
+import numpy as np
+
+from ..core import Volume
+from ..errors import MissingPathError, NonFiniteValuesError, UnknownFormatError, VolumeWriteError
+
+__all__ = ["load", "save", "detect_format", "READ_FORMATS", "WRITE_FORMATS"]
+
+# format name -> (module, suffixes)
+READ_FORMATS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "dicom": ("_dicom", (".dcm", ".dicom", ".ima")),
+    "nifti": ("_nifti", (".nii", ".nii.gz", ".img", ".hdr")),
+    "nrrd": ("_nrrd", (".nrrd", ".nhdr")),
+    "metaimage": ("_metaimage", (".mha", ".mhd")),
+    "vtk": ("_vtk", (".vtk",)),
+    "numpy": ("_numpy", (".npy", ".npz")),
+    "raw": ("_raw", (".raw", ".bin")),
+}
+WRITE_FORMATS = ("nifti", "nrrd", "metaimage", "numpy")
+
+NonFinitePolicy = Literal["error", "keep", "zero", "min"]
+
+
+def _suffix(path: Path) -> str:
+    name = path.name.lower()
+    for double in (".nii.gz",):
+        if name.endswith(double):
+            return double
+    return path.suffix.lower()
+
+
+def _is_dicom_file(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            head = f.read(132)
+    except OSError:
+        return False
+    return len(head) >= 132 and head[128:132] == b"DICM"
+
+
+def detect_format(path) -> str:
+    """Name of the format of ``path`` (a file, a folder, or a list of files).
+
+    A folder, a list of files and a file with the ``DICM`` preamble are DICOM;
+    otherwise the suffix decides. Raises :class:`UnknownFormatError` listing the
+    known suffixes.
+    """
+    if isinstance(path, (list, tuple)):
+        return "dicom"
+    p = Path(path)
+    if p.is_dir():
+        return "dicom"
+    suf = _suffix(p)
+    for name, (_mod, suffixes) in READ_FORMATS.items():
+        if suf in suffixes:
+            return name
+    if _is_dicom_file(p):
+        return "dicom"
+    known = ", ".join(s for _m, sx in READ_FORMATS.values() for s in sx)
+    raise UnknownFormatError(p, f"unknown volume format {suf or '(no suffix)'!r}; volumen reads {known} "
+                                "and DICOM folders (raw files need shape=, dtype= and spacing=)")
+
+
+def _module(fmt: str):
+    return importlib.import_module(f"{__package__}.{READ_FORMATS[fmt][0]}")
+
+
+def _apply_nonfinite(vol: Volume, policy: NonFinitePolicy, path) -> Volume:
+    d = vol.data
+    if not np.issubdtype(d.dtype, np.floating):
+        return vol
+    bad = ~np.isfinite(d)
+    n_bad = int(bad.sum())
+    if n_bad == 0:
+        return vol
+    msg = f"{n_bad} of {d.size} voxels are NaN or infinite"
+    if policy == "error":
+        raise NonFiniteValuesError(path, msg + " (load with nonfinite='zero', 'min' or 'keep' to accept them)")
+    if policy == "keep":
+        vol.meta["warnings"].append(msg + "; kept as they are")
+        return vol
+    finite = d[~bad]
+    fill = 0.0 if policy == "zero" or finite.size == 0 else float(finite.min())
+    data = d.copy()
+    data[bad] = fill
+    vol.meta["warnings"].append(msg + f"; replaced by {fill:g}")
+    vol.data = np.ascontiguousarray(data)
+    return vol
+
+
+def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str | None = None,
+         nonfinite: NonFinitePolicy = "zero", resample: bool = False, **options) -> Volume:
+    """Read a volume from a file, a DICOM folder, or a list of DICOM files.
+
+    Parameters
+    ----------
+    path : path or list of paths
+        A volume file (``.nii``, ``.nii.gz``, ``.nrrd``, ``.nhdr``, ``.mha``, ``.mhd``,
+        ``.vtk``, ``.npy``, ``.npz``, ``.raw``), a DICOM file, a folder holding one DICOM
+        series, or a list of DICOM files.
+    format : str, optional
+        Force a format (one of ``READ_FORMATS``) instead of detecting it.
+    nonfinite : {"zero", "min", "error", "keep"}
+        What to do with NaN/inf values in float data: replace them by 0 (default)
+        or by the finite minimum, raise :class:`NonFiniteValuesError`, or keep them.
+        Replacing or keeping records a line in ``volume.meta["warnings"]``.
+    resample : bool
+        Make non-uniform slice spacing uniform (DICOM) by resampling onto the
+        smallest spacing found. Without it such a series loads as it is, with a
+        warning in ``meta["warnings"]`` and the positions in ``meta["slice_positions"]``.
+    **options
+        Passed to the format's reader: ``series=UID`` for DICOM; ``shape``,
+        ``dtype``, ``spacing``, ``byte_order``, ``offset`` for raw files; ``key`` for npz.
+
+    Returns
+    -------
+    Volume
+        Data ``[z, y, x]`` in physical units (CT in HU), affine to RAS+ mm.
+
+    Raises
+    ------
+    VolumeReadError
+        Or a subclass, naming the file and the problem.
+    """
+    if nonfinite not in ("zero", "min", "error", "keep"):
+        raise ValueError(f"nonfinite must be one of 'zero', 'min', 'error', 'keep', got {nonfinite!r}")
+    if not isinstance(path, (list, tuple)):
+        if not Path(path).exists():
+            raise MissingPathError(path, "no such file or folder")
+    elif len(path) == 0:
+        raise MissingPathError(None, "an empty list of DICOM files was given")
+    fmt = format or detect_format(path)
+    if fmt not in READ_FORMATS:
+        raise UnknownFormatError(path, f"unknown format {fmt!r}; choose one of {sorted(READ_FORMATS)}")
+    mod = _module(fmt)
+    if fmt == "dicom":
+        options["resample"] = resample
+    vol = mod.read(path, **options)
+    vol.meta.setdefault("source", [os.fspath(p) for p in path] if isinstance(path, (list, tuple)) else os.fspath(path))
+    vol.meta.setdefault("format", fmt)
+    return _apply_nonfinite(vol, nonfinite, path)
+
+
+def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None) -> None:
+    """Write ``volume`` keeping data, spacing and affine.
+
+    The format comes from the suffix (``.nii``, ``.nii.gz``, ``.nrrd``, ``.mha``,
+    ``.mhd``, ``.npy``, ``.npz``) or from ``format``. Raises
+    :class:`VolumeWriteError` for an unknown suffix or a failed write.
+    """
+    p = Path(path)
+    if format is None:
+        suf = _suffix(p)
+        format = next((n for n in WRITE_FORMATS if suf in READ_FORMATS[n][1]), None)
+        if format is None:
+            raise VolumeWriteError(p, f"cannot write {suf or '(no suffix)'!r}; volumen writes .nii, .nii.gz, "
+                                      ".nrrd, .mha, .mhd, .npy and .npz")
+    if format not in WRITE_FORMATS:
+        raise VolumeWriteError(p, f"cannot write format {format!r}; choose one of {list(WRITE_FORMATS)}")
+    if not p.parent.exists():
+        raise VolumeWriteError(p, f"folder {p.parent} does not exist")
+    try:
+        _module(format).write(volume, p)
+    except VolumeWriteError:
+        raise
+    except OSError as exc:
+        raise VolumeWriteError(p, f"could not write: {exc}") from exc

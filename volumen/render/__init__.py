@@ -1,0 +1,1 @@
+"""volumen.render (see DESIGN.md section 1)."""

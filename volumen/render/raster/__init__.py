@@ -1,0 +1,1 @@
+"""volumen.render.raster (see DESIGN.md section 1)."""

@@ -1,0 +1,1 @@
+"""volumen.render.raycast (see DESIGN.md section 1)."""

@@ -1,0 +1,1 @@
+"""volumen.segment (see DESIGN.md section 1)."""

@@ -1,0 +1,1 @@
+"""volumen.surface (see DESIGN.md section 1)."""

@@ -1,0 +1,271 @@
+"""DICOM reader: a folder, a file or a list of files holding one image series -> :class:`Volume`.
+
+Headers of every file are read first (:mod:`._dicom_series` groups them by
+SeriesInstanceUID, orders slices along their normal and builds the geometry);
+pixels are then read for the chosen series only, rescaled to physical units
+(RescaleSlope / RescaleIntercept: CT in HU) and stacked ``[slice, row, column]``
+= ``[z, y, x]``. DICOM is LPS+; the affine is turned into RAS+ once, here.
+
+Patient identity (names, IDs, dates of birth, addresses, institutions, accession
+numbers, study dates) is never copied into the volume, its warnings or any error.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+import pydicom
+from pydicom.errors import InvalidDicomError
+from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
+
+from ..core import Volume
+from ..errors import (CorruptDataError, MissingDependencyError, MissingPathError, MultipleSeriesError, SeriesError,
+                      UnknownFormatError)
+from ._dicom_series import Geometry, SeriesHeaders, measure, read_headers
+
+__all__ = ["read"]
+
+_INSTALL = {
+    "JPEG-LS": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install pyjpegls, or: pip install python-gdcm)",
+    "JPEG 2000": "pip install pylibjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)",
+    "JPEG": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install python-gdcm)",
+    "RLE": "pip install pylibjpeg pylibjpeg-rle",
+}
+_INSTALL_ANY = "pip install pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)"
+
+
+def _files(path) -> tuple[list[Path], Path]:
+    """The candidate files and the path to name in messages (the folder, file, or the list's common folder)."""
+    if isinstance(path, (list, tuple)):
+        if not path:
+            raise MissingPathError(None, "an empty list of DICOM files was given")
+        files: list[Path] = []
+        for p in map(Path, path):
+            if not p.exists():
+                raise MissingPathError(p, "no such file or folder")
+            files.extend(sorted(q for q in p.rglob("*") if q.is_file()) if p.is_dir() else [p])
+        where = Path(os.path.commonpath([os.path.abspath(p) for p in path]))
+        return files, where
+    p = Path(path)
+    if not p.exists():
+        raise MissingPathError(p, "no such file or folder")
+    if p.is_dir():
+        return sorted(q for q in p.rglob("*") if q.is_file()), p
+    return [p], p
+
+
+def _choose(series: dict[str, SeriesHeaders], uid: str | None, where) -> SeriesHeaders:
+    listing = [(s.uid, s.description, len(s.slices)) for s in series.values()]
+    if uid is not None:
+        if uid not in series:
+            lines = "; ".join(f"{u} ({d or 'no description'}, {n} slices)" for u, d, n in listing)
+            raise SeriesError(where, f"holds no series with SeriesInstanceUID {uid!r}; it holds: {lines}")
+        return series[uid]
+    if len(series) > 1:
+        raise MultipleSeriesError(where, listing)
+    return next(iter(series.values()))
+
+
+def _decode(path: str, frames: int | None, shape: tuple[int, int]) -> np.ndarray:
+    """Stored pixel values of one file: ``(rows, cols)``, or ``(frames, rows, cols)`` if ``frames``."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                ds = pydicom.dcmread(path)
+            except InvalidDicomError:  # no preamble: accepted by the header pass for its DICOM suffix
+                ds = pydicom.dcmread(path, force=True)
+                if "TransferSyntaxUID" not in ds.file_meta:
+                    ds.file_meta.TransferSyntaxUID = (ImplicitVRLittleEndian if ds.original_encoding[0]
+                                                      else ExplicitVRLittleEndian)
+    except Exception as exc:  # noqa: BLE001 - whatever pydicom raises, the file is unreadable
+        raise CorruptDataError(path, f"is not a readable DICOM file ({type(exc).__name__})") from None
+    if "PixelData" not in ds:
+        raise CorruptDataError(path, "has no pixel data (truncated file?)")
+    ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
+    ts_name = f"{ts.name} ({ts})" if ts is not None else "an unknown transfer syntax"
+    if ts is not None and ts.is_compressed:
+        from pydicom.pixels import get_decoder
+
+        try:
+            available = get_decoder(ts).is_available
+        except NotImplementedError:
+            raise CorruptDataError(path, f"pixel data uses {ts_name}, which no pydicom decoder supports") from None
+        if not available:
+            hint = next((v for k, v in _INSTALL.items() if k in ts.name), _INSTALL_ANY)
+            raise MissingDependencyError(path, f"pixel data is compressed with {ts_name} and no installed "
+                                               f"decoder reads it; install one: {hint}")
+    if int(ds.get("SamplesPerPixel", 1) or 1) != 1:
+        raise SeriesError(path, f"colour images (SamplesPerPixel={ds.SamplesPerPixel}, "
+                                f"{ds.get('PhotometricInterpretation', '')}) are not volumes volumen reads")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            arr = ds.pixel_array
+    except Exception as exc:  # noqa: BLE001
+        raise CorruptDataError(path, f"could not decode its {ts_name} pixel data ({type(exc).__name__}: "
+                                     f"{str(exc)[:160]})") from None
+    if frames == 1 and arr.ndim == 2:
+        arr = arr[None]
+    want = shape if frames is None else (frames, *shape)
+    if arr.shape != want:
+        raise CorruptDataError(path, f"pixel data has shape {arr.shape}, the header says {want}")
+    return arr
+
+
+def _stack(series: SeriesHeaders, geo: Geometry) -> np.ndarray:
+    """Stored values ``(n, rows, cols)`` in the sorted slice order (each file read once)."""
+    slices = series.slices
+    dest: dict[str, list[tuple[int, int | None]]] = defaultdict(list)
+    for k, idx in enumerate(geo.order):
+        dest[slices[idx].path].append((k, slices[idx].frame))
+    n_frames = defaultdict(int)
+    for s in slices:
+        n_frames[s.path] += 1
+    out = None
+    for path, targets in dest.items():
+        multi = targets[0][1] is not None
+        arr = _decode(path, n_frames[path] if multi else None, slices[0].shape)
+        if out is None:
+            out = np.empty((len(slices), *slices[0].shape), arr.dtype)
+        elif arr.dtype != out.dtype:
+            out = out.astype(np.result_type(out.dtype, arr.dtype))
+        for k, frame in targets:
+            out[k] = arr if frame is None else arr[frame]
+    return out
+
+
+def _rescale(raw: np.ndarray, slopes: np.ndarray, intercepts: np.ndarray) -> tuple[np.ndarray, dict]:
+    """Physical values ``raw * slope + intercept`` per slice; integers kept where that is exact."""
+    same = bool(np.all(slopes == slopes[0]) and np.all(intercepts == intercepts[0]))
+    if same:
+        s, b = float(slopes[0]), float(intercepts[0])
+        info = {"slope": s, "intercept": b}
+        if s == 1.0 and b == 0.0:
+            return raw, info
+        if raw.dtype.kind in "iu" and s.is_integer() and b.is_integer():
+            lo, hi = sorted((float(raw.min()) * s + b, float(raw.max()) * s + b))
+            for dt in (raw.dtype, np.dtype(np.int16), np.dtype(np.int32), np.dtype(np.int64)):
+                if np.iinfo(dt).min <= lo and hi <= np.iinfo(dt).max:
+                    break
+            out = np.empty(raw.shape, dt)
+            for k in range(raw.shape[0]):  # per slice: int64 temporaries stay small
+                out[k] = raw[k].astype(np.int64) * int(s) + int(b)
+            return out, info
+    else:
+        info = {"per_slice": True, "slope_range": [float(slopes.min()), float(slopes.max())],
+                "intercept_range": [float(intercepts.min()), float(intercepts.max())]}
+    out = np.empty(raw.shape, np.float32)
+    for k in range(raw.shape[0]):
+        out[k] = raw[k].astype(np.float64) * slopes[k] + intercepts[k]
+    return out, info
+
+
+def _resample_uniform(data: np.ndarray, geo: Geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Linear interpolation along the slice normal onto the smallest gap.
+
+    Returns ``(data (m, rows, cols) float32, positions (m,) mm, k column (3,) RAS mm)``.
+    """
+    pos = geo.positions
+    step = float(np.diff(pos).min())
+    m = int(np.floor((pos[-1] - pos[0]) / step + 1e-6)) + 1
+    target = pos[0] + step * np.arange(m)
+    lo = np.clip(np.searchsorted(pos, target, side="right") - 1, 0, len(pos) - 2)
+    w = np.clip((target - pos[lo]) / (pos[lo + 1] - pos[lo]), 0.0, 1.0)
+    out = np.empty((m, *data.shape[1:]), np.float32)
+    for k in range(m):  # one slice at a time, vectorised within the slice
+        out[k] = (1.0 - w[k]) * data[lo[k]] + w[k] * data[lo[k] + 1]
+    first_to_last = geo.affine[:3, 2] * (len(pos) - 1)  # RAS vector from the first slice to the last
+    return out, target, first_to_last * step / (pos[-1] - pos[0])
+
+
+def read(path, *, series: str | None = None, resample: bool = False, **options) -> Volume:
+    """Read one DICOM image series.
+
+    Parameters
+    ----------
+    path : path or list of paths
+        A folder (searched recursively; non-DICOM files and DICOMDIR are skipped),
+        one DICOM file, or a list of files, in any order.
+    series : str, optional
+        SeriesInstanceUID to read when the input holds several series.
+    resample : bool
+        If slice gaps are not uniform, interpolate (linearly, along the slice
+        normal, from the true positions) onto a uniform grid at the smallest gap.
+
+    Returns
+    -------
+    Volume
+        ``data`` ``[z, y, x]`` = ``[slice, row, column]`` in physical units (RescaleSlope /
+        RescaleIntercept applied; CT in HU): the stored integer dtype when the rescale is
+        the identity, an integer dtype wide enough when slope and intercept are whole
+        numbers shared by all slices, float32 otherwise. ``spacing`` ``(dz, dy, dx)`` mm,
+        with dz from the slice positions; ``affine`` (column, row, slice) -> RAS+ mm.
+        ``meta`` holds technical facts only: ``series_uid``, ``series_description``,
+        ``slice_positions`` (mm along the slice normal), ``rescale``, ``window_presets``,
+        ``transfer_syntax``, ``n_files``, ``warnings``...
+
+    Raises
+    ------
+    MissingPathError, UnknownFormatError
+        Missing path; no DICOM files.
+    CorruptDataError
+        A DICOM file that cannot be parsed or decoded (named).
+    SeriesError, MultipleSeriesError
+        No images, several series and none chosen, inconsistent or duplicate slices.
+    MissingDependencyError
+        Compressed pixel data without an installed decoder (names what to install).
+    """
+    if options:
+        raise TypeError(f"unknown DICOM read option(s) {sorted(options)}; valid options are series= and resample=")
+    files, where = _files(path)
+    if not files:
+        raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")
+    notes: list[str] = []
+    dicomdirs: list[str] = []
+    found = read_headers(files, notes, dicomdirs)
+    if not found:
+        if notes or dicomdirs:
+            what = f"{len(notes)} DICOM file(s) without pixel data" if notes else ""
+            what += (" and " if what else "") + (f"{len(dicomdirs)} DICOMDIR index file(s) whose images are "
+                                                  "missing" if dicomdirs else "")
+            raise SeriesError(where, f"holds no DICOM images, only {what}")
+        raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
+    chosen = _choose(found, series, where)
+    geo = measure(chosen.slices, where)
+    info = chosen.info
+    slices = [chosen.slices[i] for i in geo.order]
+    data, rescale = _rescale(_stack(chosen, geo), np.array([s.slope for s in slices]),
+                             np.array([s.intercept for s in slices]))
+    meta = {
+        "series_uid": chosen.uid, "series_description": chosen.description,
+        "manufacturer": info["manufacturer"], "manufacturer_model": info["manufacturer_model"],
+        "sop_class": info["sop_class"], "transfer_syntax": info["transfer_syntax"],
+        "photometric": info["photometric"], "n_files": len(chosen.files), "multiframe": slices[0].frame is not None,
+        "rescale": rescale, "window_presets": info["window_presets"],
+        "slice_positions": [float(p) for p in geo.positions],
+        "slice_normal": [float(v) for v in geo.normal_lps * (-1.0, -1.0, 1.0)],  # RAS+
+        "warnings": notes + geo.warnings,
+    }
+    if geo.tilt_deg > 0.01:
+        meta["gantry_tilt_deg"] = geo.tilt_deg
+    affine, spacing = geo.affine, geo.spacing
+    if resample and not geo.uniform:
+        data, new_pos, k_col = _resample_uniform(data, geo)
+        affine = affine.copy()
+        affine[:3, 2] = k_col
+        spacing = (float(np.linalg.norm(k_col)), spacing[1], spacing[2])
+        meta["source_slice_positions"] = meta["slice_positions"]
+        meta["slice_positions"] = [float(p) for p in new_pos]
+        meta["resampled"] = (f"non-uniform slices ({len(geo.positions)}) linearly interpolated along the slice "
+                             f"normal onto {len(new_pos)} slices {new_pos[1] - new_pos[0]:.4g} mm apart")
+        meta["warnings"].append(meta["resampled"])
+    modality = info["modality"]
+    rtype = info["rescale_type"]
+    units = rtype if rtype and rtype.upper() != "US" else ("HU" if modality == "CT" else "")
+    return Volume(data, spacing=spacing, affine=affine, modality=modality, units=units,
+                  name=chosen.description or "DICOM series", meta=meta)

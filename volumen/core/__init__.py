@@ -1,5 +1,35 @@
-"""Plain data of volumen: volumes, slices and (later) cameras, lights and images. numpy only."""
+"""Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only."""
 
 from ._volume import Volume, axis_codes
+from ._camera import VIEWS, Camera
+from ._transfer import PRESETS, TransferFunction
+from ._scene import MODES, SHADINGS, ClipPlane, Clipping, Isosurface, Light, Sampling, Scene, Shading
+from ._image import Image
+from ._slices import PLANES, WINDOW_PRESETS, Window, canonical, montage, slice_at, slice_image, window_to_uint8
 
-__all__ = ["Volume", "axis_codes"]
+__all__ = [
+    "Volume",
+    "axis_codes",
+    "Camera",
+    "VIEWS",
+    "TransferFunction",
+    "PRESETS",
+    "Light",
+    "Shading",
+    "Sampling",
+    "ClipPlane",
+    "Clipping",
+    "Isosurface",
+    "Scene",
+    "MODES",
+    "SHADINGS",
+    "Image",
+    "PLANES",
+    "WINDOW_PRESETS",
+    "Window",
+    "canonical",
+    "montage",
+    "slice_at",
+    "slice_image",
+    "window_to_uint8",
+]

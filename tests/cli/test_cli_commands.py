@@ -1,0 +1,101 @@
+"""The `volumen` command: what it prints and writes, its errors, and that it never leaks identity."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image as PILImage
+
+import volumen
+from volumen.cli import main
+from volumen.core import Volume
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
+from dicom_factory import PATIENT, write_series  # noqa: E402
+
+
+def _volume():
+    rng = np.random.default_rng(0)
+    data = rng.integers(-1000, 1000, size=(6, 7, 8)).astype(np.int16)
+    aff = np.array([[-0.7, 0, 0, 12.5], [0, -0.9, 0, 30.0], [0, 0, 2.5, -40.0], [0, 0, 0, 1]])
+    return Volume(data, spacing=(2.5, 0.9, 0.7), affine=aff, modality="CT", units="HU", name="test")
+
+
+def test_info_json_reports_geometry(tmp_path, capsys):
+    vol = _volume()
+    volumen.save(vol, tmp_path / "v.nrrd")
+    assert main(["info", str(tmp_path / "v.nrrd"), "--json"]) == 0
+    facts = json.loads(capsys.readouterr().out)
+    assert facts["shape_zyx"] == [6, 7, 8]
+    assert facts["spacing_mm_zyx"] == [2.5, 0.9, 0.7]
+    assert facts["orientation"] == "LPS"
+    assert facts["value_range"] == [float(vol.data.min()), float(vol.data.max())]
+    np.testing.assert_allclose(facts["affine"], vol.affine, atol=1e-6)
+
+
+def test_info_text_on_dicom_never_shows_patient_identity(tmp_path, capsys):
+    raw = np.arange(4 * 5 * 6, dtype=np.int16).reshape(4, 5, 6)
+    pos = np.array([[0.0, 0.0, 2.5 * k] for k in range(4)])
+    write_series(tmp_path / "series", raw, row_dir=(1, 0, 0), col_dir=(0, 1, 0), positions=pos,
+                 patient=PATIENT, intercept=-1024)
+    assert main(["info", str(tmp_path / "series")]) == 0
+    out = capsys.readouterr()
+    text = out.out + out.err
+    assert "6 x 5 x 4 voxels" in text
+    assert "HU" in text
+    for value in PATIENT.values():
+        for part in value.split("^"):
+            assert part not in text, f"identifying value {part!r} printed"
+    assert main(["info", str(tmp_path / "series"), "--json"]) == 0
+    js = capsys.readouterr().out
+    for value in PATIENT.values():
+        assert value.split("^")[0] not in js
+
+
+def test_convert_round_trip(tmp_path, capsys):
+    vol = _volume()
+    src = tmp_path / "v.npz"
+    volumen.save(vol, src)
+    assert main(["convert", str(src), str(tmp_path / "v.nii.gz")]) == 0
+    back = volumen.load(tmp_path / "v.nii.gz")
+    np.testing.assert_array_equal(back.data, vol.data)
+    np.testing.assert_array_equal(back.affine, vol.affine)
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_slices_writes_montage_with_radiological_orientation(tmp_path):
+    # one bright voxel column on the patient's right (max x in RAS) must appear on the image's left
+    data = np.zeros((5, 6, 7), np.int16)
+    data[:, :, -1] = 1000
+    volumen.save(Volume(data, spacing=(1, 1, 1)), tmp_path / "r.nrrd")
+    assert main(["slices", str(tmp_path / "r.nrrd"), "-o", str(tmp_path / "shots"), "--window", "500,1000"]) == 0
+    axial = np.asarray(PILImage.open(tmp_path / "shots" / "r_axial.png"))
+    assert axial.shape == (6, 7)
+    assert np.all(axial[:, 0] == 255) and np.all(axial[:, 1:] == 0)
+    montage = np.asarray(PILImage.open(tmp_path / "shots" / "r_montage.png"))
+    assert montage.shape == (6, 7 + 4 + 7 + 4 + 6)  # rows: tallest tile (axial, ny); axial+coronal+sagittal widths and two gaps
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["info", "/no/such/file.nii"], "no such file"),
+    (["info", "__FILE__.xyz"], "unknown volume format"),
+    (["convert", "__FILE__.xyz", "out.nii"], "unknown volume format"),
+])
+def test_errors_are_one_line_without_traceback(tmp_path, capsys, argv, needle):
+    bad = tmp_path / "thing.xyz"
+    bad.write_bytes(b"not a volume")
+    argv = [a.replace("__FILE__.xyz", str(bad)) for a in argv]
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert needle in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_convert_to_unwritable_format_is_an_error(tmp_path, capsys):
+    volumen.save(_volume(), tmp_path / "v.npz")
+    assert main(["convert", str(tmp_path / "v.npz"), str(tmp_path / "v.vtk")]) == 1
+    assert "cannot write" in capsys.readouterr().err

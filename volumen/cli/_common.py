@@ -1,0 +1,72 @@
+"""Options shared by several sub-commands: reading a volume, choosing a window."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_load_options(p: argparse.ArgumentParser) -> None:
+    """Options of :func:`volumen.load` (DICOM series choice, raw geometry, NaN policy)."""
+    g = p.add_argument_group("reading")
+    g.add_argument("--series", help="DICOM SeriesInstanceUID to load when a folder holds several")
+    g.add_argument("--resample", action="store_true", help="make non-uniform slice spacing uniform")
+    g.add_argument("--nonfinite", choices=["zero", "min", "error", "keep"], default="zero",
+                   help="what to do with NaN/inf values (default: replace by 0 with a warning)")
+    g.add_argument("--shape", help="raw files: NZ,NY,NX")
+    g.add_argument("--dtype", help="raw files: numpy dtype, e.g. int16")
+    g.add_argument("--spacing", help="raw files: DZ,DY,DX in mm")
+    g.add_argument("--byte-order", choices=["little", "big"], help="raw files: byte order")
+
+
+def _floats(text: str | None, n: int, what: str):
+    if text is None:
+        return None
+    parts = text.replace("x", ",").split(",")
+    try:
+        vals = [float(t) for t in parts]
+    except ValueError:
+        raise ValueError(f"{what} must be {n} comma-separated numbers, got {text!r}") from None
+    if len(vals) != n:
+        raise ValueError(f"{what} must be {n} comma-separated numbers, got {text!r}")
+    return vals
+
+
+def load_from_args(args: argparse.Namespace, path=None):
+    """Load ``path`` (default ``args.input``) with the reading options, or a phantom for ``phantom:NAME``."""
+    import volumen
+
+    path = path if path is not None else args.input
+    if str(path).startswith("phantom:"):
+        from volumen.data import phantom
+
+        return phantom(str(path).split(":", 1)[1])
+    opts = {"nonfinite": args.nonfinite, "resample": args.resample}
+    if args.series:
+        opts["series"] = args.series
+    if args.shape:
+        opts["shape"] = tuple(int(v) for v in _floats(args.shape, 3, "--shape"))
+    if args.dtype:
+        opts["dtype"] = args.dtype
+    if args.spacing:
+        opts["spacing"] = tuple(_floats(args.spacing, 3, "--spacing"))
+    if args.byte_order:
+        opts["byte_order"] = args.byte_order
+    return volumen.load(path, **opts)
+
+
+def parse_window(text: str | None):
+    """``bone``/``soft-tissue``/``lung``/``brain`` or ``LEVEL,WIDTH`` -> a window for the slices module."""
+    if text is None:
+        return None
+    from volumen.core import WINDOW_PRESETS, Window
+
+    if text in WINDOW_PRESETS:
+        return WINDOW_PRESETS[text]
+    level, width = _floats(text, 2, "--window")
+    return Window(level=level, width=width)
+
+
+def parse_point(text: str | None):
+    """``X,Y,Z`` in world RAS+ mm."""
+    vals = _floats(text, 3, "point")
+    return None if vals is None else tuple(vals)

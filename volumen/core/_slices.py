@@ -1,0 +1,218 @@
+"""Axial, coronal and sagittal slices in radiological display orientation, and windowing.
+
+Display conventions (as on a radiology workstation):
+
+* axial: seen from the feet, patient's Right on the image's left, Anterior at the top;
+* coronal: seen from the front, patient's Right on the image's left, Superior at the top;
+* sagittal: seen from the patient's left, Anterior on the image's left, Superior at the top.
+
+Slices are cut from the volume reoriented to the nearest canonical (RAS) voxel
+order by permuting and flipping axes only (no interpolation), so an oblique
+volume shows its slices along its own voxel axes, labelled by the nearest
+anatomical plane.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from ._volume import Volume, axis_codes
+
+__all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "montage", "slice_at", "slice_image", "window_to_uint8"]
+
+Plane = Literal["axial", "coronal", "sagittal"]
+PLANES: tuple[str, ...] = ("axial", "coronal", "sagittal")
+
+
+@dataclass(frozen=True)
+class Window:
+    """A display window: values ``level - width/2 .. level + width/2`` map to black .. white.
+
+    ``level`` and ``width`` are in the data's units (HU for CT).
+    """
+
+    level: float
+    width: float
+
+    def __post_init__(self):
+        if not self.width > 0:
+            raise ValueError(f"window width must be positive, got {self.width}")
+
+    @property
+    def range(self) -> tuple[float, float]:
+        return self.level - self.width / 2, self.level + self.width / 2
+
+
+#: CT window presets in HU (level, width), as commonly used in radiology.
+WINDOW_PRESETS: dict[str, Window] = {
+    "bone": Window(level=400.0, width=1800.0),
+    "soft-tissue": Window(level=40.0, width=400.0),
+    "lung": Window(level=-600.0, width=1500.0),
+    "brain": Window(level=40.0, width=80.0),
+}
+
+
+def window_to_uint8(values: np.ndarray, window: Window | str | tuple[float, float] | None = None) -> np.ndarray:
+    """Map values to 8-bit gray through a window.
+
+    Parameters
+    ----------
+    values : array
+        Data in physical units.
+    window : Window, preset name, ``(level, width)`` or None
+        ``None`` uses the 1st..99th percentile of ``values``.
+
+    Returns
+    -------
+    uint8 array of the same shape: ``round(255 * clip((v - lo) / (hi - lo), 0, 1))``.
+    """
+    if window is None:
+        finite = values[np.isfinite(values)] if np.issubdtype(values.dtype, np.floating) else values
+        lo, hi = (np.percentile(finite, [1, 99]) if finite.size else (0.0, 1.0))
+        if not hi > lo:
+            hi = lo + 1.0
+        window = Window(level=(lo + hi) / 2, width=hi - lo)
+    elif isinstance(window, str):
+        if window not in WINDOW_PRESETS:
+            raise ValueError(f"unknown window preset {window!r}; choose one of {sorted(WINDOW_PRESETS)}")
+        window = WINDOW_PRESETS[window]
+    elif not isinstance(window, Window):
+        window = Window(*window)
+    lo, hi = window.range
+    x = (np.asarray(values, dtype=np.float32) - np.float32(lo)) / np.float32(hi - lo)
+    return np.rint(np.clip(np.nan_to_num(x, nan=0.0), 0.0, 1.0) * 255.0).astype(np.uint8)
+
+
+def canonical(volume: Volume) -> Volume:
+    """The same volume with voxel axes permuted/flipped to the nearest RAS order.
+
+    Afterwards voxel axis i points (mostly) Right, j Anterior, k Superior, and
+    ``data[k, j, i]`` is still the sample at ``affine @ (i, j, k, 1)``. Returns
+    ``volume`` itself when it is already canonical (no copy).
+    """
+    codes = axis_codes(volume.affine)
+    if codes == "RAS":
+        return volume
+    target = "RAS"
+    opposite = {"L": "R", "P": "A", "I": "S", "R": "R", "A": "A", "S": "S"}
+    # for each RAS axis w, which voxel axis (0=i,1=j,2=k) carries it, and flipped?
+    src_axis = [next(a for a in range(3) if opposite[codes[a]] == target[w]) for w in range(3)]
+    flip = [codes[src_axis[w]] != target[w] for w in range(3)]
+    n_ijk = np.array(volume.shape[::-1])
+    # new index n_w -> old index along src_axis[w]: flipped ? (N-1-n) : n
+    M = np.zeros((4, 4))
+    M[3, 3] = 1
+    for w in range(3):
+        a = src_axis[w]
+        M[a, w] = -1.0 if flip[w] else 1.0
+        M[a, 3] = n_ijk[a] - 1 if flip[w] else 0.0
+    affine = volume.affine @ M
+    # data [k, j, i]: numpy axis of voxel axis a is 2 - a
+    data = np.transpose(volume.data, [2 - src_axis[2 - ax] for ax in range(3)])
+    slicer = tuple(slice(None, None, -1) if flip[2 - ax] else slice(None) for ax in range(3))
+    data = np.ascontiguousarray(data[slicer])
+    spacing = tuple(float(np.linalg.norm(affine[:3, a])) for a in (2, 1, 0))
+    return Volume(data, spacing=spacing, affine=affine, modality=volume.modality, units=volume.units,
+                  name=volume.name, meta=dict(volume.meta))
+
+
+def _plane_axis(plane: str) -> int:
+    """numpy axis of the canonical volume that a plane cuts: axial k (0), coronal j (1), sagittal i (2)."""
+    try:
+        return {"axial": 0, "coronal": 1, "sagittal": 2}[plane]
+    except KeyError:
+        raise ValueError(f"unknown plane {plane!r}; choose one of {list(PLANES)}") from None
+
+
+def slice_at(volume: Volume, plane: Plane, index: int | None = None, world: tuple[float, float, float] | None = None,
+             *, canonical_volume: Volume | None = None) -> tuple[np.ndarray, tuple[float, float]]:
+    """Cut one slice for display.
+
+    Parameters
+    ----------
+    volume : Volume
+    plane : {"axial", "coronal", "sagittal"}
+    index : int, optional
+        Slice index along the plane's normal in the canonical (RAS-ordered) volume:
+        axial counts from inferior, coronal from posterior, sagittal from the
+        patient's left. Default: the middle slice.
+    world : (3,) float, optional
+        A world RAS+ mm point; the slice through its nearest voxel is cut.
+    canonical_volume : Volume, optional
+        ``canonical(volume)`` when the caller already has it (avoids recomputing).
+
+    Returns
+    -------
+    image : (rows, cols) array
+        Values in the data's units, row 0 at the top of the display.
+    pixel_spacing : (row_mm, col_mm)
+        Physical size of a display pixel, for aspect-correct display.
+    """
+    if index is not None and world is not None:
+        raise ValueError("give index or world, not both")
+    can = canonical_volume if canonical_volume is not None else canonical(volume)
+    ax = _plane_axis(plane)
+    n = can.shape[ax]
+    if world is not None:
+        ijk = can.world_to_index(np.asarray(world, float))
+        index = int(np.rint(ijk[2 - ax]))
+    if index is None:
+        index = n // 2
+    if not 0 <= index < n:
+        raise IndexError(f"{plane} slice {index} is outside 0..{n - 1}")
+    dz, dy, dx = can.spacing
+    if ax == 0:  # axial: rows A (top) -> P, columns R (left) -> L
+        img, sp = can.data[index, ::-1, ::-1], (dy, dx)
+    elif ax == 1:  # coronal: rows S -> I, columns R -> L
+        img, sp = can.data[::-1, index, ::-1], (dz, dx)
+    else:  # sagittal: rows S -> I, columns A (left) -> P
+        img, sp = can.data[::-1, ::-1, index], (dz, dy)
+    return np.ascontiguousarray(img), (float(sp[0]), float(sp[1]))
+
+
+def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=None,
+                window: Window | str | tuple[float, float] | None = None, square_pixels: bool = True,
+                canonical_volume: Volume | None = None) -> np.ndarray:
+    """An 8-bit display slice: :func:`slice_at`, windowed, resampled to square pixels.
+
+    With ``square_pixels`` the image is stretched (linear interpolation) along the
+    axis with the larger pixel spacing so one pixel covers the same mm both ways.
+    Returns a uint8 ``(rows, cols)`` array, row 0 at the top.
+    """
+    img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
+    if window is None and volume.units == "HU":
+        window = "soft-tissue"
+    out = window_to_uint8(img, window)
+    if square_pixels and not np.isclose(sr, sc, rtol=1e-3):
+        from scipy import ndimage
+
+        base = min(sr, sc)
+        zoom = (sr / base, sc / base)
+        out = ndimage.zoom(out.astype(np.float32), zoom, order=1, mode="nearest")
+        out = np.rint(np.clip(out, 0, 255)).astype(np.uint8)
+    return out
+
+
+def montage(volume: Volume, window: Window | str | tuple[float, float] | None = None, world=None,
+            gap: int = 4) -> np.ndarray:
+    """Axial, coronal and sagittal display slices side by side, as one uint8 image.
+
+    The three planes pass through ``world`` (RAS+ mm; default the volume's
+    centre), each with square pixels, bottom-aligned on a black canvas with
+    ``gap`` pixels between them. Returns a uint8 ``(rows, cols)`` array.
+    """
+    can = canonical(volume)
+    if world is None:
+        world = volume.center
+    tiles = [slice_image(volume, p, world=world, window=window, canonical_volume=can) for p in PLANES]
+    rows = max(t.shape[0] for t in tiles)
+    cols = sum(t.shape[1] for t in tiles) + gap * (len(tiles) - 1)
+    out = np.zeros((rows, cols), np.uint8)
+    c = 0
+    for t in tiles:
+        out[rows - t.shape[0]:, c:c + t.shape[1]] = t
+        c += t.shape[1] + gap
+    return out

@@ -102,6 +102,23 @@ def _apply_nonfinite(vol: Volume, policy: NonFinitePolicy, path) -> Volume:
     return vol
 
 
+def _check_options(func, fmt: str, path, options: dict) -> None:
+    """Unknown reader options are a clear VolumeReadError, not a bare TypeError."""
+    import inspect
+
+    params = inspect.signature(func).parameters
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
+        return
+    accepted = [n for n, p in params.items() if p.kind is inspect.Parameter.KEYWORD_ONLY
+                or (p.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD and n != "path")]
+    unknown = sorted(set(options) - set(accepted))
+    if unknown:
+        from ..errors import VolumeReadError
+
+        raise VolumeReadError(path, f"the {fmt} reader does not take option(s) {', '.join(unknown)}; "
+                                    f"it takes: {', '.join(accepted) or 'none'}")
+
+
 def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str | None = None,
          nonfinite: NonFinitePolicy = "zero", resample: bool = False, **options) -> Volume:
     """Read a volume from a file, a DICOM folder, or a list of DICOM files.
@@ -149,17 +166,19 @@ def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str |
     mod = _module(fmt)
     if fmt == "dicom":
         options["resample"] = resample
+    _check_options(mod.read, fmt, path, options)
     vol = mod.read(path, **options)
     vol.meta.setdefault("source", [os.fspath(p) for p in path] if isinstance(path, (list, tuple)) else os.fspath(path))
     vol.meta.setdefault("format", fmt)
     return _apply_nonfinite(vol, nonfinite, path)
 
 
-def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None) -> None:
+def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None, **options) -> None:
     """Write ``volume`` keeping data, spacing and affine.
 
     The format comes from the suffix (``.nii``, ``.nii.gz``, ``.nrrd``, ``.mha``,
-    ``.mhd``, ``.npy``, ``.npz``) or from ``format``. Raises
+    ``.mhd``, ``.npy``, ``.npz``) or from ``format``. ``options`` go to the writer
+    (e.g. ``encoding="gzip"`` for NRRD, ``compress=True`` for MetaImage). Raises
     :class:`VolumeWriteError` for an unknown suffix or a failed write.
     """
     p = Path(path)
@@ -174,7 +193,7 @@ def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None) 
     if not p.parent.exists():
         raise VolumeWriteError(p, f"folder {p.parent} does not exist")
     try:
-        _module(format).write(volume, p)
+        _module(format).write(volume, p, **options)
     except VolumeWriteError:
         raise
     except OSError as exc:

@@ -183,7 +183,7 @@ def _resample_uniform(data: np.ndarray, geo: Geometry) -> tuple[np.ndarray, np.n
     return out, target, first_to_last * step / (pos[-1] - pos[0])
 
 
-def read(path, *, series: str | None = None, resample: bool = False, **options) -> Volume:
+def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     """Read one DICOM image series.
 
     Parameters
@@ -220,8 +220,6 @@ def read(path, *, series: str | None = None, resample: bool = False, **options) 
     MissingDependencyError
         Compressed pixel data without an installed decoder (names what to install).
     """
-    if options:
-        raise TypeError(f"unknown DICOM read option(s) {sorted(options)}; valid options are series= and resample=")
     files, where = _files(path)
     if not files:
         raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")

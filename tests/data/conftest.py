@@ -1,0 +1,18 @@
+"""Phantoms built once per test session (noise-free, so HU values are exact)."""
+
+from __future__ import annotations
+
+import pytest
+
+from volumen.data import phantom
+
+
+@pytest.fixture(scope="session")
+def head():
+    return phantom("head", noise=0)
+
+
+@pytest.fixture(scope="session")
+def torso():
+    return phantom("torso", noise=0)
+

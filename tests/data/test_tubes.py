@@ -1,0 +1,114 @@
+"""Ground truth of tubular structures: centerlines inside and centred in their lumens, masks equal to the data."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from volumen.data import Tube, phantom
+
+# (phantom fixture, truth key, lumen HU)
+TUBES = [("torso", "colon", -1000), ("torso", "airway", -1000), ("torso", "aorta", 300),
+         ("head", "nasal_airway", -1000)]
+
+
+def _all_tubes(tube: Tube):
+    yield tube
+    for b in tube.branches:
+        yield from _all_tubes(b)
+
+
+def _voxels(vol, points):
+    """(N, 3) world mm -> (N, 3) nearest (k, j, i) indices."""
+    return np.rint(vol.world_to_index(points)).astype(int)[:, ::-1]
+
+
+@pytest.mark.parametrize("which, key, hu", TUBES)
+def test_centerline_inside_and_centred_in_lumen(request, which, key, hu):
+    vol = request.getfixturevalue(which)
+    tube = vol.meta["truth"][key]
+    assert tube.mask.shape == vol.shape and tube.mask.dtype == bool
+    edt = ndimage.distance_transform_edt(tube.mask, sampling=vol.spacing)  # mm to the nearest non-lumen voxel
+    for t in _all_tubes(tube):
+        assert t.mask is tube.mask  # branches share the tree's mask
+        assert t.centerline.shape == (len(t.radius), 3) and len(t.radius) > 20
+        step = np.linalg.norm(np.diff(t.centerline, axis=0), axis=1)
+        assert 0.5 < step.min() and step.max() < 1.5  # about one point per mm
+        k, j, i = _voxels(vol, t.centerline).T
+        assert np.all(t.mask[k, j, i]), f"{t.name}: centerline leaves the lumen"
+        ratio = edt[k, j, i] / t.radius
+        assert ratio.min() >= 0.4, f"{t.name}: centerline {ratio.min():.2f} radius from the wall"
+        # roughly centred: the lumen reaches about one radius around the centerline on average
+        assert 0.7 < np.median(edt[k, j, i] / t.radius) < 1.6, t.name
+
+
+@pytest.mark.parametrize("which, key, hu", TUBES)
+def test_mask_is_exactly_the_lumen_in_the_data(request, which, key, hu):
+    vol = request.getfixturevalue(which)
+    tube = vol.meta["truth"][key]
+    assert np.all(vol.data[tube.mask] == hu)
+    labels, _ = ndimage.label(vol.data == hu)
+    if which == "head":  # the nasal airway opens into the air in front of the nose (a corner voxel's)
+        assert np.all(labels[tube.mask] == labels[0, 0, 0])
+        return
+    # the lumen is exactly the 6-connected component of lumen-valued voxels that holds the centerline
+    k, j, i = _voxels(vol, tube.centerline[len(tube.centerline) // 2:][:1]).T
+    np.testing.assert_array_equal(labels == labels[k[0], j[0], i[0]], tube.mask)
+
+
+def test_mask_values_with_default_noise_stay_in_their_class():
+    vol = phantom("torso")  # noise 10 HU
+    truth = vol.meta["truth"]
+    colon = vol.data[truth["colon"].mask].astype(float)
+    aorta = vol.data[truth["aorta"].mask].astype(float)
+    assert abs(colon.mean() + 1000) < 1 and colon.max() < -950
+    assert abs(aorta.mean() - 300) < 1 and aorta.min() > 250
+    assert 8 < colon.std() < 12
+
+
+def test_haustral_folds_narrow_but_never_close_the_colon():
+    folded = phantom("torso", noise=0).meta["truth"]["colon"]
+    smooth = phantom("torso", noise=0, fold_depth=0.0).meta["truth"]["colon"]
+    np.testing.assert_allclose(folded.centerline, smooth.centerline)
+    ratio = folded.radius / smooth.radius
+    assert ratio.min() == pytest.approx(0.6, abs=0.01)  # the deepest folds leave 60 % of the radius open
+    assert ratio.max() == pytest.approx(1.0)
+    # periodic: the narrowings recur every ~24 mm along the colon
+    s = folded.arc_length
+    minima = s[1:-1][(ratio[1:-1] < ratio[:-2]) & (ratio[1:-1] <= ratio[2:]) & (ratio[1:-1] < 0.7)]
+    assert len(minima) >= 15
+    np.testing.assert_allclose(np.diff(minima), 24.0, atol=1.01)
+    assert folded.mask.sum() < 0.92 * smooth.mask.sum()  # the folds take lumen away
+    with pytest.raises(ValueError, match="fold_depth"):
+        phantom("torso", fold_depth=0.7)
+
+
+def test_polyp(torso):
+    truth = torso.meta["truth"]
+    colon, polyp = truth["colon"], truth["polyp"]
+    pm = polyp["mask"]
+    h = max(torso.spacing)
+    r = polyp["radius"]
+    assert 4.0 <= r <= 6.0
+    assert pm.sum() >= 0.4 * (2 / 3 * np.pi * r**3) / np.prod(torso.spacing)  # about a hemisphere of voxels
+    assert np.all(torso.data[pm] == 40)  # soft tissue
+    assert not np.any(pm & colon.mask)  # not lumen
+    ring = ndimage.binary_dilation(pm) & ~pm
+    assert np.any(ring & colon.mask)  # protrudes into the lumen (air around it) ...
+    assert np.any(ring & ~colon.mask & (torso.data == 40))  # ... from the wall it touches
+    # all its voxels lie in the sphere, on the lumen side of the wall
+    idx = np.argwhere(pm)[:, ::-1]
+    world = torso.index_to_world(idx)
+    assert np.linalg.norm(world - polyp["center"], axis=1).max() <= r + 1e-6
+    # arc length: the centerline point at that arc length faces the polyp across the lumen
+    s = colon.arc_length
+    c = np.array([np.interp(polyp["arc_length"], s, colon.centerline[:, a]) for a in range(3)])
+    tangent = np.array([np.interp(polyp["arc_length"], s, np.gradient(colon.centerline[:, a], s)) for a in range(3)])
+    to_center = np.asarray(polyp["center"]) - c
+    assert np.linalg.norm(to_center) == pytest.approx(polyp["lumen_radius"], abs=0.05)
+    assert abs(np.dot(to_center / np.linalg.norm(to_center), tangent / np.linalg.norm(tangent))) < 0.05
+    assert np.linalg.norm(np.asarray(polyp["tip"]) - c) == pytest.approx(polyp["lumen_radius"] - r, abs=0.05)
+    assert np.linalg.norm(world - c, axis=1).min() == pytest.approx(polyp["lumen_radius"] - r, abs=h)
+    assert np.interp(polyp["arc_length"], s, colon.radius) == pytest.approx(polyp["lumen_radius"], rel=0.01)
+    assert truth["landmarks"]["polyp"] == polyp["center"]

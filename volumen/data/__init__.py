@@ -1,0 +1,13 @@
+"""Built-in data: generated phantoms (deterministic, in Hounsfield units) and installed sample volumes.
+
+``phantom(name, size=None, **params)`` builds one of ``PHANTOMS``; ground truth for
+tests lives in ``volume.meta["truth"]`` (landmarks, :class:`Tube` entries for tubular
+structures, the exact analytic shapes). ``sample(name)`` loads real data found on the
+machine (``samples()`` lists it).
+"""
+
+from ._phantom import PHANTOMS, phantom
+from ._samples import sample, samples
+from ._tubes import Tube
+
+__all__ = ["PHANTOMS", "phantom", "sample", "samples", "Tube"]

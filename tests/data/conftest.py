@@ -1,4 +1,4 @@
-"""Phantoms built once per test session (noise-free, so HU values are exact)."""
+"""Phantoms built once per test session (noise-free and without the scanner blur, so HU values are exact)."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ from volumen.data import phantom
 
 @pytest.fixture(scope="session")
 def head():
-    return phantom("head", noise=0)
+    return phantom("head", noise=0, blur=0)
 
 
 @pytest.fixture(scope="session")
 def torso():
-    return phantom("torso", noise=0)
+    return phantom("torso", noise=0, blur=0)
 

@@ -30,7 +30,7 @@ def test_registry_names_and_errors():
     assert PHANTOMS == ("head", "torso", "sphere", "ellipsoid", "slab")
     with pytest.raises(ValueError, match="head, torso, sphere, ellipsoid, slab"):
         phantom("brain")
-    with pytest.raises(TypeError, match="takes noise, seed, grey_white"):
+    with pytest.raises(TypeError, match="takes noise, seed, blur, grey_white"):
         phantom("head", radius=3)
     with pytest.raises(ValueError, match="integers >= 2"):
         phantom("torso", size=1.5)
@@ -50,7 +50,7 @@ def test_deterministic(name, params):
 
 @pytest.mark.parametrize("name", ["head", "torso"])
 def test_noise_is_seeded_and_mild(name):
-    clean = phantom(name, size=48, noise=0)
+    clean = phantom(name, size=48, noise=0)  # same scanner blur; the noise is added after it
     noisy, other = phantom(name, size=48, seed=1), phantom(name, size=48, seed=2)
     assert _sha(noisy) != _sha(other)
     diff = noisy.data.astype(float) - clean.data
@@ -71,12 +71,12 @@ def test_volume_conventions(name):
 
 @pytest.mark.parametrize("name, fov, n_long", [("head", (190, 230, 240), 128), ("torso", (360, 260, 400), 160)])
 def test_size_and_physical_extent(name, fov, n_long):
-    vol = phantom(name, noise=0, size=None if name == "head" else 80)
+    vol = phantom(name, noise=0, blur=0, size=None if name == "head" else 80)
     n_expected = n_long if name == "head" else 80
     assert max(vol.shape) == n_expected
     assert len(set(vol.spacing)) == 1  # isotropic
     np.testing.assert_allclose(np.array(vol.shape[::-1]) * vol.spacing[0], fov, atol=vol.spacing[0])
-    aniso = phantom(name, size=(30, 40, 50), noise=0)
+    aniso = phantom(name, size=(30, 40, 50), noise=0, blur=0)
     assert aniso.shape == (30, 40, 50)
     np.testing.assert_allclose(np.array(aniso.shape[::-1]) * aniso.spacing[::-1], fov)
 

@@ -19,6 +19,7 @@ COMMANDS = {
     "info": "_info",
     "convert": "_convert",
     "slices": "_slices",
+    "render": "_render",
     "demo": "_demo",
 }
 

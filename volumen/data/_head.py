@@ -133,7 +133,7 @@ def _paint_neck(cv: Canvas) -> None:
     cv.fill(reg, arch < -4.0, 30.0)
 
 
-def head(size=None, *, noise: float = 10.0, seed: int = 0, grey_white: bool = True) -> Volume:
+def head(size=None, *, noise: float = 10.0, seed: int = 0, blur: float = 0.5, grey_white: bool = True) -> Volume:
     """Build the head phantom (see the module docstring); ``size`` defaults to 128 voxels along z (240 mm)."""
     grid = Grid.centred(FOV, 128 if size is None else size)
     cv = Canvas(grid, -1000.0)
@@ -169,4 +169,4 @@ def head(size=None, *, noise: float = 10.0, seed: int = 0, grey_white: bool = Tr
     truth = {"landmarks": landmarks, "nasal_airway": truth_tube("nasal_airway", mask, airway, grid),
              "eye_radius": EYE_R, "marker_radius": marker_r, "marker_hu": MARKER_HU}
     meta = {"truth": truth}
-    return cv.to_volume(name="head", noise=noise, seed=seed, meta=meta)
+    return cv.to_volume(name="head", noise=noise, seed=seed, blur=blur, meta=meta)

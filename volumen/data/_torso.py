@@ -132,7 +132,7 @@ def _airway(cv: Canvas, wall: float):
     return main, branches, mask
 
 
-def torso(size=None, *, noise: float = 10.0, seed: int = 0, fold_depth: float = 0.4,
+def torso(size=None, *, noise: float = 10.0, seed: int = 0, blur: float = 0.5, fold_depth: float = 0.4,
           polyp_radius: float = 6.0) -> Volume:
     """Build the torso phantom (see the module docstring); ``size`` defaults to 160 voxels along z (400 mm)."""
     grid = Grid.centred(FOV, 160 if size is None else size)
@@ -166,4 +166,4 @@ def torso(size=None, *, noise: float = 10.0, seed: int = 0, fold_depth: float = 
     truth = {"landmarks": landmarks, "colon": colon, "polyp": polyp,
              "aorta": tree("aorta", aorta_mask, trunk, aorta_branches),
              "airway": tree("airway", air_mask, air_main, air_branches)}
-    return cv.to_volume(name="torso", noise=noise, seed=seed, meta={"truth": truth})
+    return cv.to_volume(name="torso", noise=noise, seed=seed, blur=blur, meta={"truth": truth})

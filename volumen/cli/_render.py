@@ -1,0 +1,202 @@
+"""``volumen render INPUT -o out.png``: one picture, every setting a flag, reproducible from JSON.
+
+``--save-settings s.json`` writes everything that decided the picture (scene,
+camera, size, background, reading options); ``--settings s.json`` renders it
+again bit for bit. Flags given together with ``--settings`` override it.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from ._common import add_load_options, load_from_args, parse_point, _floats
+
+SETTINGS_VERSION = 1
+
+
+def register(sub):
+    from volumen.core import MODES, PRESETS, SHADINGS, VIEWS
+
+    p = sub.add_parser("render", help="render a volume to a PNG (ray casting on the CPU)")
+    p.add_argument("input", nargs="?", help="volume file, DICOM folder or phantom:NAME (optional with --settings)")
+    p.add_argument("-o", "--out", required=True, help="output PNG")
+    p.add_argument("--settings", help="scene JSON written by --save-settings; flags given override it")
+    p.add_argument("--save-settings", help="write the settings that reproduce this picture to a JSON file")
+    g = p.add_argument_group("look")
+    g.add_argument("--preset", choices=PRESETS, help="transfer function preset")
+    g.add_argument("--tf", help="transfer function JSON file (TransferFunction.to_json)")
+    g.add_argument("--mode", choices=MODES, help="composite (default), mip, minip, average, isosurface")
+    g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
+    g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
+    g.add_argument("--shading", choices=SHADINGS, help="none, headlight (default), phong (uses --light)")
+    g.add_argument("--light", action="append", default=None, metavar="SPEC",
+                   help="a world-fixed light, repeatable: 'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I' "
+                        "(mm, RAS); implies --shading phong")
+    g.add_argument("--background", help="background colour R,G,B in 0..1 (default black)")
+    c = p.add_argument_group("camera")
+    c.add_argument("--view", choices=VIEWS, help="anatomical view (default anterior)")
+    c.add_argument("--azimuth", type=float, help="degrees about the view's up axis")
+    c.add_argument("--elevation", type=float, help="degrees above the view")
+    c.add_argument("--zoom", type=float, help="> 1 moves closer")
+    c.add_argument("--projection", choices=["perspective", "orthographic"])
+    c.add_argument("--size", help="WIDTHxHEIGHT in pixels (default 512x512)")
+    s = p.add_argument_group("sampling and clipping")
+    s.add_argument("--spv", type=float, help="samples per voxel (default 1)")
+    s.add_argument("--nearest", action="store_true", default=None, help="nearest-voxel instead of trilinear")
+    s.add_argument("--no-jitter", action="store_true", default=None, help="no jittered ray starts")
+    s.add_argument("--preintegrate", action="store_true", default=None, help="pre-integrated classification")
+    s.add_argument("--crop", help="crop box XMIN,XMAX,YMIN,YMAX,ZMIN,ZMAX (voxel indices; see --crop-space)")
+    s.add_argument("--crop-space", choices=["voxel", "world"], help="units of --crop (default voxel)")
+    s.add_argument("--clip-plane", action="append", default=None, metavar="SPEC",
+                   help="'point=X,Y,Z normal=X,Y,Z' in world mm, repeatable (the side the normal points to is kept)")
+    add_load_options(p)
+    return p
+
+
+def parse_spec(text: str, keys: dict[str, int]) -> dict[str, list[float]]:
+    """``'pos=1,2,3 exp=4'`` -> ``{'pos': [1, 2, 3], 'exp': [4]}``; ``keys`` maps key -> count."""
+    out: dict[str, list[float]] = {}
+    for part in text.replace(";", " ").split():
+        if "=" not in part:
+            raise ValueError(f"expected KEY=VALUE in {text!r}, got {part!r}")
+        key, val = part.split("=", 1)
+        if key not in keys:
+            raise ValueError(f"unknown key {key!r} in {text!r}; valid: {', '.join(keys)}")
+        out[key] = _floats(val, keys[key], key)
+    return out
+
+
+def parse_light(text: str):
+    """A :class:`volumen.core.Light` from ``'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I'``."""
+    from volumen.core import Light
+
+    d = parse_spec(text, {"pos": 3, "dir": 3, "exp": 1, "color": 3, "intensity": 1})
+    if "pos" not in d:
+        raise ValueError(f"a light needs pos=X,Y,Z (mm): {text!r}")
+    kw = {"position": d["pos"]}
+    if "dir" in d:
+        kw["direction"] = d["dir"]
+    if "exp" in d:
+        kw["exponent"] = d["exp"][0]
+    if "color" in d:
+        kw["color"] = d["color"]
+    if "intensity" in d:
+        kw["intensity"] = d["intensity"][0]
+    return Light(**kw)
+
+
+def _size(text):
+    if text is None:
+        return None
+    w, h = (int(v) for v in _floats(text, 2, "--size"))
+    return (w, h)
+
+
+def build(args, base: dict | None, volume):
+    """(scene, camera, size, background) from the flags over an optional settings dict."""
+    from dataclasses import replace
+
+    from volumen.core import Camera, ClipPlane, Clipping, Isosurface, Sampling, Scene, TransferFunction
+
+    scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
+    scene = replace(scene, volume_ref=_volume_ref(args, base))
+    if args.tf:
+        scene = replace(scene, transfer=TransferFunction.from_json(Path(args.tf).read_text()))
+    elif args.preset:
+        scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
+    elif not base:
+        from volumen.render._api import default_transfer
+
+        scene = replace(scene, transfer=default_transfer(volume, args.mode or "composite"))
+    if args.mode:
+        scene = replace(scene, mode=args.mode)
+    if args.iso is not None or args.iso_color or (not base and scene.mode == "isosurface"):
+        iso = scene.isosurface
+        value = args.iso if args.iso is not None else (iso.value if base else _default_iso(volume))
+        color = parse_point(args.iso_color) if args.iso_color else iso.color
+        scene = replace(scene, isosurface=Isosurface(value=value, color=color))
+    if args.light:
+        scene = replace(scene, lights=tuple(parse_light(t) for t in args.light),
+                        shading=replace(scene.shading, mode="phong"))
+    if args.shading:
+        scene = replace(scene, shading=replace(scene.shading, mode=args.shading))
+    samp = {}
+    if args.spv is not None:
+        samp["samples_per_voxel"] = args.spv
+    if args.nearest:
+        samp["interpolation"] = "nearest"
+    if args.no_jitter:
+        samp["jitter"] = False
+    if args.preintegrate:
+        samp["preintegrate"] = True
+    if samp:
+        scene = replace(scene, sampling=replace(scene.sampling, **samp) if base else Sampling(**samp))
+    if args.crop or args.clip_plane or args.crop_space:
+        clip = scene.clipping
+        crop = _floats(args.crop, 6, "--crop") if args.crop else clip.crop
+        planes = clip.planes
+        if args.clip_plane:
+            specs = [parse_spec(t, {"point": 3, "normal": 3}) for t in args.clip_plane]
+            planes = tuple(ClipPlane(point=d["point"], normal=d["normal"]) for d in specs)
+        scene = replace(scene, clipping=Clipping(crop=crop, crop_space=args.crop_space or clip.crop_space,
+                                                 planes=planes))
+    cam_flags = {k: getattr(args, k) for k in ("view", "azimuth", "elevation", "zoom", "projection")}
+    if base and not any(v is not None for v in cam_flags.values()):
+        camera = Camera.from_dict(base["camera"])
+    else:
+        prev = (base or {}).get("orbit", {})
+        orbit = {k: (v if v is not None else prev.get(k)) for k, v in cam_flags.items()}
+        orbit = {k: v for k, v in orbit.items() if v is not None}
+        camera = Camera.orbit(volume, **orbit)
+        cam_flags = orbit
+    size = _size(args.size) or (tuple(base["size"]) if base else (512, 512))
+    background = parse_point(args.background) if args.background else tuple((base or {}).get("background", (0, 0, 0)))
+    return scene, camera, size, background, {k: v for k, v in cam_flags.items() if v is not None}
+
+
+def _default_iso(volume) -> float:
+    lo, hi = volume.value_range()
+    return 300.0 if volume.units == "HU" or volume.modality == "CT" else 0.5 * (lo + hi)
+
+
+def _volume_ref(args, base) -> str:
+    if args.input:
+        s = str(args.input)
+        return s if s.startswith("phantom:") else str(Path(s).resolve())
+    return (base or {}).get("scene", {}).get("volume", "")
+
+
+def run(args):
+    from volumen.render import render
+
+    base = None
+    if args.settings:
+        try:
+            base = json.loads(Path(args.settings).read_text())
+        except (OSError, json.JSONDecodeError) as exc:
+            raise ValueError(f"cannot read settings {args.settings}: {exc}") from None
+        if base.get("version") != SETTINGS_VERSION or not {"scene", "camera", "size"} <= set(base):
+            raise ValueError(f"{args.settings} is not a volumen render settings file (version {SETTINGS_VERSION})")
+        for key, val in base.get("load", {}).items():  # reading options recorded with the picture
+            if getattr(args, key, None) in (None, False):
+                setattr(args, key, val)
+    if not args.input and not base:
+        raise ValueError("give an INPUT volume or --settings")
+    source = args.input or base["scene"]["volume"]
+    volume = load_from_args(args, path=source)
+    scene, camera, size, background, orbit = build(args, base, volume)
+    t0 = time.perf_counter()
+    image = render(scene, camera, size)
+    dt = time.perf_counter() - t0
+    image.save(args.out, background=background)
+    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}) in {dt * 1000:.0f} ms")
+    if args.save_settings:
+        load_opts = {k: getattr(args, k) for k in ("series", "resample", "nonfinite", "shape", "dtype", "spacing",
+                                                   "byte_order") if getattr(args, k, None) not in (None, False)}
+        settings = {"version": SETTINGS_VERSION, "scene": scene.to_dict(), "camera": camera.to_dict(),
+                    "size": list(size), "background": list(background), "orbit": orbit, "load": load_opts}
+        Path(args.save_settings).write_text(json.dumps(settings, indent=2))
+        print(f"wrote {args.save_settings}")
+    return 0

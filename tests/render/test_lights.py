@@ -1,0 +1,55 @@
+"""Lighting identities: headlight = a point light at the eye; lights add up."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+
+from volumen.render import render
+
+from conftest import sphere_volume
+
+TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
+
+
+@pytest.fixture(scope="module")
+def vol():
+    return sphere_volume(n=40, radius=12.0, smooth=2.0)
+
+
+@pytest.mark.parametrize("mode", ["composite", "isosurface"])
+def test_headlight_equals_point_light_at_eye(vol, mode):
+    cam = Camera.orbit(vol, azimuth=30, elevation=20, zoom=1.4)
+    _, _, f = cam.basis()
+    base = Scene(volume=vol, mode=mode, transfer=TF, isosurface=Isosurface(value=0.0))
+    head = render(base.with_(shading=Shading(mode="headlight")), cam, (48, 48))
+    spot = Light(position=cam.position, direction=tuple(f), exponent=0.0)
+    lit = render(base.with_(shading=Shading(mode="phong"), lights=(spot,)), cam, (48, 48))
+    assert head.rgba[..., 3].max() > 0.5
+    assert np.abs(head.rgba - lit.rgba).max() < 1e-5
+
+
+def test_lights_add_up(vol):
+    cam = Camera.orbit(vol, azimuth=-25, zoom=1.4)
+    c = np.asarray(vol.center)
+    lights = (Light(position=tuple(c + [80, 60, 40]), intensity=0.3, color=(1, 0.8, 0.6)),
+              Light(position=tuple(c + [-70, 50, -20]), direction=(0.7, -0.5, 0.2), exponent=4.0, intensity=0.35),
+              Light(position=tuple(c + [0, 90, 0]), direction=(0, -1, 0), exponent=12.0, intensity=0.25,
+                    color=(0.5, 0.7, 1.0)))
+    sh = Shading(mode="phong", ambient=0.15)
+    base = Scene(volume=vol, transfer=TF, sampling=Sampling(seed=7))
+
+    def go(lts, shading):
+        return render(base.with_(lights=lts, shading=shading), cam, (48, 48)).rgba
+
+    all_lights = go(lights, sh)
+    ambient = go((), sh)
+    parts = [go((lt,), Shading(mode="phong", ambient=0.0)) for lt in lights]
+    total = ambient.copy()
+    for p in parts:
+        total[..., :3] += p[..., :3]
+    assert all_lights[..., :3].max() < 0.99  # no clamping involved
+    assert min(p[..., :3].max() for p in parts) > 0.02  # every light contributes
+    np.testing.assert_allclose(all_lights, total, atol=2e-5)

@@ -1,0 +1,267 @@
+"""The camera: a right-handed look-at pinhole or parallel projection in world RAS+ mm.
+
+Conventions (DESIGN.md section 2):
+
+* ``position`` is the eye, ``target`` the point looked at, ``up`` a hint for the
+  picture's vertical (made orthogonal to the view direction);
+* the camera frame is ``forward = normalize(target - position)``,
+  ``right = normalize(forward x up)``, ``true_up = right x forward``; image
+  column index grows along ``right``, image row index grows along ``-true_up``
+  (row 0 is the TOP of the picture);
+* ``fov`` is the vertical field of view in degrees (perspective);
+  ``parallel_scale`` is half the view height in mm (orthographic).
+
+The anatomical views put the eye on the named side of the patient: the
+anterior view looks from +y (anterior) toward -y with superior up, so the
+patient's right is on the image's LEFT, as when facing the patient.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, replace
+from typing import Literal, get_args
+
+import numpy as np
+
+__all__ = ["Camera", "Projection", "View", "VIEWS"]
+
+Projection = Literal["perspective", "orthographic"]
+View = Literal["anterior", "posterior", "left", "right", "superior", "inferior"]
+VIEWS: tuple[str, ...] = get_args(View)
+
+# view -> (unit vector from the target to the eye, up), world RAS+
+_VIEW_DIRS = {
+    "anterior": ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0)),
+    "posterior": ((0.0, -1.0, 0.0), (0.0, 0.0, 1.0)),
+    "left": ((-1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+    "right": ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+    "superior": ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
+    "inferior": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
+}
+
+
+def _vec3(name: str, v) -> tuple[float, float, float]:
+    a = np.asarray(v, dtype=float).ravel()
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be three finite numbers (x, y, z) in mm, got {v!r}")
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+def _check_choice(name: str, value, choices) -> None:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
+
+
+def _rotate(v: np.ndarray, axis: np.ndarray, degrees: float) -> np.ndarray:
+    """Rotate ``v`` about the unit ``axis`` by ``degrees`` (right-hand rule, Rodrigues)."""
+    a = np.radians(degrees)
+    return v * np.cos(a) + np.cross(axis, v) * np.sin(a) + axis * np.dot(axis, v) * (1 - np.cos(a))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Camera:
+    """A look-at camera in world RAS+ millimetres.
+
+    Parameters
+    ----------
+    position : (3,) float, mm
+        The eye (for orthographic: a point on the image plane; depth is measured from it).
+    target : (3,) float, mm
+        The point the camera looks at (centre of the picture).
+    up : (3,) float
+        Direction that appears upward in the picture; need not be orthogonal
+        to the view direction, must not be parallel to it.
+    fov : float, degrees
+        Vertical field of view of the perspective projection, in (0, 180).
+    projection : {"perspective", "orthographic"}
+    parallel_scale : float, mm
+        Half the view height of the orthographic projection.
+    near, far : float or None, mm
+        Optional distances along the view ray from the eye: nothing nearer
+        than ``near`` or farther than ``far`` is drawn. None = unlimited
+        (near then defaults to 0, the eye itself).
+    """
+
+    position: tuple[float, float, float]
+    target: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    fov: float = 30.0
+    projection: Projection = "perspective"
+    parallel_scale: float = 100.0
+    near: float | None = None
+    far: float | None = None
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "position", _vec3("position", self.position))
+        set_(self, "target", _vec3("target", self.target))
+        set_(self, "up", _vec3("up", self.up))
+        _check_choice("projection", self.projection, get_args(Projection))
+        if not 0.0 < float(self.fov) < 180.0:
+            raise ValueError(f"fov must be in (0, 180) degrees, got {self.fov}")
+        set_(self, "fov", float(self.fov))
+        if not float(self.parallel_scale) > 0:
+            raise ValueError(f"parallel_scale must be > 0 mm, got {self.parallel_scale}")
+        set_(self, "parallel_scale", float(self.parallel_scale))
+        for name in ("near", "far"):
+            v = getattr(self, name)
+            if v is not None:
+                if not np.isfinite(v) or v < 0:
+                    raise ValueError(f"{name} must be None or a distance >= 0 mm, got {v}")
+                set_(self, name, float(v))
+        if self.near is not None and self.far is not None and self.far <= self.near:
+            raise ValueError(f"far ({self.far}) must be greater than near ({self.near})")
+        d = np.subtract(self.target, self.position)
+        if np.linalg.norm(d) < 1e-9:
+            raise ValueError("position and target coincide: the view direction is undefined")
+        if np.linalg.norm(np.cross(d / np.linalg.norm(d), self.up)) < 1e-6:
+            raise ValueError("up is parallel to the view direction (target - position)")
+
+    # -- frame --------------------------------------------------------------
+    def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Unit vectors ``(right, true_up, forward)``, each (3,) world RAS+.
+
+        Image columns grow along ``right``, rows along ``-true_up``.
+        """
+        f = np.subtract(self.target, self.position)
+        f = f / np.linalg.norm(f)
+        r = np.cross(f, self.up)
+        r = r / np.linalg.norm(r)
+        u = np.cross(r, f)
+        return r, u, f
+
+    @property
+    def distance(self) -> float:
+        """Distance from the eye to the target, mm."""
+        return float(np.linalg.norm(np.subtract(self.target, self.position)))
+
+    def pixel_size(self, size: tuple[int, int]) -> float:
+        """Size in mm of one pixel at the target distance for an image of ``size = (width, height)``."""
+        _, h = size
+        half = self.parallel_scale if self.projection == "orthographic" else \
+            self.distance * np.tan(np.radians(self.fov) / 2)
+        return float(2 * half / h)
+
+    def project(self, xyz, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+        """World points to image coordinates.
+
+        Parameters
+        ----------
+        xyz : (..., 3) float, world RAS+ mm
+        size : (width, height) in pixels
+
+        Returns
+        -------
+        colrow : (..., 2) float
+            ``(column, row)`` in pixels, continuous: pixel ``(c, r)`` covers
+            ``[c, c+1) x [r, r+1)``, row 0 at the top.
+        depth : (...,) float, mm
+            Distance along the view ray from the eye (perspective) or from the
+            image plane through ``position`` (orthographic): the same quantity
+            a renderer writes into ``Image.depth``.
+        """
+        w, h = size
+        p = np.asarray(xyz, dtype=float) - np.asarray(self.position)
+        r, u, f = self.basis()
+        x, y, z = p @ r, p @ u, p @ f
+        if self.projection == "orthographic":
+            half = self.parallel_scale
+            sx, sy, depth = x / half, y / half, z
+        else:
+            half = np.tan(np.radians(self.fov) / 2)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                sx, sy = x / (z * half), y / (z * half)
+            depth = np.sqrt(x * x + y * y + z * z)
+        col = w / 2 + sx * h / 2
+        row = h / 2 - sy * h / 2
+        return np.stack([col, row], axis=-1), depth
+
+    # -- framing a volume ---------------------------------------------------
+    @classmethod
+    def anatomical(cls, volume, view: View = "anterior", *, projection: Projection = "perspective",
+                   fov: float = 30.0, zoom: float = 1.0) -> "Camera":
+        """The camera of one of the six anatomical views, framing the whole volume.
+
+        Parameters
+        ----------
+        volume : Volume
+            Framed by its voxel-centre bounding sphere (world RAS+).
+        view : {"anterior", "posterior", "left", "right", "superior", "inferior"}
+            The side of the patient the eye is on. Lateral, anterior and
+            posterior views have superior (+z) up; superior and inferior views
+            have anterior (+y) up.
+        projection, fov :
+            As in :class:`Camera`.
+        zoom : float
+            > 1 magnifies (the eye moves closer, or the parallel scale shrinks).
+        """
+        return cls.orbit(volume, view=view, projection=projection, fov=fov, zoom=zoom)
+
+    @classmethod
+    def orbit(cls, volume, *, azimuth: float = 0.0, elevation: float = 0.0, zoom: float = 1.0,
+              view: View = "anterior", projection: Projection = "perspective",
+              fov: float = 30.0) -> "Camera":
+        """A camera on a sphere around the volume's centre, starting from an anatomical view.
+
+        The eye starts on the ``view`` side (see :meth:`anatomical`); then
+        ``azimuth`` (degrees) rotates it about the view's up axis through the
+        centre, counter-clockwise seen from above (right-hand rule: from the
+        anterior view, azimuth 90 puts the eye on the patient's left, -90 on
+        the right); then ``elevation`` (degrees) rotates it about the camera's
+        right axis toward the up side (from anterior, elevation 90 looks down
+        from superior). ``up`` turns with the eye.
+
+        The distance is chosen so the volume's bounding sphere (of its voxel
+        centres) fits in the vertical field of view; for orthographic
+        projection ``parallel_scale`` is the sphere's radius. Both are divided
+        by ``zoom``.
+        """
+        _check_choice("view", view, VIEWS)
+        _check_choice("projection", projection, get_args(Projection))
+        if not zoom > 0:
+            raise ValueError(f"zoom must be > 0, got {zoom}")
+        centre = np.asarray(volume.center, dtype=float)
+        radius = max(volume.diagonal / 2, min(volume.spacing))
+        back, up = (np.array(v) for v in _VIEW_DIRS[view])
+        back = _rotate(back, up, azimuth)
+        right = np.cross(-back, up)
+        right /= np.linalg.norm(right)
+        back = _rotate(back, right, -elevation)
+        up = _rotate(up, right, -elevation)
+        if projection == "perspective":
+            dist = radius / np.sin(np.radians(fov) / 2) / zoom
+            scale = radius / zoom
+        else:
+            dist = 2.0 * radius + 10.0 * min(volume.spacing)
+            scale = radius / zoom
+        return cls(position=tuple(centre + back * dist), target=tuple(centre), up=tuple(up), fov=fov,
+                   projection=projection, parallel_scale=scale)
+
+    def with_(self, **changes) -> "Camera":
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+    # -- JSON ---------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain JSON-ready dict (lists for vectors)."""
+        d = asdict(self)
+        for k in ("position", "target", "up"):
+            d[k] = list(d[k])
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Camera":
+        """Inverse of :meth:`to_dict`; unknown keys raise ValueError."""
+        known = set(cls.__dataclass_fields__)
+        extra = set(d) - known
+        if extra:
+            raise ValueError(f"unknown Camera fields {sorted(extra)}; valid: {sorted(known)}")
+        return cls(**d)
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_json(cls, text: str) -> "Camera":
+        return cls.from_dict(json.loads(text))

@@ -1,0 +1,332 @@
+"""What a picture shows: the Scene and its settings, all plain data that round-trips through JSON.
+
+A :class:`Scene` holds the :class:`~volumen.core.Volume` object at run time,
+but its JSON holds only ``volume_ref``, a string naming where the volume comes
+from (a file path, or a phantom name such as ``"phantom:head"``). Resolving
+that string is the caller's job (the command line and the application pass a
+``resolve`` function to :meth:`Scene.from_dict`), so ``core`` never reads files.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field, fields, replace
+from typing import Any, Callable, Literal, get_args
+
+import numpy as np
+
+from ._transfer import TransferFunction
+
+__all__ = ["Light", "Shading", "Sampling", "ClipPlane", "Clipping", "Isosurface", "Scene",
+           "Mode", "ShadingMode", "MODES", "SHADINGS"]
+
+Mode = Literal["composite", "mip", "minip", "average", "isosurface"]
+ShadingMode = Literal["none", "headlight", "phong"]
+MODES: tuple[str, ...] = get_args(Mode)
+SHADINGS: tuple[str, ...] = get_args(ShadingMode)
+
+
+def _choice(name: str, value, choices) -> None:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
+
+
+def _vec(name: str, v, n: int = 3, unit: bool = False) -> tuple[float, ...]:
+    a = np.asarray(v, dtype=float).ravel()
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers, got {v!r}")
+    if unit and np.linalg.norm(a) < 1e-12:  # kept as given (exact JSON round trip); renderers normalize
+        raise ValueError(f"{name} must not be the zero vector")
+    return tuple(float(x) for x in a)
+
+
+def _nonneg(name: str, v) -> float:
+    v = float(v)
+    if not (np.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {v}")
+    return v
+
+
+class _Data:
+    """JSON helpers shared by the small frozen settings classes."""
+
+    def to_dict(self) -> dict:
+        return json.loads(json.dumps(asdict(self)))  # tuples -> lists
+
+    @classmethod
+    def from_dict(cls, d: dict):
+        known = {f.name for f in fields(cls)}
+        extra = set(d) - known
+        if extra:
+            raise ValueError(f"unknown {cls.__name__} fields {sorted(extra)}; valid: {sorted(known)}")
+        return cls(**d)
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_json(cls, text: str):
+        return cls.from_dict(json.loads(text))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Light(_Data):
+    """A point or spot light fixed in world space.
+
+    Parameters
+    ----------
+    position : (3,) float, world RAS+ mm
+    direction : (3,) float
+        Spot axis (any length but zero; renderers normalize it); unused when ``exponent == 0``.
+    intensity : float
+        Scales ``color``; >= 0.
+    color : (3,) float
+        Linear RGB.
+    exponent : float
+        Spot falloff: the light reaching a sample is
+        ``intensity * color * max(dot(L, D), 0) ** exponent``, with ``L`` the
+        unit vector from the light to the sample and ``D`` the direction;
+        ``exponent = 0`` is a point light shining every way.
+    """
+
+    position: tuple[float, float, float]
+    direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
+    intensity: float = 1.0
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    exponent: float = 0.0
+
+    def __post_init__(self) -> None:
+        s = object.__setattr__
+        s(self, "position", _vec("Light.position", self.position))
+        s(self, "direction", _vec("Light.direction", self.direction, unit=True))
+        s(self, "color", _vec("Light.color", self.color))
+        s(self, "intensity", _nonneg("Light.intensity", self.intensity))
+        s(self, "exponent", _nonneg("Light.exponent", self.exponent))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Shading(_Data):
+    """Lighting of samples (Phong, DESIGN.md section 3).
+
+    Parameters
+    ----------
+    mode : {"none", "headlight", "phong"}
+        ``none``: emission-absorption only. ``headlight``: one white point
+        light at the eye. ``phong``: the scene's ``lights``.
+    ambient, diffuse, specular : float
+        Phong coefficients.
+    shininess : float
+        Specular exponent.
+    gradient : {"central", "sobel"}
+        How normals are estimated from the data (scaled by the voxel spacing
+        and the affine, so they are world-space directions).
+    """
+
+    mode: ShadingMode = "headlight"
+    ambient: float = 0.15
+    diffuse: float = 0.65
+    specular: float = 0.2
+    shininess: float = 20.0
+    gradient: Literal["central", "sobel"] = "central"
+
+    def __post_init__(self) -> None:
+        _choice("Shading.mode", self.mode, SHADINGS)
+        _choice("Shading.gradient", self.gradient, ("central", "sobel"))
+        for name in ("ambient", "diffuse", "specular", "shininess"):
+            object.__setattr__(self, name, _nonneg(f"Shading.{name}", getattr(self, name)))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Sampling(_Data):
+    """How rays sample the volume.
+
+    Parameters
+    ----------
+    samples_per_voxel : float
+        Step ``ds = ds0 / samples_per_voxel`` with ``ds0`` the smallest voxel spacing (mm).
+    interpolation : {"linear", "nearest"}
+        Trilinear or nearest-voxel reconstruction.
+    jitter : bool
+        Offset each ray's first sample by a fraction of a step from a
+        deterministic hash of (pixel, ``seed``), against wood-grain artifacts.
+    seed : int
+        Frame seed of the jitter.
+    early_termination : float
+        Stop a composite ray once its opacity reaches this (1.0 disables).
+    skip_empty : bool
+        Skip blocks of the volume that cannot contribute (min/max block grid).
+    block_size : int
+        Edge in voxels of the empty-space blocks.
+    preintegrate : bool
+        Pre-integrated classification (composite mode).
+    """
+
+    samples_per_voxel: float = 1.0
+    interpolation: Literal["linear", "nearest"] = "linear"
+    jitter: bool = True
+    seed: int = 0
+    early_termination: float = 0.99
+    skip_empty: bool = True
+    block_size: int = 8
+    preintegrate: bool = False
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.samples_per_voxel) and 0.01 <= self.samples_per_voxel <= 64):
+            raise ValueError(f"samples_per_voxel must be in [0.01, 64], got {self.samples_per_voxel}")
+        object.__setattr__(self, "samples_per_voxel", float(self.samples_per_voxel))
+        _choice("Sampling.interpolation", self.interpolation, ("linear", "nearest"))
+        if not 0.0 < self.early_termination <= 1.0:
+            raise ValueError(f"early_termination must be in (0, 1], got {self.early_termination}")
+        object.__setattr__(self, "early_termination", float(self.early_termination))
+        if not (isinstance(self.block_size, (int, np.integer)) and 2 <= self.block_size <= 64):
+            raise ValueError(f"block_size must be an integer in [2, 64], got {self.block_size!r}")
+        object.__setattr__(self, "block_size", int(self.block_size))
+        object.__setattr__(self, "seed", int(self.seed))
+        object.__setattr__(self, "jitter", bool(self.jitter))
+        object.__setattr__(self, "skip_empty", bool(self.skip_empty))
+        object.__setattr__(self, "preintegrate", bool(self.preintegrate))
+
+
+@dataclass(frozen=True, kw_only=True)
+class ClipPlane(_Data):
+    """A clip plane in world RAS+ mm; the half-space the ``normal`` points into is KEPT:
+    points ``x`` with ``dot(x - point, normal) >= 0`` are drawn. ``normal``: any length but zero."""
+
+    point: tuple[float, float, float]
+    normal: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "point", _vec("ClipPlane.point", self.point))
+        object.__setattr__(self, "normal", _vec("ClipPlane.normal", self.normal, unit=True))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Clipping(_Data):
+    """What part of the volume is drawn.
+
+    Parameters
+    ----------
+    crop : (6,) float or None
+        Box ``(xmin, xmax, ymin, ymax, zmin, zmax)``: in voxel indices
+        ``(i, j, k)`` (column, row, slice; voxel centres at integers) when
+        ``crop_space == "voxel"``, in world RAS+ mm (axis-aligned) when
+        ``"world"``. The box is intersected with the volume's box.
+    crop_space : {"voxel", "world"}
+    planes : sequence of ClipPlane
+        Up to 6; each keeps the half-space its normal points into.
+    """
+
+    crop: tuple[float, float, float, float, float, float] | None = None
+    crop_space: Literal["voxel", "world"] = "voxel"
+    planes: tuple[ClipPlane, ...] = ()
+
+    def __post_init__(self) -> None:
+        _choice("Clipping.crop_space", self.crop_space, ("voxel", "world"))
+        if self.crop is not None:
+            c = _vec("Clipping.crop", self.crop, 6)
+            if c[1] < c[0] or c[3] < c[2] or c[5] < c[4]:
+                raise ValueError(f"Clipping.crop must be (xmin, xmax, ymin, ymax, zmin, zmax) with min <= max, got {c}")
+            object.__setattr__(self, "crop", c)
+        planes = tuple(p if isinstance(p, ClipPlane) else ClipPlane.from_dict(p) for p in self.planes)
+        if len(planes) > 6:
+            raise ValueError(f"at most 6 clip planes, got {len(planes)}")
+        object.__setattr__(self, "planes", planes)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Isosurface(_Data):
+    """The isosurface mode's threshold (data units) and colour (linear RGB)."""
+
+    value: float = 0.0
+    color: tuple[float, float, float] = (0.9, 0.85, 0.75)
+
+    def __post_init__(self) -> None:
+        if not np.isfinite(self.value):
+            raise ValueError("Isosurface.value must be finite")
+        object.__setattr__(self, "value", float(self.value))
+        object.__setattr__(self, "color", _vec("Isosurface.color", self.color))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Scene:
+    """Everything but the camera that decides a picture.
+
+    Parameters
+    ----------
+    volume : Volume or None
+        The data, at run time; not part of equality nor of the JSON.
+    volume_ref : str
+        Where the volume comes from (a path or ``"phantom:NAME"``); written to JSON.
+    transfer : TransferFunction
+    lights : sequence of Light
+        Used by ``shading.mode == "phong"``.
+    mode : {"composite", "mip", "minip", "average", "isosurface"}
+    shading, sampling, clipping, isosurface :
+        The settings dataclasses.
+    """
+
+    volume: Any = field(default=None, compare=False, repr=False)
+    volume_ref: str = ""
+    transfer: TransferFunction = field(default_factory=TransferFunction)
+    lights: tuple[Light, ...] = ()
+    mode: Mode = "composite"
+    shading: Shading = field(default_factory=Shading)
+    sampling: Sampling = field(default_factory=Sampling)
+    clipping: Clipping = field(default_factory=Clipping)
+    isosurface: Isosurface = field(default_factory=Isosurface)
+
+    def __post_init__(self) -> None:
+        _choice("Scene.mode", self.mode, MODES)
+        object.__setattr__(self, "lights", tuple(self.lights))
+        for name, cls in (("transfer", TransferFunction), ("shading", Shading), ("sampling", Sampling),
+                          ("clipping", Clipping), ("isosurface", Isosurface)):
+            if not isinstance(getattr(self, name), cls):
+                raise ValueError(f"Scene.{name} must be a {cls.__name__}, got {type(getattr(self, name)).__name__}")
+        for light in self.lights:
+            if not isinstance(light, Light):
+                raise ValueError(f"Scene.lights must hold Light objects, got {type(light).__name__}")
+
+    def with_(self, **changes) -> "Scene":
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict; the volume appears only as ``volume`` = ``volume_ref``."""
+        return {"volume": self.volume_ref, "transfer": self.transfer.to_dict(),
+                "lights": [lt.to_dict() for lt in self.lights], "mode": self.mode,
+                "shading": self.shading.to_dict(), "sampling": self.sampling.to_dict(),
+                "clipping": self.clipping.to_dict(), "isosurface": self.isosurface.to_dict()}
+
+    @classmethod
+    def from_dict(cls, d: dict, *, volume=None, resolve: Callable[[str], Any] | None = None) -> "Scene":
+        """Inverse of :meth:`to_dict`.
+
+        ``volume`` is attached as is; otherwise, when ``resolve`` is given, it
+        is called with the stored reference string and must return the Volume.
+        """
+        known = {"volume", "transfer", "lights", "mode", "shading", "sampling", "clipping", "isosurface"}
+        extra = set(d) - known
+        if extra:
+            raise ValueError(f"unknown Scene fields {sorted(extra)}; valid: {sorted(known)}")
+        ref = d.get("volume", "") or ""
+        if volume is None and resolve is not None and ref:
+            volume = resolve(ref)
+        kw: dict[str, Any] = {"volume": volume, "volume_ref": ref}
+        if "transfer" in d:
+            kw["transfer"] = TransferFunction.from_dict(d["transfer"])
+        if "lights" in d:
+            kw["lights"] = tuple(Light.from_dict(x) for x in d["lights"])
+        if "mode" in d:
+            kw["mode"] = d["mode"]
+        for name, sub in (("shading", Shading), ("sampling", Sampling), ("clipping", Clipping),
+                          ("isosurface", Isosurface)):
+            if name in d:
+                kw[name] = sub.from_dict(d[name])
+        return cls(**kw)
+
+    def to_json(self, **kw) -> str:
+        return json.dumps(self.to_dict(), **kw)
+
+    @classmethod
+    def from_json(cls, text: str, *, volume=None, resolve: Callable[[str], Any] | None = None) -> "Scene":
+        return cls.from_dict(json.loads(text), volume=volume, resolve=resolve)

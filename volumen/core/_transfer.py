@@ -1,0 +1,218 @@
+"""Transfer functions: data value -> colour and opacity, piecewise linear.
+
+Values are in the data's own units (HU for CT, DESIGN.md section 2). Opacity
+is given per reference step ``ds0`` = one voxel (the volume's smallest
+spacing): a renderer stepping ``ds`` corrects it as
+``a' = 1 - (1 - a) ** (ds / ds0)`` (render/optics.py). Outside its first and
+last point a curve keeps its end value.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, replace
+from typing import Literal, get_args
+
+import numpy as np
+
+__all__ = ["TransferFunction", "PRESETS", "Preset"]
+
+Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "mr-default", "mip-gray"]
+PRESETS: tuple[str, ...] = get_args(Preset)
+
+
+def _points(name: str, pts, width: int) -> tuple[tuple[float, ...], ...]:
+    a = np.asarray(pts, dtype=float)
+    if a.ndim != 2 or a.shape[1] != width or len(a) < 1:
+        raise ValueError(f"{name} must be a list of ({'value, ' + ', '.join(['...'] * (width - 1))}) rows "
+                         f"with {width} numbers each, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} holds non-finite numbers")
+    if np.any(np.diff(a[:, 0]) < 0):
+        raise ValueError(f"{name} values (first column) must be non-decreasing: {a[:, 0].tolist()}")
+    if np.any(a[:, 1:] < 0) or np.any(a[:, 1:] > 1):
+        raise ValueError(f"{name} colour/opacity entries must lie in [0, 1]")
+    return tuple(tuple(float(x) for x in row) for row in a)
+
+
+def _interp(x: np.ndarray, pts: tuple[tuple[float, ...], ...], col: int) -> np.ndarray:
+    a = np.asarray(pts, dtype=float)
+    return np.interp(x, a[:, 0], a[:, col])
+
+
+@dataclass(frozen=True, kw_only=True)
+class TransferFunction:
+    """Piecewise-linear colour and opacity over data values.
+
+    Parameters
+    ----------
+    color : sequence of (value, r, g, b)
+        Control points, values non-decreasing in the data's units, colours
+        linear RGB in [0, 1].
+    opacity : sequence of (value, alpha)
+        Control points; alpha in [0, 1] per reference step (one voxel).
+    gradient_opacity : sequence of (gradient magnitude, factor) or None
+        Optional modulation: the opacity is multiplied by this piecewise-linear
+        function of the gradient magnitude, in data units per mm (e.g. HU/mm).
+    name : str
+        Label (the preset's name for presets).
+    """
+
+    color: tuple[tuple[float, float, float, float], ...] = ((0.0, 0.0, 0.0, 0.0), (1.0, 1.0, 1.0, 1.0))
+    opacity: tuple[tuple[float, float], ...] = ((0.0, 0.0), (1.0, 1.0))
+    gradient_opacity: tuple[tuple[float, float], ...] | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "color", _points("color", self.color, 4))
+        object.__setattr__(self, "opacity", _points("opacity", self.opacity, 2))
+        if self.gradient_opacity is not None:
+            g = _points("gradient_opacity", self.gradient_opacity, 2)
+            if g[0][0] < 0:
+                raise ValueError("gradient_opacity magnitudes must be >= 0")
+            object.__setattr__(self, "gradient_opacity", g)
+
+    # -- evaluation ---------------------------------------------------------
+    def evaluate(self, values) -> np.ndarray:
+        """Colour and opacity at data ``values`` (any shape): float32 ``(..., 4)`` = r, g, b, alpha (not premultiplied)."""
+        v = np.asarray(values, dtype=float)
+        out = np.empty(v.shape + (4,), np.float32)
+        for c in range(3):
+            out[..., c] = _interp(v, self.color, c + 1)
+        out[..., 3] = _interp(v, self.opacity, 1)
+        return out
+
+    def gradient_factor(self, magnitude) -> np.ndarray:
+        """Opacity factor at gradient ``magnitude`` (data units / mm); 1 where no modulation is set."""
+        m = np.asarray(magnitude, dtype=float)
+        if self.gradient_opacity is None:
+            return np.ones(m.shape, np.float32)
+        return _interp(m, self.gradient_opacity, 1).astype(np.float32)
+
+    def lut(self, vmin: float, vmax: float, n: int = 4096) -> np.ndarray:
+        """Bake into a table: float32 ``(n, 4)`` (r, g, b, alpha) at ``n`` values evenly spaced over [vmin, vmax]."""
+        if not (np.isfinite(vmin) and np.isfinite(vmax)) or n < 2:
+            raise ValueError(f"lut needs a finite range and n >= 2, got [{vmin}, {vmax}], n={n}")
+        return self.evaluate(np.linspace(vmin, vmax, n))
+
+    def visible_range(self) -> tuple[float, float]:
+        """``(lo, hi)`` data values between which the opacity can be non-zero (inf where it stays non-zero)."""
+        a = np.asarray(self.opacity)
+        nz = np.nonzero(a[:, 1] > 0)[0]
+        if len(nz) == 0:
+            return (np.inf, -np.inf)
+        lo = -np.inf if nz[0] == 0 else a[nz[0] - 1, 0]
+        hi = np.inf if nz[-1] == len(a) - 1 else a[nz[-1] + 1, 0]
+        return float(lo), float(hi)
+
+    # -- editing ------------------------------------------------------------
+    def shifted(self, offset: float) -> "TransferFunction":
+        """Slicer-style shift: move the inner control points by ``offset`` data units.
+
+        The first and last point of each curve stay (they anchor the ends of
+        the range); the inner ones are clamped between them so the curve stays
+        ordered.
+        """
+
+        def move(pts):
+            if len(pts) <= 2:
+                return pts
+            lo, hi = pts[0][0], pts[-1][0]
+            inner = tuple((min(max(p[0] + offset, lo), hi),) + tuple(p[1:]) for p in pts[1:-1])
+            return (pts[0],) + inner + (pts[-1],)
+
+        return replace(self, color=move(self.color), opacity=move(self.opacity))
+
+    def with_opacity_scale(self, factor: float) -> "TransferFunction":
+        """A copy with every opacity multiplied by ``factor`` (clipped to [0, 1])."""
+        return replace(self, opacity=tuple((v, min(max(a * factor, 0.0), 1.0)) for v, a in self.opacity))
+
+    # -- constructors -------------------------------------------------------
+    @classmethod
+    def window_level(cls, window: float, level: float, *, opacity: tuple[float, float] = (0.0, 1.0),
+                     name: str = "") -> "TransferFunction":
+        """Grayscale ramp: black at ``level - window/2``, white at ``level + window/2`` (data units).
+
+        ``opacity`` gives the alpha at the bottom and top of the window (ramped
+        linearly between them, constant outside).
+        """
+        if not window > 0:
+            raise ValueError(f"window must be > 0, got {window}")
+        lo, hi = level - window / 2, level + window / 2
+        return cls(color=((lo, 0.0, 0.0, 0.0), (hi, 1.0, 1.0, 1.0)),
+                   opacity=((lo, opacity[0]), (hi, opacity[1])), name=name)
+
+    @classmethod
+    def preset(cls, name: Preset, *, value_range: tuple[float, float] | None = None) -> "TransferFunction":
+        """A named preset.
+
+        CT presets are in Hounsfield units. ``mr-default`` and ``mip-gray`` are
+        relative to the data's ``value_range = (min, max)``, which they need.
+        Valid names: see ``PRESETS``.
+        """
+        if name not in PRESETS:
+            raise ValueError(f"unknown transfer function preset {name!r}; valid: {', '.join(PRESETS)}")
+        if name in _CT_PRESETS:
+            color, opacity = _CT_PRESETS[name]
+            return cls(color=color, opacity=opacity, name=name)
+        if value_range is None:
+            raise ValueError(f"preset {name!r} is relative to the data: pass value_range=(min, max)")
+        lo, hi = (float(x) for x in value_range)
+        if not hi > lo:
+            hi = lo + 1.0
+        span = hi - lo
+        if name == "mip-gray":
+            return cls.window_level(span, lo + span / 2, opacity=(1.0, 1.0), name=name)
+        # mr-default: background below 10 % transparent, warm ramp above
+        return cls(color=((lo, 0.0, 0.0, 0.0), (lo + 0.15 * span, 0.55, 0.35, 0.3),
+                          (lo + 0.5 * span, 0.95, 0.85, 0.75), (hi, 1.0, 1.0, 1.0)),
+                   opacity=((lo, 0.0), (lo + 0.1 * span, 0.0), (lo + 0.3 * span, 0.05),
+                            (lo + 0.7 * span, 0.3), (hi, 0.5)), name=name)
+
+    # -- JSON ---------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain JSON-ready dict."""
+        return {"color": [list(p) for p in self.color], "opacity": [list(p) for p in self.opacity],
+                "gradient_opacity": None if self.gradient_opacity is None else [list(p) for p in self.gradient_opacity],
+                "name": self.name}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "TransferFunction":
+        """Inverse of :meth:`to_dict`; unknown keys raise ValueError."""
+        known = set(cls.__dataclass_fields__)
+        extra = set(d) - known
+        if extra:
+            raise ValueError(f"unknown TransferFunction fields {sorted(extra)}; valid: {sorted(known)}")
+        return cls(**d)
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_json(cls, text: str) -> "TransferFunction":
+        return cls.from_dict(json.loads(text))
+
+
+# Hounsfield-unit presets: (colour points, opacity points); opacity per voxel step.
+_CT_PRESETS = {
+    # after 3D Slicer's CT-Bone
+    "ct-bone": (((-3024, 0, 0, 0), (-16, 0.73, 0.25, 0.30), (641, 0.91, 0.82, 0.55), (3071, 1, 1, 1)),
+                ((-3024, 0), (-16, 0), (641, 0.72), (3071, 0.71))),
+    # a thin translucent skin layer at the air/tissue boundary, opaque bone
+    "ct-skin-bone": (((-3024, 0, 0, 0), (-600, 0.85, 0.6, 0.5), (0, 0.9, 0.65, 0.55), (250, 0.9, 0.85, 0.75),
+                      (3071, 1, 1, 1)),
+                     ((-3024, 0), (-650, 0), (-500, 0.6), (-300, 0.6), (-150, 0.02), (150, 0.0), (250, 0.3),
+                      (700, 0.85), (3071, 0.9))),
+    # soft-tissue window (W 400, L 40) with a ramp in opacity
+    "ct-soft-tissue": (((-3024, 0, 0, 0), (-160, 0.55, 0.25, 0.15), (40, 0.85, 0.45, 0.35), (240, 1, 0.9, 0.8),
+                        (3071, 1, 1, 1)),
+                       ((-3024, 0), (-160, 0), (40, 0.08), (240, 0.3), (3071, 0.5))),
+    # contrast-filled vessels (~150-400 HU) red, bone pale
+    "ct-vessels": (((-3024, 0, 0, 0), (120, 0.6, 0.05, 0.05), (300, 0.9, 0.2, 0.15), (600, 1, 0.9, 0.8),
+                    (3071, 1, 1, 1)),
+                   ((-3024, 0), (110, 0), (200, 0.5), (600, 0.75), (3071, 0.8))),
+    # lung parenchyma and airway walls; everything denser than -200 HU transparent
+    "ct-lung": (((-3024, 0, 0, 0), (-950, 0.9, 0.6, 0.55), (-600, 1, 0.8, 0.75), (-200, 1, 0.95, 0.9),
+                 (3071, 1, 1, 1)),
+                ((-3024, 0), (-950, 0), (-850, 0.02), (-600, 0.1), (-300, 0.06), (-200, 0), (3071, 0))),
+}

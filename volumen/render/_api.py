@@ -1,0 +1,120 @@
+"""Public entry points of the renderers: ``render`` and ``render_volume``."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction
+from ..core._camera import Projection, View
+from ..core._scene import Mode, ShadingMode
+from ..core._transfer import Preset
+
+__all__ = ["render", "render_volume", "clear_cache", "BACKENDS"]
+
+
+def _cpu(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
+    from .raycast import render_cpu  # Numba loads here, not at import
+
+    return render_cpu(scene, camera, size)
+
+
+#: backend name -> function(scene, camera, size) -> Image
+BACKENDS: dict[str, Callable[[Scene, Camera, tuple[int, int]], Image]] = {"cpu": _cpu}
+
+
+def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, backend: str = "cpu") -> Image:
+    """Render a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        Must hold its ``volume`` (a :class:`~volumen.core.Volume`).
+    camera : Camera
+    size : (width, height), pixels
+    backend : str
+        A key of :data:`BACKENDS` (``"cpu"``: Numba ray casting).
+
+    Returns
+    -------
+    Image
+        ``rgba`` (H, W, 4) float32 premultiplied linear in [0, 1], row 0 at
+        the top; ``depth`` (H, W) float32 mm along each view ray from the eye
+        (orthographic: from the image plane), inf where nothing was hit --
+        composite: where the accumulated opacity first reaches 0.5; mip/minip:
+        where the extreme value was first met; average: the ray's entry into
+        the drawn region; isosurface: the surface. ``value`` (H, W) for
+        mip/minip/average: the projected value in data units (NaN off the
+        volume). ``stats``: ``timings`` (seconds: normalize/normals/blocks when
+        built, tables, kernel, total), ``samples`` taken, ``rays``, ``rays_hit``.
+    """
+    if backend not in BACKENDS:
+        raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
+    if not isinstance(camera, Camera):
+        raise ValueError(f"camera must be a Camera, got {type(camera).__name__}")
+    if scene.volume is None:
+        raise ValueError("scene.volume is None: attach the Volume (Scene(volume=...) or Scene.from_dict(d, volume=...))")
+    try:
+        w, h = (int(s) for s in size)
+    except (TypeError, ValueError):
+        raise ValueError(f"size must be (width, height) in pixels, got {size!r}") from None
+    if not (1 <= w <= 16384 and 1 <= h <= 16384):
+        raise ValueError(f"size must be (width, height) with 1..16384 pixels each, got {size!r}")
+    return BACKENDS[backend](scene, camera, (w, h))
+
+
+def default_transfer(volume, mode: Mode) -> TransferFunction:
+    """The transfer function ``render_volume`` uses when none is named: gray ramp over the data range
+    for projections, ``ct-bone`` for CT, ``mr-default`` otherwise."""
+    if mode in ("mip", "minip", "average"):
+        return TransferFunction.preset("mip-gray", value_range=volume.value_range())
+    if volume.modality == "CT" or volume.units == "HU":
+        return TransferFunction.preset("ct-bone")
+    return TransferFunction.preset("mr-default", value_range=volume.value_range())
+
+
+def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View = "anterior",
+                  mode: Mode = "composite", projection: Projection = "perspective",
+                  size: tuple[int, int] = (512, 512), shading: ShadingMode = "headlight", azimuth: float = 0.0,
+                  elevation: float = 0.0, zoom: float = 1.0, samples_per_voxel: float = 1.0,
+                  iso_value: float | None = None, backend: str = "cpu") -> Image:
+    """Render a volume in one call.
+
+    Parameters
+    ----------
+    volume : Volume
+    preset : str, TransferFunction or None
+        A preset name (``volumen.core.PRESETS``) or a transfer function;
+        None picks :func:`default_transfer`.
+    view, azimuth, elevation, zoom, projection :
+        As in :meth:`volumen.core.Camera.orbit`.
+    mode : {"composite", "mip", "minip", "average", "isosurface"}
+    size : (width, height), pixels
+    shading : {"none", "headlight", "phong"}
+        ("phong" without lights shows ambient light only.)
+    samples_per_voxel : float
+    iso_value : float or None
+        Isosurface threshold in data units; None: 300 HU for CT, the middle
+        of the value range otherwise.
+    """
+    if isinstance(preset, TransferFunction):
+        tf = preset
+    elif preset is None:
+        tf = default_transfer(volume, mode)
+    else:
+        tf = TransferFunction.preset(preset, value_range=volume.value_range())
+    if iso_value is None:
+        lo, hi = volume.value_range()
+        iso_value = 300.0 if (volume.modality == "CT" or volume.units == "HU") else 0.5 * (lo + hi)
+    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading),
+                  sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
+    camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
+    return render(scene, camera, size, backend=backend)
+
+
+def clear_cache(volume=None) -> None:
+    """Forget cached per-volume precomputations (after changing ``volume.data`` in place)."""
+    from .raycast import clear_cache as _clear
+
+    _clear(volume)

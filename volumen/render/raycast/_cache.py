@@ -1,0 +1,98 @@
+"""Cache of per-volume precomputations, keyed by the Volume object.
+
+A :class:`Prepared` is built the first time a volume is rendered and kept as
+long as the Volume lives (weak keys). It is rebuilt when the Volume's
+``data`` array object, shape, dtype or affine changes; call
+:func:`clear_cache` after writing into ``volume.data`` in place.
+"""
+
+from __future__ import annotations
+
+import time
+import weakref
+
+import numpy as np
+
+from ._precompute import NLUT, build_blocks, build_normals, normalize
+
+__all__ = ["Prepared", "prepare", "clear_cache"]
+
+
+class Prepared:
+    """Normalized samples of one volume and the lazily built normals and block grids.
+
+    Attributes
+    ----------
+    u : (nz, ny, nx) float32
+        Normalized samples, ``[vmin, vmax] -> [0, NLUT - 1]``.
+    vmin, vmax : float
+        Value range (data units) the table spans.
+    scale : float
+        Data units per normalized unit.
+    timings : dict
+        Seconds spent building each part (only the parts built by the last call).
+    """
+
+    def __init__(self, volume, key):
+        self.key = key
+        t = time.perf_counter()
+        lo, hi = volume.value_range()
+        if not np.isfinite(lo):
+            lo, hi = 0.0, 1.0
+        if not hi > lo:
+            hi = lo + 1.0
+        self.vmin, self.vmax = float(lo), float(hi)
+        self.scale = (self.vmax - self.vmin) / (NLUT - 1)
+        self.u = normalize(volume.data, self.vmin, self.vmax)
+        self.affine = np.array(volume.affine, dtype=float)
+        self._normals: dict[bool, tuple[np.ndarray, float]] = {}
+        self._blocks: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self.timings = {"normalize": time.perf_counter() - t}
+
+    def to_u(self, value: float) -> float:
+        """Data value -> normalized units (not clipped)."""
+        return (float(value) - self.vmin) / self.scale
+
+    def normals(self, sobel: bool) -> tuple[np.ndarray, float]:
+        """``(normals (nz, ny, nx, 4) int16, gmax data units / mm)``; see :func:`build_normals`."""
+        if sobel not in self._normals:
+            t = time.perf_counter()
+            self._normals[sobel] = build_normals(self.u, self.affine, self.scale, sobel)
+            self.timings["normals"] = time.perf_counter() - t
+        return self._normals[sobel]
+
+    def blocks(self, block: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(bmin, bmax)`` float32 block grids in normalized units; see :func:`build_blocks`."""
+        if block not in self._blocks:
+            t = time.perf_counter()
+            self._blocks[block] = build_blocks(self.u, block)
+            self.timings["blocks"] = time.perf_counter() - t
+        return self._blocks[block]
+
+
+_CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _key(volume) -> tuple:
+    d = volume.data
+    return (id(d), d.shape, d.dtype.str, np.asarray(volume.affine, float).tobytes())
+
+
+def prepare(volume) -> Prepared:
+    """The cached :class:`Prepared` of ``volume`` (built on first use)."""
+    key = _key(volume)
+    p = _CACHE.get(volume)
+    if p is None or p.key != key:
+        p = Prepared(volume, key)
+        _CACHE[volume] = p
+    else:
+        p.timings = {}
+    return p
+
+
+def clear_cache(volume=None) -> None:
+    """Forget the precomputations of ``volume`` (or of every volume)."""
+    if volume is None:
+        _CACHE.clear()
+    else:
+        _CACHE.pop(volume, None)

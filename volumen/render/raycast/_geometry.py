@@ -1,0 +1,132 @@
+"""Rays: primary rays from a packed camera, and their exact interval inside the drawn region.
+
+The camera and the volume geometry are packed into small float64 arrays
+(Python side: :func:`pack_camera`, :func:`pack_geometry`) so the kernels see
+arrays and scalars only. A ray is ``p(t) = o + t d`` in world mm with ``d``
+a unit vector, so ``t`` is the depth written into ``Image.depth``. The
+same ray in voxel-index space is ``o' + t d'`` with ``o' = A^-1 o`` and
+``d' = A^-1 d`` (``A`` the affine), which is how oblique volumes work.
+
+Drawn region = volume box of voxel centres (index space ``[0, n-1]``)
+  ∩ crop box (index space, or world axis-aligned)
+  ∩ each clip plane's kept half-space ``dot(x - p, n) >= 0``
+  ∩ ``[near, far]`` along the ray.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "ray_interval",
+           "C_ORTHO", "G_BOX"]
+
+# packed camera layout
+C_EYE, C_RIGHT, C_UP, C_FWD, C_ORTHO, C_HALF, C_W, C_H, C_NEAR, C_FAR = 0, 3, 6, 9, 12, 13, 14, 15, 16, 17
+# packed geometry layout: world->index 3x4, then index box lo/hi (with crop), then world crop lo/hi
+G_INV, G_BOX, G_WORLD = 0, 12, 18
+_FAR = 1e30  # finite stand-in for infinity (the kernels use fastmath)
+
+
+def pack_camera(camera, size) -> np.ndarray:
+    """float64 (18,): eye, right, up, forward, ortho flag, half height (tan(fov/2) or parallel scale), W, H, near, far."""
+    w, h = size
+    r, u, f = camera.basis()
+    ortho = camera.projection == "orthographic"
+    half = camera.parallel_scale if ortho else np.tan(np.radians(camera.fov) / 2)
+    near = 0.0 if camera.near is None else camera.near
+    far = _FAR if camera.far is None else camera.far
+    return np.array([*camera.position, *r, *u, *f, float(ortho), half, w, h, near, far], np.float64)
+
+
+def pack_geometry(volume, clipping) -> np.ndarray:
+    """float64 (24,): world->index affine rows (3x4), index box lo/hi (xyz, crop applied), world crop lo/hi."""
+    inv = np.linalg.inv(np.asarray(volume.affine, float))[:3, :4]
+    nz, ny, nx = volume.shape
+    lo = np.zeros(3)
+    hi = np.array([nx - 1, ny - 1, nz - 1], float)
+    wlo = np.full(3, -_FAR)
+    whi = np.full(3, _FAR)
+    if clipping.crop is not None:
+        c = np.asarray(clipping.crop, float)
+        if clipping.crop_space == "voxel":
+            lo, hi = np.maximum(lo, c[0::2]), np.minimum(hi, c[1::2])
+        else:
+            wlo, whi = c[0::2], c[1::2]
+    return np.concatenate([inv.ravel(), lo, hi, wlo, whi]).astype(np.float64)
+
+
+def pack_planes(clipping) -> np.ndarray:
+    """float64 (n, 6): point, unit normal of each clip plane ((1, 6) of zeros-normal when none)."""
+    if not clipping.planes:
+        return np.zeros((1, 6), np.float64)
+    return np.array([[*p.point, *(np.asarray(p.normal) / np.linalg.norm(p.normal))] for p in clipping.planes],
+                    np.float64)
+
+
+@njit(cache=True, fastmath=True)
+def primary_ray(cam, px, py):
+    """World ray through the centre of pixel (px, py): ``(ox, oy, oz, dx, dy, dz)``, d unit."""
+    w = cam[C_W]
+    h = cam[C_H]
+    sx = (px + 0.5 - 0.5 * w) / (0.5 * h) * cam[C_HALF]
+    sy = (0.5 * h - py - 0.5) / (0.5 * h) * cam[C_HALF]
+    if cam[C_ORTHO] > 0.5:
+        ox = cam[C_EYE] + sx * cam[C_RIGHT] + sy * cam[C_UP]
+        oy = cam[C_EYE + 1] + sx * cam[C_RIGHT + 1] + sy * cam[C_UP + 1]
+        oz = cam[C_EYE + 2] + sx * cam[C_RIGHT + 2] + sy * cam[C_UP + 2]
+        return ox, oy, oz, cam[C_FWD], cam[C_FWD + 1], cam[C_FWD + 2]
+    dx = cam[C_FWD] + sx * cam[C_RIGHT] + sy * cam[C_UP]
+    dy = cam[C_FWD + 1] + sx * cam[C_RIGHT + 1] + sy * cam[C_UP + 1]
+    dz = cam[C_FWD + 2] + sx * cam[C_RIGHT + 2] + sy * cam[C_UP + 2]
+    n = 1.0 / np.sqrt(dx * dx + dy * dy + dz * dz)
+    return cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2], dx * n, dy * n, dz * n
+
+
+@njit(cache=True, fastmath=False)
+def _slab(o, d, lo, hi, t0, t1):
+    """Intersect [t0, t1] with {t : lo <= o + t d <= hi} on one axis."""
+    if d == 0.0:
+        if o < lo or o > hi:
+            return 1.0, 0.0
+        return t0, t1
+    a = (lo - o) / d
+    b = (hi - o) / d
+    if a > b:
+        a, b = b, a
+    return max(t0, a), min(t1, b)
+
+
+@njit(cache=True, fastmath=False)
+def to_index(geo, x, y, z, w):
+    """World point (w = 1) or direction (w = 0) -> voxel index space."""
+    i = geo[0] * x + geo[1] * y + geo[2] * z + geo[3] * w
+    j = geo[4] * x + geo[5] * y + geo[6] * z + geo[7] * w
+    k = geo[8] * x + geo[9] * y + geo[10] * z + geo[11] * w
+    return i, j, k
+
+
+@njit(cache=True, fastmath=False)
+def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
+    """``(t0, t1)`` of the ray inside the drawn region (empty when t1 < t0)."""
+    t0 = cam[C_NEAR]
+    t1 = cam[C_FAR]
+    oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
+    di, dj, dk = to_index(geo, dx, dy, dz, 0.0)
+    t0, t1 = _slab(oi, di, geo[G_BOX], geo[G_BOX + 3], t0, t1)
+    t0, t1 = _slab(oj, dj, geo[G_BOX + 1], geo[G_BOX + 4], t0, t1)
+    t0, t1 = _slab(ok, dk, geo[G_BOX + 2], geo[G_BOX + 5], t0, t1)
+    t0, t1 = _slab(ox, dx, geo[G_WORLD], geo[G_WORLD + 3], t0, t1)
+    t0, t1 = _slab(oy, dy, geo[G_WORLD + 1], geo[G_WORLD + 4], t0, t1)
+    t0, t1 = _slab(oz, dz, geo[G_WORLD + 2], geo[G_WORLD + 5], t0, t1)
+    for p in range(nplanes):
+        s = (ox - planes[p, 0]) * planes[p, 3] + (oy - planes[p, 1]) * planes[p, 4] + (oz - planes[p, 2]) * planes[p, 5]
+        dn = dx * planes[p, 3] + dy * planes[p, 4] + dz * planes[p, 5]
+        if dn == 0.0:
+            if s < 0.0:
+                return 1.0, 0.0
+        elif dn > 0.0:
+            t0 = max(t0, -s / dn)
+        else:
+            t1 = min(t1, -s / dn)
+    return t0, t1

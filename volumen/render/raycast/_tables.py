@@ -1,0 +1,118 @@
+"""Tables the kernels read, rebuilt cheaply whenever the transfer function or the step changes.
+
+* 1-D table ``(NLUT, 4)``: r, g, b (straight) and alpha, evenly over the
+  volume's value range; for composite rendering alpha is already corrected
+  to the step ``ds`` (:func:`volumen.render.optics.correct_opacity`).
+* pre-integrated table ``(NPRE, NPRE, 4)`` indexed ``[front, back]``: the
+  premultiplied colour and opacity of a ray segment of length ``ds`` along
+  which the value goes linearly from ``front`` to ``back`` (Engel, Kraus &
+  Ertl 2001), with extinction ``sigma(v) = -ln(1 - a(v)) / ds0`` and colour
+  weighted by extinction (no self-attenuation inside the segment).
+* block visibility ``uint8`` per block: 1 where some value in the block's
+  ``[min, max]`` has non-zero opacity, from prefix sums of the table's
+  ``alpha > 0``; turned into skip distances by :func:`skip_distance`.
+* gradient-opacity table ``(128,)``: factor per magnitude code.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..optics import correct_opacity
+from ._precompute import NLUT
+
+__all__ = ["NPRE", "color_table", "preintegrated_table", "block_visibility", "iso_visibility", "skip_distance",
+           "gradient_table"]
+
+#: side of the pre-integrated table
+NPRE = 512
+
+
+@njit(cache=True)
+def _correct_column(alpha, ratio, out):
+    for i in range(alpha.shape[0]):
+        out[i] = correct_opacity(alpha[i], ratio)
+
+
+def color_table(tf, vmin: float, vmax: float, ratio: float | None) -> np.ndarray:
+    """``(NLUT, 4)`` float32 table of ``tf`` over ``[vmin, vmax]``; alpha corrected to ``ratio = ds/ds0`` unless None."""
+    lut = np.ascontiguousarray(tf.lut(vmin, vmax, NLUT), dtype=np.float32)
+    if ratio is not None:
+        a = lut[:, 3].astype(np.float64)
+        out = np.empty_like(a)
+        _correct_column(a, float(ratio), out)
+        lut[:, 3] = out
+    return lut
+
+
+def preintegrated_table(tf, vmin: float, vmax: float, ratio: float) -> np.ndarray:
+    """``(NPRE, NPRE, 4)`` float32 pre-integrated table for a step of ``ratio = ds / ds0``.
+
+    Entry ``[f, b]`` is for a segment whose normalized value goes from
+    ``f * (NLUT-1)/(NPRE-1)`` to ``b * (NLUT-1)/(NPRE-1)``; rgb premultiplied.
+    """
+    fine = tf.lut(vmin, vmax, NLUT).astype(np.float64)
+    a = np.clip(fine[:, 3], 0.0, 1.0 - 1e-7)
+    sigma = -np.log1p(-a)  # per reference step
+    x = np.arange(NLUT, dtype=np.float64)
+    # cumulative integrals over the normalized value (trapezoid)
+    def cumint(y):
+        c = np.zeros(NLUT)
+        c[1:] = np.cumsum(0.5 * (y[1:] + y[:-1]))
+        return c
+
+    T = cumint(sigma)
+    K = [cumint(sigma * fine[:, c]) for c in range(3)]
+    s = np.linspace(0.0, NLUT - 1, NPRE)
+    Ts = np.interp(s, x, T)
+    Ks = [np.interp(s, x, k) for k in K]
+    sig_pt = np.interp(s, x, sigma)
+    col_pt = [np.interp(s, x, fine[:, c]) for c in range(3)]
+    dv = s[None, :] - s[:, None]  # back - front
+    dT = Ts[None, :] - Ts[:, None]
+    same = np.abs(dv) < 1e-9
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mean_sigma = np.where(same, sig_pt[:, None], dT / np.where(same, 1.0, dv))
+        alpha = 1.0 - np.exp(-np.maximum(mean_sigma, 0.0) * ratio)
+        out = np.empty((NPRE, NPRE, 4), np.float32)
+        for c in range(3):
+            dK = Ks[c][None, :] - Ks[c][:, None]
+            avg = np.where(np.abs(dT) > 1e-12, dK / np.where(np.abs(dT) > 1e-12, dT, 1.0),
+                           0.5 * (col_pt[c][:, None] + col_pt[c][None, :]))
+            out[..., c] = np.clip(avg, 0.0, 1.0) * alpha
+    out[..., 3] = alpha
+    return out
+
+
+def block_visibility(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
+    """uint8 flags per block: 1 if any table entry in ``[floor(bmin), ceil(bmax)]`` has alpha > 0."""
+    prefix = np.concatenate([[0], np.cumsum(lut_alpha > 0)])
+    lo = np.clip(np.floor(bmin).astype(np.int64), 0, NLUT - 1)
+    hi = np.clip(np.ceil(bmax).astype(np.int64), 0, NLUT - 1)
+    return ((prefix[hi + 1] - prefix[lo]) > 0).astype(np.uint8)
+
+
+def iso_visibility(u_iso: float, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
+    """uint8 flags per block: 1 where the block's range contains the normalized threshold."""
+    return ((bmin <= u_iso) & (bmax >= u_iso)).astype(np.uint8)
+
+
+def gradient_table(tf, gmax: float) -> np.ndarray:
+    """``(128,)`` float32: opacity factor of magnitude code ``c`` (``|g| = gmax * (c / 127) ** 2``)."""
+    codes = np.arange(128, dtype=np.float64)
+    return tf.gradient_factor(gmax * (codes / 127.0) ** 2).astype(np.float32)
+
+
+def skip_distance(flags: np.ndarray) -> np.ndarray:
+    """uint8 per block: 0 where ``flags`` (1 = can contribute) is set, else the Chebyshev distance in blocks
+    to the nearest such block (capped at 255; 255 when there is none)."""
+    from scipy import ndimage
+
+    empty = flags == 0
+    if not empty.any():
+        return np.zeros(flags.shape, np.uint8)
+    if empty.all():
+        return np.full(flags.shape, 255, np.uint8)
+    d = ndimage.distance_transform_cdt(empty, metric="chessboard")
+    return np.clip(d, 0, 255).astype(np.uint8)

@@ -107,7 +107,7 @@ def build(args, base: dict | None, volume):
     elif args.preset:
         scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
     elif not base:
-        from volumen.render._api import default_transfer
+        from volumen.render import default_transfer
 
         scene = replace(scene, transfer=default_transfer(volume, args.mode or "composite"))
     if args.mode:

@@ -5,6 +5,6 @@
 are imported (and compiled, or loaded from Numba's cache) on first use.
 """
 
-from ._api import BACKENDS, clear_cache, render, render_volume
+from ._api import BACKENDS, clear_cache, default_transfer, render, render_volume
 
-__all__ = ["render", "render_volume", "clear_cache", "BACKENDS"]
+__all__ = ["render", "render_volume", "default_transfer", "clear_cache", "BACKENDS"]

@@ -1,0 +1,30 @@
+"""``volumen bench WHAT``: print a benchmark table and write it as JSON (never run as tests)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+BENCHES = ("render",)
+
+
+def register(sub):
+    p = sub.add_parser("bench", help="benchmarks: print a table and write it as JSON")
+    p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper")
+    p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
+    p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
+    p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
+    p.add_argument("--repeat", type=int, default=3, help="timed frames per case (median reported)")
+    p.add_argument("--spv", type=float, default=1.0, help="samples per voxel")
+    return p
+
+
+def run(args):
+    from volumen.bench._render import QUICK, bench_render
+
+    kw = dict(QUICK) if args.quick else {}
+    table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, **kw)
+    print()
+    print(table.render())
+    path = table.save(Path(args.out) / f"{args.what}{'-quick' if args.quick else ''}.json")
+    print(f"\nwrote {path} and {path.with_suffix('.md')}")
+    return 0

@@ -195,9 +195,10 @@ class TransferFunction:
 
 # Hounsfield-unit presets: (colour points, opacity points); opacity per voxel step.
 _CT_PRESETS = {
-    # after 3D Slicer's CT-Bone
+    # after 3D Slicer's CT-Bone, with the opacity ramp starting at 120 HU instead of -16 HU so soft
+    # tissue (< 100 HU) stays transparent through a whole trunk and only bone (and contrast) shows
     "ct-bone": (((-3024, 0, 0, 0), (-16, 0.73, 0.25, 0.30), (641, 0.91, 0.82, 0.55), (3071, 1, 1, 1)),
-                ((-3024, 0), (-16, 0), (641, 0.72), (3071, 0.71))),
+                ((-3024, 0), (120, 0), (641, 0.72), (3071, 0.71))),
     # a thin translucent skin layer at the air/tissue boundary, opaque bone
     "ct-skin-bone": (((-3024, 0, 0, 0), (-600, 0.85, 0.6, 0.5), (0, 0.9, 0.65, 0.55), (250, 0.9, 0.85, 0.75),
                       (3071, 1, 1, 1)),

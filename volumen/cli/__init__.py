@@ -20,6 +20,7 @@ COMMANDS = {
     "convert": "_convert",
     "slices": "_slices",
     "render": "_render",
+    "fly": "_fly",
     "bench": "_bench",
     "demo": "_demo",
 }

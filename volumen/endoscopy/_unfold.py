@@ -1,0 +1,150 @@
+"""The unfolded view ("virtual dissection"): the lumen's wall cut open along the path and laid flat.
+
+For each centerline sample ``i`` (a column, arc length ``s_i``) and each angle
+``theta_j`` around it (a row), a ray leaves the centerline point in the plane
+normal to the path, along ``cos(theta) N_i + sin(theta) B_i`` with ``(T, N, B)``
+the rotation-minimizing frame of :meth:`Centerline.frames` (so an angle means
+the same side of the wall all along the path, without twist). The ray stops
+at the wall of a :class:`WallField` (first crossing, as for collisions); the
+hit is shaded with the Phong terms of ``volumen.render.optics`` lit from the
+centerline point, and its distance is kept as a radius map. A polyp shows up
+as a bright bump where the radius dips below its neighbours'.
+
+Rows run over angles 0..360 degrees (top to bottom), columns over the arc.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from ..render.optics import phong_terms
+from ._march import NO_HIT, first_hit, wall_gradient
+
+__all__ = ["Unfolded", "unfold"]
+
+
+@njit(parallel=True, cache=True)
+def _unfold_kernel(field, geo, level, pts, nrm, bin_, cos_a, sin_a, tmax, step, color, ka, kd, ks, shininess,
+                   rgb, radius):
+    n = pts.shape[0]
+    m = cos_a.shape[0]
+    for i in prange(n):
+        for j in range(m):
+            dx = cos_a[j] * nrm[i, 0] + sin_a[j] * bin_[i, 0]
+            dy = cos_a[j] * nrm[i, 1] + sin_a[j] * bin_[i, 1]
+            dz = cos_a[j] * nrm[i, 2] + sin_a[j] * bin_[i, 2]
+            t = first_hit(field, geo, level, pts[i, 0], pts[i, 1], pts[i, 2], dx, dy, dz, tmax, step)
+            if t >= NO_HIT:
+                radius[j, i] = np.inf
+                rgb[j, i, 0] = 0.0
+                rgb[j, i, 1] = 0.0
+                rgb[j, i, 2] = 0.0
+                continue
+            radius[j, i] = t
+            gx, gy, gz = wall_gradient(field, geo, pts[i, 0] + t * dx, pts[i, 1] + t * dy, pts[i, 2] + t * dz)
+            g = np.sqrt(gx * gx + gy * gy + gz * gz)
+            diff = 1.0
+            spec = 0.0
+            if g > 0.0:
+                nx, ny, nz = gx / g, gy / g, gz / g
+                if nx * dx + ny * dy + nz * dz > 0.0:  # face the centerline (two-sided)
+                    nx, ny, nz = -nx, -ny, -nz
+                diff, spec = phong_terms(nx, ny, nz, -dx, -dy, -dz, -dx, -dy, -dz, shininess)
+            for c in range(3):
+                rgb[j, i, c] = min(color[c] * (ka + kd * diff) + ks * spec, 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class Unfolded:
+    """An unfolded view.
+
+    Attributes
+    ----------
+    rgb : (M, N, 3) float32
+        Linear RGB in [0, 1]; row j = angle ``angle[j]``, column i = arc ``arc[i]``; black where no wall was met.
+    radius : (M, N) float32, mm
+        Distance from the centerline point to the wall along each ray (inf: none within reach).
+    arc : (N,) float, mm
+        Arc length of each column along the centerline.
+    angle : (M,) float, degrees
+        Angle of each row from the frame's normal toward its binormal.
+    normal, binormal : (N, 3) float
+        The frame vectors at each column (angle 0 and 90 degrees).
+    """
+
+    rgb: np.ndarray
+    radius: np.ndarray
+    arc: np.ndarray
+    angle: np.ndarray
+    normal: np.ndarray
+    binormal: np.ndarray
+
+    def angle_of(self, arc: float, direction) -> float:
+        """Angle (degrees, 0..360) at which a world ``direction`` leaving the centerline at ``arc`` mm appears."""
+        n = np.array([np.interp(arc, self.arc, self.normal[:, a]) for a in range(3)])
+        b = np.array([np.interp(arc, self.arc, self.binormal[:, a]) for a in range(3)])
+        d = np.asarray(direction, float)
+        return float(np.degrees(np.arctan2(d @ b, d @ n)) % 360.0)
+
+    def to_uint8(self) -> np.ndarray:
+        """(M, N, 3) uint8 picture (linear values times 255)."""
+        return np.rint(np.clip(self.rgb, 0, 1) * 255).astype(np.uint8)
+
+    def save(self, path) -> None:
+        """Write :meth:`to_uint8` as a PNG."""
+        from PIL import Image as PILImage
+
+        PILImage.fromarray(self.to_uint8()).save(path)
+
+
+def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, max_radius: float | None = None,
+           color: tuple[float, float, float] = (0.93, 0.6, 0.52), ambient: float = 0.15, diffuse: float = 0.75,
+           specular: float = 0.2, shininess: float = 20.0, normal=None) -> Unfolded:
+    """Unfold the wall around a centerline into an (angles x samples) picture.
+
+    Parameters
+    ----------
+    wall : WallField
+        What counts as the wall (e.g. ``WallField.from_threshold(volume, -500)``).
+    centerline : Centerline
+    angles : int
+        Rows: rays around each sample, evenly over 360 degrees.
+    step : float or None, mm
+        Column spacing along the arc; None keeps the centerline's own points.
+    max_radius : float or None, mm
+        How far a ray looks for the wall (default: 3 x the largest centerline radius, at least 20 mm).
+    color : (3,) float
+        Linear RGB of the wall.
+    ambient, diffuse, specular, shininess : float
+        Phong coefficients (light at the centerline point).
+    normal : (3,) float or None
+        First normal of the rotation-minimizing frame (angle 0), see :meth:`Centerline.frames`.
+
+    Returns
+    -------
+    Unfolded
+    """
+    from ._centerline import Centerline
+
+    if angles < 4:
+        raise ValueError(f"angles must be >= 4, got {angles}")
+    cl = centerline
+    if step is not None:
+        if not step > 0:
+            raise ValueError(f"step must be > 0 mm, got {step}")
+        s = np.linspace(0.0, cl.length, max(int(round(cl.length / step)), 1) + 1)
+        cl = Centerline(cl.at(s), cl.radius_at(s), s)
+    _, nrm, bin_ = cl.frames(normal)
+    if max_radius is None:
+        max_radius = max(3.0 * float(np.max(cl.radius)), 20.0)
+    theta = np.radians(np.arange(angles) * 360.0 / angles)
+    rgb = np.zeros((angles, len(cl.points), 3), np.float32)
+    radius = np.zeros((angles, len(cl.points)), np.float32)
+    _unfold_kernel(wall.field, wall.geometry, float(wall.level), cl.points, np.ascontiguousarray(nrm),
+                   np.ascontiguousarray(bin_), np.cos(theta), np.sin(theta), float(max_radius), wall.step,
+                   np.asarray(color, np.float64), float(ambient), float(diffuse), float(specular), float(shininess),
+                   rgb, radius)
+    return Unfolded(rgb, radius, cl.arc.copy(), np.degrees(theta), nrm, bin_)

@@ -1,1 +1,35 @@
-"""volumen.surface (see DESIGN.md section 1)."""
+"""volumen.surface: marching cubes, mesh processing and mesh files (DESIGN.md section 1).
+
+Meshes are :class:`Mesh` objects: float32 vertices in world RAS+ millimetres, int32
+triangles wound counter-clockwise seen from outside, unit outward vertex normals.
+Nothing heavy is imported here: Numba, SciPy and trimesh load on first use.
+"""
+
+from ._components import largest_component, mesh_components, submesh
+from ._decimate import decimate
+from ._extract import extract_mesh
+from ._files import MESH_FORMATS, read_mesh, write_mesh
+from ._marching_cubes import marching_cubes
+from ._measure import enclosed_volume, surface_area
+from ._mesh import Mesh, vertex_normals
+from ._orient import orient_outward
+from ._smooth import laplacian_smooth, taubin_smooth
+
+__all__ = [
+    "Mesh",
+    "marching_cubes",
+    "extract_mesh",
+    "vertex_normals",
+    "surface_area",
+    "enclosed_volume",
+    "mesh_components",
+    "largest_component",
+    "submesh",
+    "orient_outward",
+    "taubin_smooth",
+    "laplacian_smooth",
+    "decimate",
+    "read_mesh",
+    "write_mesh",
+    "MESH_FORMATS",
+]

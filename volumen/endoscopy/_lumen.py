@@ -5,9 +5,8 @@
 connected (faces, 6-connectivity) to the seed. A mask given by the caller is
 accepted as is by :func:`as_lumen`.
 
-``volumen.segment`` had no public region growing yet when this was written:
-the connected-component step uses ``scipy.ndimage.label`` directly and should
-move to ``volumen.segment.region_grow`` once it exists.
+The growing itself is :func:`volumen.segment.region_grow`; this module only finds
+an in-range seed voxel near the user's point.
 """
 
 from __future__ import annotations
@@ -62,7 +61,7 @@ def lumen_mask(volume, seed, value_range: tuple[float, float] = AIR_RANGE, *, ma
     ValueError
         When no in-range voxel lies within ``max_seed_distance`` of the seed.
     """
-    from scipy import ndimage
+    from ..segment import region_grow
 
     lo, hi = (float(v) for v in value_range)
     if not hi >= lo:
@@ -84,10 +83,9 @@ def lumen_mask(volume, seed, value_range: tuple[float, float] = AIR_RANGE, *, ma
     dist = np.linalg.norm(world - seed, axis=1)
     if dist.min() > max_seed_distance:
         raise ValueError(f"no lumen voxel within {max_seed_distance} mm of the seed {seed.tolist()} mm")
-    start = tuple(int(v) for v in cand[int(np.argmin(dist))] + lo_i[::-1])
-    inside = (volume.data >= lo) & (volume.data <= hi)
-    labels, _ = ndimage.label(inside)
-    return labels == labels[start]
+    start_ijk = (cand[int(np.argmin(dist))] + lo_i[::-1])[::-1].astype(float)
+    grown = region_grow(volume, start_ijk, lo=lo, hi=hi, connectivity=6, space="voxel")
+    return grown.data.astype(bool)
 
 
 def as_lumen(volume, mask) -> np.ndarray:

@@ -21,6 +21,7 @@ COMMANDS = {
     "slices": "_slices",
     "render": "_render",
     "fly": "_fly",
+    "view": "_view",
     "bench": "_bench",
     "demo": "_demo",
 }

@@ -37,9 +37,7 @@ def load_from_args(args: argparse.Namespace, path=None):
 
     path = path if path is not None else args.input
     if str(path).startswith("phantom:"):
-        from volumen.data import phantom
-
-        return phantom(str(path).split(":", 1)[1])
+        return load_phantom(str(path))
     opts = {"nonfinite": args.nonfinite, "resample": args.resample}
     if args.series:
         opts["series"] = args.series
@@ -52,6 +50,28 @@ def load_from_args(args: argparse.Namespace, path=None):
     if args.byte_order:
         opts["byte_order"] = args.byte_order
     return volumen.load(path, **opts)
+
+
+def load_phantom(ref: str):
+    """``phantom:NAME`` or ``phantom:NAME?size=64&noise=0`` -> the built-in phantom with those parameters."""
+    from urllib.parse import parse_qsl
+
+    from volumen.data import phantom
+
+    name, _, query = ref.split(":", 1)[1].partition("?")
+    params = {}
+    for key, val in parse_qsl(query, strict_parsing=bool(query)):
+        try:
+            params[key] = int(val)
+        except ValueError:
+            try:
+                params[key] = float(val)
+            except ValueError:
+                params[key] = val
+    try:
+        return phantom(name, **params)
+    except TypeError as exc:
+        raise ValueError(str(exc)) from None
 
 
 def parse_window(text: str | None):

@@ -1,0 +1,48 @@
+"""Fixtures of the application tests: the head phantom at 64 voxels and windows with a 160x160 3D view."""
+
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("PySide6", reason="the application needs PySide6 (extra 'gui')")
+pytest.importorskip("pytestqt", reason="the application tests need pytest-qt")
+
+HEAD_REF = "phantom:head?size=64"
+VIEW = 160  # 3D view side, px
+
+
+@pytest.fixture(scope="session")
+def head64():
+    from volumen.data import phantom
+
+    return phantom("head", size=64)
+
+
+@pytest.fixture
+def make_window(qtbot, tmp_path, head64, monkeypatch):
+    """A factory of shown main windows with the head phantom loaded and the first picture refined."""
+    monkeypatch.setenv("VOLUMEN_CONFIG_DIR", str(tmp_path / "config"))
+
+    def make(load: bool = True, size=(900, 600), fixed: bool = True):
+        from volumen.app import MainWindow
+
+        win = MainWindow()
+        qtbot.addWidget(win)
+        if fixed:
+            win.view3d.setFixedSize(VIEW, VIEW)
+        win.resize(*size)
+        win.show()
+        qtbot.waitExposed(win)
+        if load:
+            win.set_volume(head64, HEAD_REF)
+            assert win.wait_for_final(120)
+        return win
+
+    yield make
+
+
+@pytest.fixture(scope="session")
+def app_output(output_dir):
+    d = output_dir / "app"
+    d.mkdir(exist_ok=True)
+    return d

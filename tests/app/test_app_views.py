@@ -1,0 +1,218 @@
+"""The main window on the head phantom: linked views, mouse and keys, presets, sessions, errors, responsiveness."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtGui import QWheelEvent
+from PySide6.QtWidgets import QApplication, QMessageBox
+
+VIEW = 160  # the 3D view side set by the make_window fixture
+
+
+def _rgb(win) -> np.ndarray:
+    return win.view3d.frame.rgb.astype(int)
+
+
+def _angle(a, b) -> float:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.degrees(np.arccos(np.clip(a @ b / np.linalg.norm(a) / np.linalg.norm(b), -1, 1))))
+
+
+def test_four_views_show_the_phantom_and_the_3d_picture_is_upright(make_window, head64):
+    win = make_window()
+    assert win.view3d.frame.final and win.view3d.frame.rgb.shape == (VIEW, VIEW, 3)
+    rgb = _rgb(win)
+    assert rgb.sum(axis=2).astype(bool).mean() > 0.15  # the head fills part of the view
+    # upright: the skull's top is in the upper part of the picture, the neck narrower than the cranium
+    rows = np.nonzero(rgb.sum(axis=(1, 2)))[0]
+    widths = (rgb.sum(axis=2) > 0).sum(axis=1)
+    top, bottom = rows[0], rows[-1]
+    assert widths[top + (bottom - top) // 4] > widths[bottom - (bottom - top) // 8]
+    for plane, view in win.slices.items():
+        assert view.geometry_ is not None and view.index == view.geometry_.index_of(head64.center)
+
+
+def test_mouse_drag_orbits_the_camera_by_the_expected_angle(make_window, qtbot):
+    from volumen.app._interaction import DEGREES_PER_PIXEL
+
+    win = make_window()
+    cam0 = win.state.camera
+    v = win.view3d
+    qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(60, 80))
+    for x in (70, 80, 90, 100):
+        qtbot.mouseMove(v, QPoint(x, 80))
+    assert win.state.interacting
+    qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(100, 80))
+    cam1 = win.state.camera
+    turned = _angle(np.subtract(cam0.position, cam0.target), np.subtract(cam1.position, cam1.target))
+    assert turned == pytest.approx(40 * DEGREES_PER_PIXEL, abs=1e-6)
+    assert cam1.distance == pytest.approx(cam0.distance)
+    assert win.wait_for_final(60)
+    assert win.view3d.frame.camera == cam1  # the refined picture is of the new camera
+
+
+def test_drag_gives_reduced_frames_then_the_refined_one(make_window, qtbot):
+    win = make_window()
+    frames = []
+    win.worker.frame_ready.connect(frames.append)
+    v = win.view3d
+    qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(80, 80))
+    qtbot.mouseMove(v, QPoint(90, 80))
+    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=10000)
+    qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(90, 80))
+    assert win.wait_for_final(60)
+    reduced = [f for f in frames if not f.final]
+    assert reduced[0].fraction in (0.5, 0.25) and reduced[0].rgb.shape == (VIEW, VIEW, 3)
+    assert frames[-1].final and frames[-1].fraction == 1.0
+
+
+def test_key_j_adds_a_light_at_the_camera_and_changes_the_picture(make_window, qtbot):
+    win = make_window()
+    before = _rgb(win)
+    cam = win.state.camera
+    qtbot.keyClick(win.view3d, Qt.Key_J)
+    assert len(win.state.scene.lights) == 1
+    light = win.state.scene.lights[0]
+    assert np.allclose(light.position, cam.position)
+    assert np.allclose(light.direction, cam.basis()[2])
+    assert win.state.scene.shading.mode == "phong" and win.state.selected_light == 0
+    assert win.wait_for_final(60)
+    diff = np.abs(_rgb(win) - before).max(axis=2)
+    head = before.sum(axis=2) > 0
+    assert diff.max() >= 10 and (diff[head] >= 3).mean() > 0.2  # the spot's falloff relights the head
+
+
+def test_key_l_cycles_the_shading_models(make_window, qtbot):
+    from volumen.core import SHADINGS
+
+    win = make_window()
+    start = win.state.scene.shading.mode
+    qtbot.keyClick(win.view3d, Qt.Key_L)
+    assert win.state.scene.shading.mode == SHADINGS[(SHADINGS.index(start) + 1) % len(SHADINGS)]
+
+
+def test_preset_change_changes_the_picture(make_window):
+    win = make_window()
+    before = _rgb(win)
+    win.tf_editor.presets.setCurrentText("ct-skin-bone")
+    win.tf_editor.presets.activated.emit(win.tf_editor.presets.currentIndex())
+    assert win.state.scene.transfer.name == "ct-skin-bone"
+    assert win.wait_for_final(60)
+    after = _rgb(win)
+    assert np.abs(after - before).mean() > 5
+
+
+def test_slice_views_scroll_link_and_window(make_window, qtbot, head64):
+    win = make_window()
+    ax, cor = win.slices["axial"], win.slices["coronal"]
+    z0 = win.state.crosshair[2]
+    i0 = ax.index
+    QApplication.sendEvent(ax, QWheelEvent(QPointF(50, 50), QPointF(50, 50), QPoint(0, 0), QPoint(0, 120),
+                                           Qt.NoButton, Qt.NoModifier, Qt.ScrollUpdate, False))
+    assert ax.index == i0 + 1
+    assert ax.geometry_.distance_to_slice(win.state.crosshair, i0 + 1) == pytest.approx(0.0, abs=1e-9)
+    assert win.state.crosshair[2] - z0 == pytest.approx(head64.spacing[0], abs=0.5 * head64.spacing[0] + 1e-9)
+    # a click in the coronal view moves the crosshair: the axial view follows
+    r = cor.image_rect()
+    qtbot.mouseClick(cor, Qt.LeftButton, pos=QPoint(int(r.center().x()), int(r.top() + r.height() * 0.2)))
+    assert ax.index > i0 + 5  # clicked high up: a more superior axial slice
+    w0 = win.state.window
+    qtbot.mousePress(ax, Qt.RightButton, pos=QPoint(50, 50))
+    qtbot.mouseMove(ax, QPoint(90, 30))
+    qtbot.mouseRelease(ax, Qt.RightButton, pos=QPoint(90, 30))
+    assert win.state.window.width > w0.width and win.state.window.level > w0.level
+
+
+def test_corrupt_file_shows_an_error_and_keeps_the_data(make_window, qtbot, tmp_path):
+    win = make_window()
+    bad = tmp_path / "broken.nii"
+    bad.write_bytes(b"\x00" * 100)
+    volume = win.state.volume
+    task = win.open_path(str(bad))
+    qtbot.waitUntil(lambda: task.finished, timeout=20000)
+    assert win.last_error is not None and "broken.nii" in win.last_error[1]
+    boxes = [w for w in QApplication.topLevelWidgets() if isinstance(w, QMessageBox) and w.isVisible()]
+    assert boxes and "broken.nii" in boxes[-1].text()
+    for b in boxes:
+        b.close()
+    assert win.state.volume is volume and win.view3d.frame is not None
+
+
+def test_saved_session_reproduces_the_picture_in_a_new_window(make_window, tmp_path, head64):
+    from volumen.core import ClipPlane
+
+    win = make_window()
+    win.tf_editor.apply_preset("ct-skin-bone")
+    win.state.set_camera(win.state.camera.with_(position=tuple(np.add(win.state.camera.position, (200, 0, 100)))))
+    from volumen.app._light_panel import add_light_at_camera
+
+    add_light_at_camera(win.state)
+    win.clip_panel.add_plane(0)
+    win.state.set_display(brightness=1.3)
+    assert win.wait_for_final(60)
+    first = _rgb(win)
+    path = tmp_path / "session.json"
+    win.save_session(path)
+    assert win.last_error is None
+
+    other = make_window(load=False)
+    assert other.load_session(path, volume=head64)
+    assert other.wait_for_final(60)
+    assert isinstance(other.state.scene.clipping.planes[0], ClipPlane)
+    assert other.state.scene == win.state.scene and other.state.camera == win.state.camera
+    assert np.abs(_rgb(other) - first).max() <= 1
+
+
+def test_interface_answers_within_100_ms_during_a_slow_render(make_window, qtbot):
+    from dataclasses import replace
+
+    win = make_window()
+    st = win.state
+    # a slow picture: path tracing refining toward 4096 samples per pixel at 480x480 (seconds of work)
+    st.update_scene(shading=replace(st.scene.shading, mode="pathtrace", pt_samples=4096))
+    win.view3d.setFixedSize(480, 480)  # a slow picture
+    qtbot.waitUntil(lambda: not win.worker.idle, timeout=5000)
+    ax = win.slices["axial"]
+    delays = []
+    for n in range(3):
+        i0 = ax.index
+        t = time.perf_counter()
+        QApplication.postEvent(ax, QWheelEvent(QPointF(50, 50), QPointF(50, 50), QPoint(0, 0), QPoint(0, 120),
+                                               Qt.NoButton, Qt.NoModifier, Qt.ScrollUpdate, False))
+        qtbot.waitUntil(lambda: ax.index == i0 + 1, timeout=2000)
+        delays.append(time.perf_counter() - t)
+        qtbot.wait(20)
+    assert not win.worker.idle, "the render finished before the events were handled: make it slower"
+    print("event delays during the render (ms):", [round(d * 1000, 1) for d in delays])
+    assert max(delays) < 0.1, delays
+
+
+def test_every_technique_and_mode_draws_a_picture(make_window):
+    """Walk the techniques (OpenGL ones when the worker found OpenGL) and the modes of volumen.core.MODES."""
+    from volumen.app._render_panel import TECHNIQUES
+    from volumen.core import MODES
+    from volumen.render import BACKENDS
+
+    win = make_window()
+    pictures = {}
+    for label, backend in TECHNIQUES.items():
+        if backend not in BACKENDS:
+            item = win.render_panel.technique.model().item(win.render_panel.technique.findData(backend))
+            assert not item.isEnabled() and item.toolTip()  # disabled, with the reason
+            print(f"technique {label!r} skipped: {item.toolTip()}")
+            continue
+        win.state.set_display(backend=backend)
+        assert win.wait_for_final(60) and win.last_error is None, win.last_error
+        pictures[backend] = _rgb(win)
+        assert pictures[backend].sum(axis=2).astype(bool).mean() > 0.1, label
+    win.state.set_display(backend="cpu")
+    for mode in MODES:
+        win.state.update_scene(mode=mode)
+        assert win.wait_for_final(60) and win.last_error is None, win.last_error
+        pictures[mode] = _rgb(win)
+    print("pictures of", sorted(pictures))
+    assert np.abs(pictures["mip"] - pictures["composite"]).mean() > 5

@@ -1,0 +1,174 @@
+"""Virtual endoscopy in the application, without Qt: path, flight with collisions, playback.
+
+Built on :mod:`volumen.endoscopy`. The user picks a start and an end point in
+the slice views; :meth:`Endoscopy.compute` grows the lumen from the start and
+finds its centerline. Flight is manual (a :class:`ManualNavigator` whose moves
+go through a :class:`Collider`, so the eye stays ``margin`` mm inside the
+lumen; :attr:`Endoscopy.blocked` tells when the last move hit the wall),
+guided (a :class:`GuidedNavigator` advancing along the centerline), or the
+automatic keyframe path played forward or backward.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["Endoscopy", "LUMENS"]
+
+#: lumen kind -> (value range of the lumen, wall threshold, which side of it is lumen)
+LUMENS = {"air": ((-1100.0, -400.0), -500.0, "below"), "contrast": ((150.0, 700.0), 150.0, "above")}
+
+
+class Endoscopy:
+    """Endoscopy state of one volume.
+
+    Parameters
+    ----------
+    volume : Volume
+    lumen : {"air", "contrast"}
+    margin : float, mm
+        Closest the eye may come to the wall.
+    fov : float, degrees
+        Field of view of the endoscopic camera.
+    """
+
+    def __init__(self, volume, *, lumen: str = "air", margin: float = 2.0, fov: float = 90.0):
+        if lumen not in LUMENS:
+            raise ValueError(f"lumen must be one of {', '.join(LUMENS)}, got {lumen!r}")
+        self.volume = volume
+        self.lumen = lumen
+        self.margin = float(margin)
+        self.fov = float(fov)
+        self.start: np.ndarray | None = None
+        self.end: np.ndarray | None = None
+        self.centerline = None
+        self.navigator = None
+        self.guided = None
+        self.blocked = False
+        self._collider = None
+
+    # -- path -----------------------------------------------------------------
+    def compute(self):
+        """Grow the lumen from :attr:`start` and find the centerline to :attr:`end` (world mm). Returns it.
+
+        Raises ValueError when a point is missing or the two are not connected.
+        """
+        from ..endoscopy import compute_centerline, lumen_mask
+
+        if self.start is None or self.end is None:
+            raise ValueError("pick a start and an end point in the slice views first")
+        rng = LUMENS[self.lumen][0]
+        mask = lumen_mask(self.volume, self.start, rng)
+        self.centerline = compute_centerline(self.volume, mask, self.start, self.end, step=1.0)
+        return self.centerline
+
+    @property
+    def collider(self):
+        """The :class:`~volumen.endoscopy.Collider` of the lumen's wall (built on first use)."""
+        if self._collider is None:
+            from ..endoscopy import Collider, WallField
+
+            _, level, side = LUMENS[self.lumen]
+            self._collider = Collider(WallField.from_threshold(self.volume, level, side), margin=self.margin)
+        return self._collider
+
+    def path(self, speed: float = 20.0):
+        """The automatic :class:`~volumen.endoscopy.KeyframePath` along the centerline."""
+        from ..endoscopy import KeyframePath
+
+        if self.centerline is None:
+            raise ValueError("compute the centerline first")
+        every = max(self.centerline.length / 12.0, 2.0)
+        return KeyframePath.from_centerline(self.centerline, every=every, look_ahead=every, speed=speed)
+
+    # -- flight ---------------------------------------------------------------
+    def start_manual(self, pose=None, speed: float = 10.0):
+        """Start manual flight at ``pose`` (default: the path's start, looking along it)."""
+        from ..endoscopy import ManualNavigator
+
+        if pose is None:
+            pose = self._start_pose()
+        self.navigator = ManualNavigator(pose, self.collider, speed=speed)
+        self.guided = None
+        self.blocked = False
+        return self.navigator
+
+    def start_guided(self, speed: float = 10.0):
+        """Start guided flight along the centerline."""
+        from ..endoscopy import GuidedNavigator
+
+        if self.centerline is None:
+            raise ValueError("compute the centerline first")
+        self.guided = GuidedNavigator(self.centerline, self.collider, speed=speed)
+        self.navigator = None
+        self.blocked = False
+        return self.guided
+
+    def stop(self) -> None:
+        self.navigator = self.guided = None
+        self.blocked = False
+
+    @property
+    def flying(self) -> bool:
+        return self.navigator is not None or self.guided is not None
+
+    def _start_pose(self):
+        from ..endoscopy import Pose
+
+        if self.centerline is not None:
+            p = self.centerline.at(0.0)
+            t = self.centerline.tangent_at(min(2.0, self.centerline.length))
+        elif self.start is not None:
+            p = np.asarray(self.start, float)
+            t = (np.asarray(self.end, float) - p) if self.end is not None else np.array([0.0, 0.0, -1.0])
+        else:
+            raise ValueError("pick a start point first")
+        up = (0.0, 0.0, 1.0) if abs(t[2]) < 0.9 * np.linalg.norm(t) else (0.0, 1.0, 0.0)
+        return Pose(tuple(p), tuple(t), up)
+
+    @property
+    def pose(self):
+        if self.guided is not None:
+            return self.guided.pose
+        return None if self.navigator is None else self.navigator.pose
+
+    def move(self, right: float = 0.0, up: float = 0.0, forward: float = 0.0) -> bool:
+        """A manual move (mm along the camera's axes); True when the wall blocked it (:attr:`blocked`)."""
+        nav = self.navigator if self.navigator is not None else (
+            self.guided.leave_path() if self.guided is not None else None)
+        if nav is None:
+            raise ValueError("not flying: start manual or guided flight first")
+        res = nav.move(right=right, up=up, forward=forward)
+        self.blocked = bool(res is not None and res.blocked)
+        return self.blocked
+
+    def turn(self, yaw: float = 0.0, pitch: float = 0.0) -> None:
+        """Turn the view (degrees): left for positive yaw, up for positive pitch."""
+        if self.guided is not None:
+            self.guided.steer(yaw, pitch)
+        elif self.navigator is not None:
+            self.navigator.yaw(yaw)
+            self.navigator.pitch(pitch)
+
+    def camera(self):
+        """The endoscopic camera of the current pose (None when not flying)."""
+        pose = self.pose
+        return None if pose is None else pose.camera(fov=self.fov, near=0.5 * self.margin)
+
+    # -- JSON -----------------------------------------------------------------
+    def to_dict(self) -> dict:
+        return {"lumen": self.lumen, "margin": self.margin, "fov": self.fov,
+                "start": None if self.start is None else [float(v) for v in self.start],
+                "end": None if self.end is None else [float(v) for v in self.end],
+                "centerline": None if self.centerline is None else self.centerline.to_dict()}
+
+    @classmethod
+    def from_dict(cls, volume, d: dict) -> "Endoscopy":
+        from ..endoscopy import Centerline
+
+        e = cls(volume, lumen=d.get("lumen", "air"), margin=d.get("margin", 2.0), fov=d.get("fov", 90.0))
+        e.start = None if d.get("start") is None else np.asarray(d["start"], float)
+        e.end = None if d.get("end") is None else np.asarray(d["end"], float)
+        if d.get("centerline"):
+            e.centerline = Centerline.from_dict(d["centerline"])
+        return e

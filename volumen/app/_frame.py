@@ -1,0 +1,200 @@
+"""One picture of the 3D view, from settings to 8-bit RGB, without Qt.
+
+A :class:`FrameJob` is everything that decides the 3D view's picture (the
+scene, the camera, the size, the technique, brightness, stereo, a mesh); the
+render worker turns it into :class:`Frame` objects with :func:`render_frame`
+(at a reduced viewport while the user drags) or :func:`progressive_frames`
+(the full picture; path tracing refines step by step). The same function
+makes screenshots at any size, so what is saved is what is shown.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass, field, replace
+from typing import Callable, Iterator
+
+import numpy as np
+
+from ..core import Camera, Image, Scene
+from ._stereo import Stereo, combine, eye_cameras, eye_size
+
+__all__ = ["FrameJob", "Frame", "render_frame", "progressive_frames", "to_rgb", "composite_mesh", "on_gl_thread",
+           "needs_gl"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrameJob:
+    """What to draw.
+
+    Parameters
+    ----------
+    scene : Scene
+        With its volume attached.
+    camera : Camera
+    size : (width, height), pixels
+    backend : str
+        A key of ``volumen.render.BACKENDS``.
+    brightness : float
+        Gain on the rendered colour.
+    background : (3,) float, linear RGB
+    stereo : Stereo
+    mesh : volumen.surface.Mesh or None
+    mesh_display : {"hidden", "with-volume", "instead"}
+    token : int
+        Identifies the request (the newest picture wins).
+    """
+
+    scene: Scene
+    camera: Camera
+    size: tuple[int, int]
+    backend: str = "cpu"
+    brightness: float = 1.0
+    background: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    stereo: Stereo = field(default_factory=Stereo)
+    mesh: object = None
+    mesh_display: str = "hidden"
+    token: int = 0
+
+
+@dataclass
+class Frame:
+    """A finished picture: ``rgb`` uint8 ``(H, W, 3)``, row 0 at the top.
+
+    ``final`` is False for reduced-viewport frames and intermediate path-tracing
+    steps; ``seconds`` the time the picture took; ``fraction`` the viewport
+    fraction (1 = full size); ``spp`` path-traced samples per pixel (0 otherwise).
+    """
+
+    rgb: np.ndarray
+    token: int
+    final: bool
+    seconds: float
+    fraction: float = 1.0
+    spp: int = 0
+    camera: Camera | None = None
+    stats: dict = field(default_factory=dict)
+
+
+def to_rgb(image: Image, brightness: float = 1.0, background=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """``image`` (premultiplied linear RGBA) times ``brightness``, over ``background``: uint8 ``(H, W, 3)``.
+
+    With ``brightness`` 1 this equals ``image.to_uint8(background)``.
+    """
+    rgb = image.rgba[..., :3].astype(np.float64) * float(brightness)
+    a = image.rgba[..., 3:4].astype(np.float64)
+    out = rgb + (1.0 - a) * np.asarray(background, float).reshape(1, 1, 3)
+    return np.rint(np.clip(out, 0.0, 1.0) * 255.0).astype(np.uint8)
+
+
+def composite_mesh(volume_image: Image, mesh_image: Image) -> Image:
+    """The volume picture with an opaque mesh picture: the nearer one in front, per pixel.
+
+    Where the mesh is nearer than the volume's depth (where its opacity reached
+    0.5) the mesh shows; elsewhere the volume is composed over the mesh.
+    """
+    v, m = volume_image, mesh_image
+    front = (m.rgba[..., 3] > 0) & (m.depth < v.depth)
+    under = v.rgba + (1.0 - v.rgba[..., 3:4]) * m.rgba
+    rgba = np.where(front[..., None], m.rgba, under).astype(np.float32)
+    return Image(rgba=rgba, depth=np.minimum(v.depth, m.depth), stats=dict(v.stats))
+
+
+def _render_one(job: FrameJob, camera: Camera, size, fraction: float) -> Image:
+    from ..render.raster import render_reduced
+
+    if job.mesh is not None and job.mesh_display == "instead":
+        vol_img = None
+    else:
+        vol_img = render_reduced(job.scene, camera, size, fraction, backend=job.backend)
+    if job.mesh is None or job.mesh_display == "hidden":
+        return vol_img
+    from ..render.raster import render_mesh
+
+    mesh_img = render_mesh(job.mesh, camera, size, scene=job.scene)
+    return mesh_img if vol_img is None else composite_mesh(vol_img, mesh_img)
+
+
+_gl_executor = None
+_gl_lock = threading.Lock()
+
+
+def needs_gl(job: FrameJob) -> bool:
+    """True when ``job`` draws with OpenGL (a rasterized technique, or a mesh)."""
+    return job.backend != "cpu" or (job.mesh is not None and job.mesh_display != "hidden")
+
+
+def on_gl_thread(fn, *args, **kw):
+    """Run ``fn(*args, **kw)`` on the process's one OpenGL thread and return its result.
+
+    The headless OpenGL context of ``volumen.render.raster`` is current in the
+    thread that made it, so every OpenGL call of the application goes through
+    this single long-lived thread, whichever window or task asks.
+    """
+    global _gl_executor
+    with _gl_lock:
+        if _gl_executor is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            _gl_executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="volumen-gl")
+    return _gl_executor.submit(fn, *args, **kw).result()
+
+
+def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) -> Frame:
+    """Render ``job`` (each stereo eye) at ``fraction`` of its size, upscaled, combined: one :class:`Frame`.
+
+    OpenGL techniques run on the OpenGL thread (:func:`on_gl_thread`).
+    """
+    if needs_gl(job) and not threading.current_thread().name.startswith("volumen-gl"):
+        return on_gl_thread(render_frame, job, fraction, final=final)
+    t = time.perf_counter()
+    cams = eye_cameras(job.camera, job.stereo)
+    esize = eye_size(job.size, job.stereo)
+    stats = {}
+    pics = []
+    for cam in cams:
+        img = _render_one(job, cam, esize, fraction)
+        stats = img.stats
+        pics.append(to_rgb(img, job.brightness, job.background))
+    rgb = combine(pics, job.stereo, job.size)
+    return Frame(rgb=rgb, token=job.token, final=final, seconds=time.perf_counter() - t, fraction=fraction,
+                 camera=job.camera, stats=stats)
+
+
+def _progressive(job: FrameJob) -> bool:
+    s = job.scene
+    return (s.shading.mode == "pathtrace" and s.mode == "composite" and job.backend == "cpu"
+            and job.stereo.mode == "off" and (job.mesh is None or job.mesh_display == "hidden"))
+
+
+def progressive_frames(job: FrameJob, *, batch: int = 4,
+                       cancelled: Callable[[], bool] = lambda: False) -> Iterator[Frame]:
+    """The full-size picture of ``job``; for path tracing, one :class:`Frame` per ``batch`` samples per pixel.
+
+    Path tracing (shading ``pathtrace``, composite mode, ray casting, mono)
+    accumulates up to ``scene.shading.pt_samples`` samples per pixel, yielding
+    a refined frame after each batch and stopping early when ``cancelled()``
+    turns true; the last frame has ``final=True``. Anything else is one final frame.
+    """
+    if not _progressive(job):
+        yield render_frame(job, 1.0, final=True)
+        return
+    from ..render import PathTracer
+
+    t = time.perf_counter()
+    total = job.scene.shading.pt_samples
+    tracer = PathTracer(job.scene, job.camera, job.size)
+    while tracer.spp < total:
+        n = min(batch, total - tracer.spp)
+        img = tracer.step(n)
+        done = tracer.spp >= total
+        yield Frame(rgb=to_rgb(img, job.brightness, job.background), token=job.token, final=done,
+                    seconds=time.perf_counter() - t, spp=tracer.spp, camera=job.camera, stats=img.stats)
+        if not done and cancelled():
+            return
+
+
+def with_size(job: FrameJob, size: tuple[int, int]) -> FrameJob:
+    """The same job at another size (screenshots)."""
+    return replace(job, size=(int(size[0]), int(size[1])))

@@ -1,0 +1,222 @@
+"""The application's model: what is loaded and how it is shown, as plain Python (no Qt).
+
+:class:`AppState` holds the volume, the :class:`~volumen.core.Scene` and
+:class:`~volumen.core.Camera` that decide the 3D picture, and the state of the
+slice views (crosshair, window), the segmentation and the display. Widgets
+read it and change it through its methods; every change is announced to the
+listeners of a *topic* (a plain observer list, so the model never imports Qt):
+
+``volume``, ``scene``, ``camera``, ``crosshair``, ``window``, ``mask``,
+``seeds``, ``mesh``, ``display``, ``selection``, ``crop``, ``endoscopy``.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import replace
+from typing import Callable
+
+import numpy as np
+
+from ..core import Camera, Scene, Window, canonical
+
+__all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
+
+TOPICS = ("volume", "scene", "camera", "crosshair", "window", "mask", "seeds", "mesh", "display", "selection",
+          "crop", "endoscopy")
+#: topics whose change needs a new 3D picture
+PICTURE_TOPICS = ("volume", "scene", "camera", "mesh", "display")
+#: how an extracted mesh is shown in the 3D view
+MESH_DISPLAYS = ("hidden", "with-volume", "instead")
+
+
+class AppState:
+    """Everything the views show, with change notification.
+
+    Attributes
+    ----------
+    volume : Volume or None
+        The data; ``canonical`` is it reoriented to RAS voxel order (slices).
+    scene : Scene
+        Transfer function, lights, mode, shading, sampling, clipping (its
+        ``volume`` is :attr:`volume`).
+    camera : Camera or None
+    backend : str
+        Key of ``volumen.render.BACKENDS`` that draws the 3D view.
+    brightness : float
+        Display gain applied to the rendered colour (1 = as rendered).
+    background : (3,) float
+        Linear RGB behind the volume.
+    stereo : Stereo
+        Stereo output settings (``volumen.app._stereo``).
+    crosshair : (3,) float, world RAS+ mm
+        The point the three slice views go through.
+    window : Window
+        Level and width of the slice views (data units).
+    mask : Volume or None
+        Segmentation mask (uint8 0/1) on the volume's grid; ``mask_canonical`` reoriented.
+    seeds : list of (3,) float, world mm
+    mesh : volumen.surface.Mesh or None; ``mesh_display`` one of :data:`MESH_DISPLAYS`.
+    selected_light : int or None
+        Index into ``scene.lights``.
+    interacting : bool
+        True while the user drags in the 3D view (frames at a reduced viewport).
+    """
+
+    def __init__(self) -> None:
+        from ._stereo import Stereo
+
+        self.volume = None
+        self.canonical = None
+        self.scene = Scene()
+        self.camera: Camera | None = None
+        self.backend = "cpu"
+        self.brightness = 1.0
+        self.background = (0.0, 0.0, 0.0)
+        self.stereo = Stereo()
+        self.crosshair = np.zeros(3)
+        self.window = Window(level=40.0, width=400.0)
+        self.mask = None
+        self.mask_canonical = None
+        self.seeds: list[np.ndarray] = []
+        self.mesh = None
+        self.mesh_display = "hidden"
+        self.selected_light: int | None = None
+        self.interacting = False
+        self._listeners: dict[str, list[Callable[[], None]]] = defaultdict(list)
+        self._muted = 0
+        self._pending: set[str] = set()
+
+    # -- observers ----------------------------------------------------------
+    def subscribe(self, topic: str, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` after each change of ``topic`` (one of :data:`TOPICS`)."""
+        if topic not in TOPICS:
+            raise ValueError(f"unknown topic {topic!r}; valid: {', '.join(TOPICS)}")
+        self._listeners[topic].append(callback)
+
+    def emit(self, *topics: str) -> None:
+        """Announce changes (batched while inside :meth:`batch`)."""
+        if self._muted:
+            self._pending.update(topics)
+            return
+        for t in topics:
+            for cb in list(self._listeners[t]):
+                cb()
+
+    def batch(self):
+        """Context manager: announce the changes made inside it once, at the end."""
+        state = self
+
+        class _Batch:
+            def __enter__(self):
+                state._muted += 1
+
+            def __exit__(self, *exc):
+                state._muted -= 1
+                if not state._muted and state._pending:
+                    topics = [t for t in TOPICS if t in state._pending]
+                    state._pending.clear()
+                    state.emit(*topics)
+
+        return _Batch()
+
+    # -- data ---------------------------------------------------------------
+    def set_volume(self, volume, ref: str, *, transfer=None, camera: Camera | None = None) -> None:
+        """Show a new volume: default transfer function, anterior camera, crosshair and window reset."""
+        from ..render import default_transfer
+
+        with self.batch():
+            self.volume = volume
+            self.canonical = canonical(volume)
+            tf = transfer if transfer is not None else default_transfer(volume, "composite")
+            self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf,
+                                 clipping=replace(self.scene.clipping, crop=None))
+            self.camera = camera if camera is not None else Camera.anatomical(volume, "anterior")
+            self.crosshair = np.asarray(volume.center, float)
+            if volume.units == "HU" or volume.modality == "CT":
+                self.window = Window(level=40.0, width=400.0)
+            else:
+                lo, hi = volume.value_range()
+                self.window = Window(level=(lo + hi) / 2, width=max(hi - lo, 1e-6))
+            self.mask = self.mask_canonical = None
+            self.seeds = []
+            self.mesh = None
+            self.selected_light = None
+            self.emit("volume", "scene", "camera", "crosshair", "window", "mask", "seeds", "mesh", "selection",
+                      "crop")
+
+    # -- scene and camera ---------------------------------------------------
+    def update_scene(self, **changes) -> None:
+        """Replace fields of the scene (``transfer=...``, ``lights=...``, ``shading=...``...)."""
+        self.scene = replace(self.scene, **changes)
+        self.emit("scene")
+        if "clipping" in changes:
+            self.emit("crop")
+
+    def set_camera(self, camera: Camera) -> None:
+        self.camera = camera
+        self.emit("camera")
+
+    def set_display(self, **changes) -> None:
+        """Change ``backend``, ``brightness``, ``background``, ``stereo`` or ``mesh_display``."""
+        for k, v in changes.items():
+            if k not in ("backend", "brightness", "background", "stereo", "mesh_display"):
+                raise ValueError(f"unknown display setting {k!r}")
+            if k == "mesh_display" and v not in MESH_DISPLAYS:
+                raise ValueError(f"mesh_display must be one of {MESH_DISPLAYS}, got {v!r}")
+            setattr(self, k, v)
+        self.emit("display")
+
+    # -- lights -------------------------------------------------------------
+    def set_lights(self, lights, selected: int | None = -1) -> None:
+        """Replace the lights; ``selected`` -1 keeps the selection (clamped to the new list)."""
+        lights = tuple(lights)
+        self.scene = replace(self.scene, lights=lights)
+        if selected != -1:
+            self.selected_light = selected
+        if self.selected_light is not None and self.selected_light >= len(lights):
+            self.selected_light = len(lights) - 1 if lights else None
+        self.emit("scene", "selection")
+
+    def replace_light(self, index: int, light) -> None:
+        lights = list(self.scene.lights)
+        lights[index] = light
+        self.set_lights(lights)
+
+    def select_light(self, index: int | None) -> None:
+        self.selected_light = index
+        self.emit("selection")
+
+    # -- slices -------------------------------------------------------------
+    def set_crosshair(self, world) -> None:
+        """Move the crosshair (world mm), clamped to the volume's box."""
+        p = np.asarray(world, float).reshape(3)
+        if self.volume is not None:
+            lo, hi = self.volume.bounds()
+            p = np.clip(p, lo, hi)
+        self.crosshair = p
+        self.emit("crosshair")
+
+    def set_window(self, window: Window) -> None:
+        self.window = window
+        self.emit("window")
+
+    # -- segmentation -------------------------------------------------------
+    def set_mask(self, mask) -> None:
+        self.mask = mask
+        self.mask_canonical = None if mask is None else canonical(mask)
+        self.emit("mask")
+
+    def add_seed(self, world) -> None:
+        self.seeds.append(np.asarray(world, float).reshape(3))
+        self.emit("seeds")
+
+    def clear_seeds(self) -> None:
+        self.seeds = []
+        self.emit("seeds")
+
+    def set_mesh(self, mesh, display: str | None = None) -> None:
+        self.mesh = mesh
+        if display is not None:
+            self.mesh_display = display
+        self.emit("mesh")

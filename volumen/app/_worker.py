@@ -1,0 +1,131 @@
+"""The render worker: a thread that turns :class:`FrameJob` requests into frames, newest first.
+
+The interface thread only posts requests (:meth:`RenderWorker.submit`) and
+receives finished :class:`~volumen.app._frame.Frame` objects through the
+``frame_ready`` signal (queued into the interface thread), so it never waits
+on a renderer. Only the newest request is kept: a request posted while a
+picture is being made replaces any older one still waiting.
+
+* ``interactive=True`` (the user drags): rendered at a reduced viewport --
+  half the size, or a quarter when half took longer than
+  :attr:`RenderWorker.budget` seconds -- and upscaled (``final`` False);
+* otherwise the full picture (:func:`~volumen.app._frame.progressive_frames`;
+  path tracing refines while idle and stops as soon as a new request comes).
+
+OpenGL techniques (texture slicing, meshes) run on the process's one OpenGL
+thread (``_frame.on_gl_thread``); the worker probes once whether they are
+available (``raster_status``).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+import traceback
+
+from PySide6.QtCore import QObject, Signal
+
+from ._frame import FrameJob, progressive_frames, render_frame
+
+__all__ = ["RenderWorker"]
+
+
+class RenderWorker(QObject):
+    """Renders in a background thread; see the module docstring.
+
+    Signals
+    -------
+    frame_ready(Frame)
+    failed(int token, str message)
+    raster_status(bool available, str reason)
+    """
+
+    frame_ready = Signal(object)
+    failed = Signal(int, str)
+    raster_status = Signal(bool, str)
+
+    def __init__(self, parent=None, *, budget: float = 0.06):
+        super().__init__(parent)
+        self.budget = float(budget)
+        self.fraction = 0.5
+        self._cond = threading.Condition()
+        self._pending: tuple[FrameJob, bool] | None = None
+        self._stop = False
+        self._busy = False
+        self._thread = threading.Thread(target=self._loop, name="volumen-render", daemon=True)
+        self._thread.start()
+
+    # -- interface thread -------------------------------------------------------
+    def submit(self, job: FrameJob, *, interactive: bool = False) -> None:
+        """Ask for a picture of ``job`` (replacing any request not started yet)."""
+        with self._cond:
+            self._pending = (job, bool(interactive))
+            self._cond.notify()
+
+    @property
+    def idle(self) -> bool:
+        """True when nothing is being rendered or waiting."""
+        with self._cond:
+            return self._pending is None and not self._busy
+
+    def stop(self, timeout: float = 10.0) -> None:
+        """End the thread (after the picture in progress)."""
+        with self._cond:
+            self._stop = True
+            self._pending = None
+            self._cond.notify()
+        self._thread.join(timeout)
+
+    # -- worker thread ----------------------------------------------------------
+    def _has_pending(self) -> bool:
+        with self._cond:
+            return self._pending is not None or self._stop
+
+    def _probe_raster(self) -> None:
+        from ._frame import on_gl_thread
+
+        def probe():
+            from ..render import BACKENDS
+            from ..render.raster import get_context, register_backends
+
+            get_context()
+            register_backends(BACKENDS)
+
+        try:
+            on_gl_thread(probe)
+            self.raster_status.emit(True, "")
+        except Exception as exc:  # noqa: BLE001 - any failure means: no OpenGL here
+            self.raster_status.emit(False, f"OpenGL is not available: {type(exc).__name__}: {exc}")
+
+    def _loop(self) -> None:
+        self._probe_raster()
+        while True:
+            with self._cond:
+                while self._pending is None and not self._stop:
+                    self._cond.wait()
+                if self._stop:
+                    return
+                job, interactive = self._pending
+                self._pending = None
+                self._busy = True
+            try:
+                if interactive:
+                    t = time.perf_counter()
+                    frame = render_frame(job, self.fraction, final=False)
+                    dt = time.perf_counter() - t
+                    if dt > self.budget and self.fraction > 0.25:
+                        self.fraction = 0.25
+                    elif dt < 0.3 * self.budget and self.fraction < 0.5:
+                        self.fraction = 0.5
+                    self.frame_ready.emit(frame)
+                else:
+                    for frame in progressive_frames(job, cancelled=self._has_pending):
+                        self.frame_ready.emit(frame)
+            except Exception as exc:  # noqa: BLE001 - reported to the interface, never kills the thread
+                msg = f"{type(exc).__name__}: {exc}"
+                if not isinstance(exc, (ValueError, RuntimeError)):
+                    msg += "\n" + traceback.format_exc(limit=4)
+                self.failed.emit(job.token, msg)
+            finally:
+                with self._cond:
+                    self._busy = False

@@ -1,4 +1,5 @@
-"""Phantoms built once per test session (noise-free and without the scanner blur, so HU values are exact)."""
+"""Phantoms built once per test session (noise-free and without the scanner blur: HU values are exact away
+from the one-voxel partial-volume edges)."""
 
 from __future__ import annotations
 

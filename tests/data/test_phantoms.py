@@ -94,16 +94,18 @@ def test_head_is_anatomically_oriented(head):
     assert _hu(head, marker) == 2000
     assert _hu(head, vertex - [0, 0, 3.0]) > 1000  # skull bone just under the vertex
     scalp = [_hu(head, vertex + [0, 0, dz]) for dz in np.arange(1.5, 6.0, 0.5)]
-    assert set(scalp) <= {-100, 40} and 40 in scalp  # fat under skin over the vertex
+    # fat under skin over the vertex (partial-volume values between them at the fat/skin edge)
+    assert min(scalp) == -100 and max(scalp) > 0 and all(-100 <= v <= 40 for v in scalp)
     assert _hu(head, vertex + [0, 0, 9.0]) == -1000  # then air
     assert _hu(head, center) == 5  # the third ventricle, in the middle of the brain
-    assert _hu(head, center + [30, 0, 30]) == 27 and _hu(head, center + [0, 0, 69]) == 40  # white, grey matter
+    assert _hu(head, center + [30, 0, 30]) == 27  # white matter
+    assert 40 in [_hu(head, center + [0, 0, dz]) for dz in np.arange(64.0, 70.0, 0.5)]  # grey matter, under the CSF
     # the vertex is the top of the skull (bone, excluding the marker)
     bone = (head.data > 300) & (head.data < 1900)
     top = _world_of(head, bone)[:, 2].max()
     assert abs(top - vertex[2]) <= head.spacing[0]
-    # the only very dense voxels are the marker's, all on the right, around it
-    dense = _world_of(head, head.data >= 1900)
+    # the only very dense voxels (above any bone's 1700) are the marker's, all on the right, around it
+    dense = _world_of(head, head.data > 1710)
     assert len(dense) > 5 and np.all(dense[:, 0] > 0)
     assert np.linalg.norm(dense - marker, axis=1).max() <= 3.0 + 1e-6
     # the most anterior skin is the nose tip
@@ -161,7 +163,8 @@ def test_torso_is_anatomically_oriented(torso):
     assert _hu(torso, [72, -5, 120]) == -850 and _hu(torso, [-72, -5, 120]) == -850  # lungs, upper part
     assert _hu(torso, [0, -55, 0]) in (700, 80)  # vertebral body or disc, posterior
     spine = torso.data[:, *np.rint(torso.world_to_index([0, -55, 0])[[1, 0]]).astype(int)]
-    assert set(np.unique(spine)) == {700, 80} and 0.1 < np.mean(spine == 80) < 0.35
+    assert {700, 80} <= set(np.unique(spine)) and spine.min() >= 80 and spine.max() <= 700  # partial volumes between
+    assert 0.1 < np.mean(spine < 390) < 0.35  # discs
     aorta = truth["aorta"]
     assert np.all(aorta.centerline[:, 0] < 0)  # left of the midline
     assert np.all(aorta.centerline[:, 1] > -40)  # anterior of the vertebral bodies' front (-38 mm)

@@ -43,35 +43,59 @@ def test_centerline_inside_and_centred_in_lumen(request, which, key, hu):
         assert 0.7 < np.median(edt[k, j, i] / t.radius) < 1.6, t.name
 
 
+# the HU around each phantom's lumens (torso: the tubes' walls; head: the soft tissue of the face)
+WALL_HU = {"torso": 40, "head": 45}
+
+
+def _sides(data, hu, wall=40):
+    """(strictly on the lumen's side, on it or exactly half-way) of the threshold half-way between the
+    lumen's value ``hu`` and the wall's: partial-volume edges put a voxel whose centre is inside the
+    lumen on the lumen's side, one whose centre is outside on the wall's (a value rounded to exactly
+    half-way, a centre within ~0.001 mm of the surface, may be either)."""
+    half = (hu + wall) / 2.0
+    return (data < half, data <= half) if hu < wall else (data > half, data >= half)
+
+
 @pytest.mark.parametrize("which, key, hu", TUBES)
 def test_mask_is_exactly_the_lumen_in_the_data(request, which, key, hu):
     vol = request.getfixturevalue(which)
     tube = vol.meta["truth"][key]
-    assert np.all(vol.data[tube.mask] == hu)
-    labels, _ = ndimage.label(vol.data == hu)
+    strict, loose = _sides(vol.data, hu, WALL_HU[which])
+    assert np.all(loose[tube.mask])  # every lumen voxel is on the lumen's side of the half-way threshold
+    interior = ndimage.binary_erosion(tube.mask, iterations=2)
+    assert np.mean(vol.data[interior] == hu) > 0.95  # and away from the wall it is exactly the lumen's value
+    strict_labels, _ = ndimage.label(strict)
+    loose_labels, _ = ndimage.label(loose)
     if which == "head":  # the nasal airway opens into the air in front of the nose (a corner voxel's)
-        assert np.all(labels[tube.mask] == labels[0, 0, 0])
+        assert np.all(loose_labels[tube.mask] == loose_labels[0, 0, 0])
         return
-    # the lumen is exactly the 6-connected component of lumen-valued voxels that holds the centerline
+    # the lumen is the 6-connected component of lumen-side voxels that holds the centerline
     k, j, i = _voxels(vol, tube.centerline[len(tube.centerline) // 2:][:1]).T
-    np.testing.assert_array_equal(labels == labels[k[0], j[0], i[0]], tube.mask)
+    inner = strict_labels == strict_labels[k[0], j[0], i[0]]
+    outer = loose_labels == loose_labels[k[0], j[0], i[0]]
+    assert np.all(tube.mask <= outer) and np.all(inner <= tube.mask | (loose & ~strict))
+    assert inner.sum() > 0.99 * tube.mask.sum()  # all but the values rounded to exactly half-way
 
 
 def test_mask_values_with_default_noise_and_blur_stay_in_their_class():
     """With the default scanner blur (0.5 voxel) and noise (10 HU), lumen voxels two voxels from the
-    wall keep their class value within noise, and every lumen voxel stays on the lumen side of
-    the half-way threshold between lumen and wall (so a threshold there recovers the lumen)."""
-    from scipy import ndimage
-
+    wall keep their class value within noise (but for the sub-voxel crests of the folds nearby), and
+    without noise lumen voxels stay on the lumen side of the half-way threshold between lumen and
+    wall (so a threshold there recovers the lumen) but for a handful where blurred edges meet."""
     vol = phantom("torso")
     truth = vol.meta["truth"]
     deep_colon = ndimage.binary_erosion(truth["colon"].mask, iterations=2)
     deep_aorta = ndimage.binary_erosion(truth["aorta"].mask, iterations=2)
     colon, aorta = vol.data[deep_colon].astype(float), vol.data[deep_aorta].astype(float)
-    assert abs(colon.mean() + 1000) < 1 and colon.max() < -950
-    assert abs(aorta.mean() - 300) < 1 and aorta.min() > 250
-    assert 8 < colon.std() < 12
-    assert vol.data[truth["colon"].mask].max() < (-1000 + 40) / 2
+    assert abs(colon.mean() + 1000) < 2 and np.percentile(colon, 99) < -970
+    assert abs(aorta.mean() - 300) < 2 and np.percentile(aorta, 1) > 270
+    assert 8 < np.median(np.abs(colon + 1000)) / 0.6745 < 12  # the noise's sigma, robustly
+    clean = phantom("torso", noise=0)
+    for key, hu in (("colon", -1000), ("aorta", 300), ("airway", -1000)):
+        mask = clean.meta["truth"][key].mask
+        strict, loose = _sides(clean.data, hu)
+        ring = ndimage.binary_dilation(mask) & ~mask
+        assert np.mean(loose[mask]) > 0.999 and np.mean(strict[ring]) < 0.001, key
 
 
 def test_haustral_folds_narrow_but_never_close_the_colon():
@@ -99,7 +123,9 @@ def test_polyp(torso):
     r = polyp["radius"]
     assert 4.0 <= r <= 6.0
     assert pm.sum() >= 0.4 * (2 / 3 * np.pi * r**3) / np.prod(torso.spacing)  # about a hemisphere of voxels
-    assert np.all(torso.data[pm] == 40)  # soft tissue
+    half = (-1000 + 40) / 2.0  # between air and soft tissue
+    assert np.all(torso.data[pm] >= half)  # soft tissue (on its side of the partial-volume edge)
+    assert np.mean(torso.data[pm] == 40) > 0.3  # its core exactly
     assert not np.any(pm & colon.mask)  # not lumen
     ring = ndimage.binary_dilation(pm) & ~pm
     assert np.any(ring & colon.mask)  # protrudes into the lumen (air around it) ...

@@ -13,13 +13,17 @@ centerline:
   never touches the surrounding tissue through a face), in pericolic fat (-100 HU);
 * the polyp: a sphere of soft tissue centred on the wall surface between two folds,
   so that one hemisphere protrudes into the lumen.
+
+Every surface is a partial-volume edge (``Canvas.paint``); the lumen is painted as
+the signed distance ``max(lumen, -polyp)`` (the lumen less the polyp), so the polyp
+is the wall (same HU) left standing, and the masks hold the voxels whose centre is inside.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._canvas import Canvas
+from ._canvas import Canvas, sphere_sd
 from ._tubes import make_path, truth_tube, tube_field
 
 __all__ = ["paint_colon"]
@@ -34,16 +38,19 @@ LUMEN, WALL_HU, FAT_HU, POLYP_HU = -1000.0, 40.0, -100.0, 40.0
 FOLD_PERIOD, FOLD_SIGMA, FOLD_FREE = 24.0, 2.5, 30.0  # mm; no folds in the first/last FOLD_FREE mm
 POLYP_NEAR = (0.0, 55.0, -52.0)  # the polyp sits in the transverse colon, nearest this point ...
 POLYP_SIDE = (0.0, 0.6, 0.8)  # ... on the wall toward this direction (anterior-superior)
+# POLYP_HU must equal WALL_HU: the polyp is painted as the wall that the lumen leaves standing
 
 
-def _folds(arc: np.ndarray, length: float, depth: float) -> np.ndarray:
-    """Relative narrowing (0..depth) of the lumen by haustral folds at arc lengths ``arc`` (mm)."""
+def _folds(arc: np.ndarray, length: float, depth: float, slope: bool = False):
+    """Relative narrowing (0..depth) of the lumen by haustral folds at arc lengths ``arc`` (mm), and with
+    ``slope`` its derivative along the arc (1/mm) too."""
     centres = np.arange(FOLD_FREE, length - FOLD_FREE + 1e-9, FOLD_PERIOD)
     phase = (arc - FOLD_FREE) / FOLD_PERIOD
     nearest = np.clip(np.rint(phase), 0, max(len(centres) - 1, 0))
     dist = arc - (FOLD_FREE + nearest * FOLD_PERIOD)
     inside = (arc > FOLD_FREE - 3 * FOLD_SIGMA) & (arc < length - FOLD_FREE + 3 * FOLD_SIGMA)
-    return np.where(inside, depth * np.exp(-0.5 * (dist / FOLD_SIGMA) ** 2), 0.0)
+    fold = np.where(inside, depth * np.exp(-0.5 * (dist / FOLD_SIGMA) ** 2), 0.0)
+    return (fold, -fold * dist / FOLD_SIGMA**2) if slope else fold
 
 
 def paint_colon(cv: Canvas, *, fold_depth: float = 0.4, polyp_radius: float = 6.0):
@@ -56,14 +63,12 @@ def paint_colon(cv: Canvas, *, fold_depth: float = 0.4, polyp_radius: float = 6.
     path = make_path(PATH, RADIUS)
     length = float(path.arc[-1])
     wall = max(WALL, 1.3 * max(grid.spacing))
-    field = tube_field(grid, path, reach=wall + FAT + 1.0)
+    field = tube_field(grid, path, reach=wall + FAT + cv.reach)
     reg, sdf, arc = field.region, field.sdf, field.arc
     r_at = np.interp(arc, path.arc, path.radius).astype(np.float32)
-    fold_at = _folds(arc, length, fold_depth).astype(np.float32)
-    lumen = sdf < -r_at * fold_at  # d < r (1 - fold)
-    cv.fill(reg, sdf < wall + FAT, FAT_HU)
-    cv.fill(reg, sdf < wall, WALL_HU)
-    cv.fill(reg, lumen, LUMEN)
+    fold_at, fold_slope = (f.astype(np.float32) for f in _folds(arc, length, fold_depth, slope=True))
+    # d - r (1 - fold), made a distance: divided by its gradient's norm across the folds' flanks
+    lumen = (sdf + r_at * fold_at) / np.sqrt(1.0 + (r_at * fold_slope) ** 2)
 
     # the polyp, between two folds in the transverse colon
     i_near = int(np.argmin(np.linalg.norm(path.points - np.asarray(POLYP_NEAR), axis=1)))
@@ -77,14 +82,15 @@ def paint_colon(cv: Canvas, *, fold_depth: float = 0.4, polyp_radius: float = 6.
     n /= np.linalg.norm(n)
     r_lumen = float(np.interp(s_p, path.arc, path.radius) * (1.0 - _folds(np.array([s_p]), length, fold_depth)[0]))
     center = c + r_lumen * n
-    preg = grid.around(center, polyp_radius + 1.0)
-    sphere = ((preg.x - center[0]) ** 2 + (preg.y - center[1]) ** 2 + (preg.z - center[2]) ** 2
-              < polyp_radius**2)
-    polyp_mask = np.zeros(grid.shape, dtype=bool)
+    sphere = sphere_sd(reg, center, polyp_radius)
+
+    cv.paint(reg, sdf - np.float32(wall + FAT), FAT_HU)
+    cv.paint(reg, sdf - np.float32(wall), WALL_HU)
+    cv.paint(reg, np.maximum(lumen, -sphere), LUMEN)  # the polyp (POLYP_HU == WALL_HU) is the wall left standing
     full_lumen = np.zeros(grid.shape, dtype=bool)
-    full_lumen[reg.slices] = lumen
-    polyp_mask[preg.slices] = sphere & full_lumen[preg.slices]
-    cv.fill(preg, polyp_mask[preg.slices], POLYP_HU)
+    full_lumen[reg.slices] = lumen < 0
+    polyp_mask = np.zeros(grid.shape, dtype=bool)
+    polyp_mask[reg.slices] = (sphere < 0) & full_lumen[reg.slices]
     full_lumen &= ~polyp_mask
 
     radius = path.radius * (1.0 - _folds(path.arc, length, fold_depth))

@@ -41,8 +41,9 @@ def phantom(name: str, size=None, **params) -> Volume:
         ``"head"``
             An upright head, face toward +y, vertex toward +z (default 128 voxels along z,
             1.875 mm isotropic, 240 mm). Params: ``noise`` (HU, default 10), ``seed``,
-            ``blur`` (scanner point-spread sigma in voxels, default 0.5; 0 gives sharp
-            voxel-exact edges), ``grey_white`` (bool). A dense bead marks the patient's RIGHT (+x) at eye level.
+            ``blur`` (scanner point-spread sigma in voxels, default 0.5, built into every
+            partial-volume edge; 0 leaves the bare partial-volume ramp, one voxel wide),
+            ``grey_white`` (bool). A dense bead marks the patient's RIGHT (+x) at eye level.
         ``"torso"``
             The trunk with lungs and airway, spine, ribs, contrast-filled aorta and branches,
             and a colon with haustral folds and one polyp (default 160 voxels along z,

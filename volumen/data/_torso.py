@@ -14,6 +14,8 @@ to front on a float canvas (see ``_canvas``):
 * the airway (air): trachea entering from the top, carina, main bronchi and a lobar generation;
 * the colon with haustral folds and one polyp (``_colon``).
 
+Every surface is a partial-volume edge (``Canvas.paint``), so no surface is a voxel staircase.
+
 ``meta["truth"]``: ``landmarks`` (name -> xyz world mm), ``colon``, ``aorta``, ``airway``
 (:class:`Tube`, branches on the aorta and airway) and ``polyp``.
 """
@@ -23,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, ellipse_cylinder_sd, ellipsoid_sd
+from ._canvas import Canvas, Grid, Region, ellipse_cylinder_sd, ellipsoid_sd
 from ._colon import paint_colon
 from ._tubes import make_path, paint_tubes, truth_tube
 
@@ -53,6 +55,14 @@ def _diaphragm(x: np.ndarray) -> np.ndarray:
     return 5.0 + 32.0 * np.exp(-(((x - 70.0) / 45.0) ** 2)) + 26.0 * np.exp(-(((x + 70.0) / 45.0) ** 2))
 
 
+def _below_diaphragm_sd(reg: Region) -> np.ndarray:
+    """Signed distance (mm, < 0 below) to the diaphragm's surface (height over it, divided by its slope's norm)."""
+    x = reg.x.astype(np.float64)
+    slope = (-32.0 * 2.0 * (x - 70.0) / 45.0**2 * np.exp(-(((x - 70.0) / 45.0) ** 2))
+             - 26.0 * 2.0 * (x + 70.0) / 45.0**2 * np.exp(-(((x + 70.0) / 45.0) ** 2)))
+    return ((reg.z - _diaphragm(reg.x)) / np.sqrt(1.0 + slope * slope)).astype(np.float32)
+
+
 def _aorta_at(z: float) -> tuple[float, float, float]:
     pts = np.array(AORTA[0], float)[::-1]  # ascending z for interp
     return (float(np.interp(z, pts[:, 2], pts[:, 0])), float(np.interp(z, pts[:, 2], pts[:, 1])), float(z))
@@ -61,37 +71,52 @@ def _aorta_at(z: float) -> tuple[float, float, float]:
 def _paint_body(cv: Canvas) -> None:
     reg = cv.grid.region()
     sd = ellipse_cylinder_sd(reg, (0.0, 0.0), BODY_AX, (-1e3, 1e3))
-    above = reg.z > _diaphragm(reg.x)
-    cv.fill(reg, sd < 0, 40.0)
-    cv.fill(reg, sd < -SKIN, -100.0)
-    cv.fill(reg, sd < -SUBCUT, 50.0)
-    cv.fill(reg, (sd < -WALL) & ~above, 30.0)
-    cv.fill(reg, (sd < -WALL) & above, 40.0)
-    for sx in (-1.0, 1.0):
-        cv.fill(reg, ellipse_cylinder_sd(reg, (sx * 35.0, -80.0), (25.0, 20.0), (-1e3, 1e3)) < 0, 50.0)
-    liver = ellipsoid_sd(reg, *LIVER)
-    cv.fill(reg, (liver < 0) & ~above, 60.0)
-    cv.fill(reg, ellipsoid_sd(reg, *SPLEEN) < 0, 45.0)
+    below = _below_diaphragm_sd(reg)  # < 0 in the abdomen, > 0 in the chest
+    cv.paint(reg, sd, 40.0)
+    cv.paint(reg, sd + SKIN, -100.0)
+    cv.paint(reg, sd + SUBCUT, 50.0)
+    cv.paint(reg, np.maximum(sd + WALL, below), 30.0)
+    cv.paint(reg, np.maximum(sd + WALL, -below), 40.0)
+    g, m = cv.grid, cv.reach  # organs: each on its box (plus the blurred edge's reach) only
+    for sx in (-1.0, 1.0):  # paraspinal muscles
+        r = g.region((sx * 35.0 - 25.0 - m, -100.0 - m, -1e3), (sx * 35.0 + 25.0 + m, -60.0 + m, 1e3))
+        cv.paint(r, ellipse_cylinder_sd(r, (sx * 35.0, -80.0), (25.0, 20.0), (-1e3, 1e3)), 50.0)
+    r = g.around(LIVER[0], np.add(LIVER[1], m))
+    cv.paint(r, np.maximum(ellipsoid_sd(r, *LIVER), _below_diaphragm_sd(r)), 60.0)
+    r = g.around(SPLEEN[0], np.add(SPLEEN[1], m))
+    cv.paint(r, ellipsoid_sd(r, *SPLEEN), 45.0)
     for sx in (-1.0, 1.0):
         c = (sx * KIDNEY_C[0], KIDNEY_C[1], KIDNEY_C[2])
-        cv.fill(reg, ellipsoid_sd(reg, c, KIDNEY_AX) < 0, 35.0)
+        r = g.around(c, np.add(KIDNEY_AX, m))
+        cv.paint(r, ellipsoid_sd(r, c, KIDNEY_AX), 35.0)
     for sx in (-1.0, 1.0):  # lungs: above the diaphragm, inside the ribs, beside the mediastinum
-        lung = ellipsoid_sd(reg, (sx * 72.0, -5.0, 120.0), (62.0, 82.0, 125.0))
-        cv.fill(reg, (lung < 0) & above & (sd < -30.0) & (sx * reg.x > 24.0), LUNG)
-    cv.fill(reg, ellipsoid_sd(reg, *HEART) < 0, 40.0)
+        c, semi = (sx * 72.0, -5.0, 120.0), (62.0, 82.0, 125.0)
+        r = g.around(c, np.add(semi, m))
+        wall = ellipse_cylinder_sd(r, (0.0, 0.0), BODY_AX, (-1e3, 1e3)) + 30.0
+        lung = np.maximum(np.maximum(ellipsoid_sd(r, c, semi), -_below_diaphragm_sd(r)),
+                          np.maximum(wall, 24.0 - sx * r.x))
+        cv.paint(r, lung, LUNG)
+    r = g.around(HEART[0], np.add(HEART[1], m))
+    cv.paint(r, ellipsoid_sd(r, *HEART), 40.0)
+
+
+def _disc_sd(z: np.ndarray, z0: float, period: float, thickness: float) -> np.ndarray:
+    """Signed distance (mm) to the discs: slabs ``thickness`` mm thick across z, starting at ``z0 + n period``."""
+    u = np.mod(z - (z0 + thickness / 2.0) + period / 2.0, period) - period / 2.0  # from the nearest disc's middle
+    return np.abs(u) - thickness / 2.0
 
 
 def _paint_bones(cv: Canvas) -> None:
     g = cv.grid
-    reg = g.region((-40.0, -110.0, -1e3), (40.0, -30.0, 1e3))
-    disc = np.mod(reg.z + 200.0, 32.0) < 7.0
+    reg = g.region((-20.0 - cv.reach, -104.0 - cv.reach, -1e3), (20.0 + cv.reach, -38.0 + cv.reach, 1e3))
+    disc = _disc_sd(reg.z, -200.0, 32.0, 7.0)
     body = ellipse_cylinder_sd(reg, SPINE, (20.0, 17.0), (-1e3, 1e3))
-    cv.fill(reg, body < 0, 700.0)
-    cv.fill(reg, (body < 0) & disc, 80.0)
+    cv.paint(reg, body, 700.0)
+    cv.paint(reg, np.maximum(body, disc), 80.0)
     arch = ellipse_cylinder_sd(reg, (0.0, -82.0), (12.5, 12.5), (-1e3, 1e3))
-    cv.fill(reg, (arch < 0) & ~disc, 800.0)
-    cv.fill(reg, (ellipse_cylinder_sd(reg, (0.0, -97.0), (4.0, 7.0), (-1e3, 1e3)) < 0) & ~disc, 800.0)
-    cv.fill(reg, arch < -4.5, 10.0)
+    cv.paint(reg, np.maximum(arch, -disc), 800.0)
+    cv.paint(reg, np.maximum(ellipse_cylinder_sd(reg, (0.0, -97.0), (4.0, 7.0), (-1e3, 1e3)), -disc), 800.0)
+    cv.paint(reg, arch + 4.5, 10.0)
     ribs = []
     for k, end in enumerate(RIB_ENDS):  # ribs: from the spine around inside the body wall, lower at the front
         theta = np.radians(np.linspace(-103.0, end, 18))  # angle around the body, 0 = patient's side
@@ -101,8 +126,8 @@ def _paint_bones(cv: Canvas) -> None:
                             185.0 - 18.0 * k - drop], axis=1)
             ribs.append(make_path(pts, 4.5))
     paint_tubes(cv, ribs, [(0.0, 600.0)])
-    reg = g.region((-20.0, 80.0, 60.0), (20.0, 105.0, 1e3))
-    cv.fill(reg, ellipse_cylinder_sd(reg, (0.0, BODY_AX[1] - 22.0), (15.0, 6.0), (60.0, 1e3)) < 0, 500.0)
+    reg = g.region((-15.0 - cv.reach, 87.0 - cv.reach, 60.0 - cv.reach), (15.0 + cv.reach, 99.0 + cv.reach, 1e3))
+    cv.paint(reg, ellipse_cylinder_sd(reg, (0.0, BODY_AX[1] - 22.0), (15.0, 6.0), (60.0, 1e3)), 500.0)
 
 
 def _aorta(cv: Canvas, wall: float):
@@ -136,16 +161,17 @@ def torso(size=None, *, noise: float = 10.0, seed: int = 0, blur: float = 0.5, f
           polyp_radius: float = 6.0) -> Volume:
     """Build the torso phantom (see the module docstring); ``size`` defaults to 160 voxels along z (400 mm)."""
     grid = Grid.centred(FOV, 160 if size is None else size)
-    cv = Canvas(grid, AIR)
+    cv = Canvas(grid, AIR, blur)
     _paint_body(cv)
     _paint_bones(cv)
     wall = max(3.0, 1.3 * max(grid.spacing))
     trunk, aorta_branches, aorta_mask = _aorta(cv, wall)
     air_main, air_branches, air_mask = _airway(cv, wall)
     colon, polyp = paint_colon(cv, fold_depth=fold_depth, polyp_radius=polyp_radius)
-    # what painted later (the colon's fat) may cover a vessel: the masks keep what the data shows
-    aorta_mask &= cv.data == CONTRAST
-    air_mask &= cv.data == AIR
+    # what painted later (the colon's fat) may cover a vessel: the masks keep what the data shows, the
+    # voxels on the lumen's side of the half-way threshold between lumen and wall
+    aorta_mask &= cv.data > (CONTRAST + 40.0) / 2.0
+    air_mask &= cv.data < (AIR + 40.0) / 2.0
 
     def tree(name, mask, main, branches):
         return truth_tube(name, mask, main, grid, branches=[truth_tube(n, mask, p, grid) for n, p in branches.items()])
@@ -166,4 +192,4 @@ def torso(size=None, *, noise: float = 10.0, seed: int = 0, blur: float = 0.5, f
     truth = {"landmarks": landmarks, "colon": colon, "polyp": polyp,
              "aorta": tree("aorta", aorta_mask, trunk, aorta_branches),
              "airway": tree("airway", air_mask, air_main, air_branches)}
-    return cv.to_volume(name="torso", noise=noise, seed=seed, blur=blur, meta={"truth": truth})
+    return cv.to_volume(name="torso", noise=noise, seed=seed, meta={"truth": truth})

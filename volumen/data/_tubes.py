@@ -29,8 +29,10 @@ class Tube:
     ----------
     name : str
     mask : (nz, ny, nx) bool
-        The lumen ``[z, y, x]`` exactly as painted in the data (air for the colon
-        and airway, contrast for the aorta), branches included.
+        The lumen ``[z, y, x]`` as painted in the data (air for the colon and airway,
+        contrast for the aorta), branches included: the voxels whose centre is inside
+        it, which the partial-volume edges put on the lumen's side of the half-way
+        value between lumen and wall (exactly the lumen's value away from the wall).
     centerline : (N, 3) float
         World RAS+ mm, from one end to the other, one point about every millimetre.
     radius : (N,) float
@@ -105,13 +107,17 @@ class TubeField:
     arc: np.ndarray
 
 
-def tube_field(grid: Grid, path: Path, reach: float) -> TubeField | None:
+def tube_field(grid: Grid, path, reach: float) -> TubeField | None:
     """Field of ``path`` on the voxels of ``grid`` within ``reach`` mm outside its surface.
 
-    Returns None when the tube (plus reach) misses the grid.
+    ``path`` may be a sequence of paths: the field is then their union (the smallest
+    ``d - r`` over all of them) on the box that holds them all. Returns None when the
+    tube (plus reach) misses the grid.
     """
-    pad = float(path.radius.max()) + float(reach)
-    reg = grid.region(path.points.min(axis=0) - pad, path.points.max(axis=0) + pad)
+    paths = [path] if isinstance(path, Path) else list(path)
+    lo_xyz = np.min([p.points.min(axis=0) - (float(p.radius.max()) + reach) for p in paths], axis=0)
+    hi_xyz = np.max([p.points.max(axis=0) + (float(p.radius.max()) + reach) for p in paths], axis=0)
+    reg = grid.region(lo_xyz, hi_xyz)
     if reg is None:
         return None
     shape = (reg.z.shape[0], reg.y.shape[1], reg.x.shape[2])
@@ -120,8 +126,9 @@ def tube_field(grid: Grid, path: Path, reach: float) -> TubeField | None:
     lo = np.array([float(reg.x[0, 0, 0]), float(reg.y[0, 0, 0]), float(reg.z[0, 0, 0])])
     h = np.array(grid.spacing[::-1], dtype=float)
     kernel = _compiled_kernel()
-    kernel(np.ascontiguousarray(path.points, np.float64), np.ascontiguousarray(path.radius, np.float64),
-           np.ascontiguousarray(path.arc, np.float64), lo, h, float(reach), sdf, arc)
+    for p in paths:
+        kernel(np.ascontiguousarray(p.points, np.float64), np.ascontiguousarray(p.radius, np.float64),
+               np.ascontiguousarray(p.arc, np.float64), lo, h, float(reach), sdf, arc)
     return TubeField(reg, sdf, arc)
 
 
@@ -167,21 +174,23 @@ def _tube_kernel(pts, rad, arcs, lo, h, reach, sdf, arc_out):
 
 
 def paint_tubes(cv: Canvas, paths, layers) -> np.ndarray:
-    """Paint a tree of ``paths`` as nested shells; return the lumen ``d - r < 0`` as a bool mask [z, y, x].
+    """Paint a tree of ``paths`` as nested partial-volume shells; return the lumen ``d - r < 0`` as a
+    bool mask [z, y, x] (the voxels whose centre is inside).
 
-    ``layers`` is a sequence of ``(offset_mm, value_HU)`` painted in order where
-    ``d - r < offset``: e.g. ``[(3.0, 40.0), (0.0, -1000.0)]`` is a 3 mm wall around
-    air. Each layer is painted on every path before the next layer, so a branch's
-    wall never covers its parent's lumen.
+    ``layers`` is a sequence of ``(offset_mm, value_HU)`` painted in order by the
+    coverage of ``d - r < offset`` (see :meth:`Canvas.paint`): e.g. ``[(3.0, 40.0),
+    (0.0, -1000.0)]`` is a 3 mm wall around air. Each layer is painted on the union
+    of all the paths (one signed distance, the smallest over them), so a branch's wall
+    never covers its parent's lumen and junctions have no seams.
     """
     mask = np.zeros(cv.grid.shape, dtype=bool)
-    reach = max(max(o for o, _ in layers), 0.0) + 1.0
-    fields = [f for f in (tube_field(cv.grid, p, reach) for p in paths) if f is not None]
+    reach = max(max(o for o, _ in layers), 0.0) + cv.reach
+    f = tube_field(cv.grid, paths, reach)
+    if f is None:
+        return mask
     for offset, value in layers:
-        for f in fields:
-            cv.fill(f.region, f.sdf < offset, value)
-    for f in fields:
-        mask[f.region.slices] |= f.sdf < 0
+        cv.paint(f.region, f.sdf - np.float32(offset), value)
+    mask[f.region.slices] = f.sdf < 0
     return mask
 
 

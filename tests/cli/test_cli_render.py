@@ -64,3 +64,16 @@ def test_render_errors_are_one_line(tmp_path, capsys):
     bad.write_text("{}")
     assert main(["render", "--settings", str(bad), "-o", str(tmp_path / "x.png")]) == 1
     assert "not a volumen render settings file" in capsys.readouterr().err
+
+
+def test_light_spec_words_and_shading_flags(tmp_path):
+    light = parse_light("kind=headlight attach=camera intensity=0.5")
+    assert light.kind == "headlight" and light.attach == "camera" and light.intensity == 0.5
+    with pytest.raises(ValueError, match="attach= must be one of world, camera"):
+        parse_light("pos=0,0,0 attach=eye")
+    settings = tmp_path / "s.json"
+    assert main(["render", "phantom:sphere", "-o", str(tmp_path / "a.png"), "--size", "24x24", "--shading",
+                 "scattering", "--light", "pos=100,100,100", "--sigma-a", "0.5", "--phase-g", "0.3",
+                 "--save-settings", str(settings)]) == 0
+    shading = json.loads(settings.read_text())["scene"]["shading"]
+    assert shading["mode"] == "scattering" and shading["sigma_a"] == 0.5 and shading["phase_g"] == 0.3

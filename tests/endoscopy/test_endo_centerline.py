@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import polyline_distance
+from endo_helpers import polyline_distance
 
 from volumen.endoscopy import Centerline, compute_centerline, lumen_mask
 

@@ -7,7 +7,7 @@ the random walk is checked against its ground-truth lumen instead.
 
 import numpy as np
 import pytest
-from conftest import TORUS_R, TORUS_RC, torus_wall_distance
+from endo_helpers import TORUS_R, TORUS_RC, torus_wall_distance
 
 from volumen.endoscopy import Collider, WallField
 

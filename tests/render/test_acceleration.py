@@ -15,7 +15,7 @@ import pytest
 from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 
-from conftest import sphere_volume
+from render_helpers import sphere_volume
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, Tr
 
 from volumen.render import render
 
-from conftest import sphere_volume
+from render_helpers import sphere_volume
 
 TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
 

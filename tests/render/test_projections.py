@@ -13,7 +13,7 @@ import pytest
 from volumen.core import ClipPlane, Clipping, Sampling, Scene, TransferFunction, Volume
 from volumen.render import render
 
-from conftest import axis_camera
+from render_helpers import axis_camera
 
 
 @pytest.fixture(scope="module")

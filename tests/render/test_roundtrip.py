@@ -10,7 +10,7 @@ from volumen.core import (Camera, ClipPlane, Clipping, Isosurface, Light, Sampli
                           TransferFunction)
 from volumen.render import render
 
-from conftest import sphere_volume
+from render_helpers import sphere_volume
 
 
 def test_json_round_trip_same_objects_same_pixels():

@@ -8,7 +8,7 @@ import pytest
 from volumen.core import Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 
-from conftest import axis_camera
+from render_helpers import axis_camera
 
 A0 = 0.05  # opacity per reference step (one voxel)
 COLOR = (1.0, 0.5, 0.25)

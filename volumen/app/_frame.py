@@ -116,29 +116,20 @@ def _render_one(job: FrameJob, camera: Camera, size, fraction: float) -> Image:
     return mesh_img if vol_img is None else composite_mesh(vol_img, mesh_img)
 
 
-_gl_executor = None
-_gl_lock = threading.Lock()
-
-
 def needs_gl(job: FrameJob) -> bool:
     """True when ``job`` draws with OpenGL (a rasterized technique, or a mesh)."""
     return job.backend != "cpu" or (job.mesh is not None and job.mesh_display != "hidden")
 
 
 def on_gl_thread(fn, *args, **kw):
-    """Run ``fn(*args, **kw)`` on the process's one OpenGL thread and return its result.
+    """Run ``fn(*args, **kw)`` on the process's one OpenGL thread (``volumen.render.raster.on_gl_thread``).
 
-    The headless OpenGL context of ``volumen.render.raster`` is current in the
-    thread that made it, so every OpenGL call of the application goes through
-    this single long-lived thread, whichever window or task asks.
+    The headless OpenGL context is current in the thread that made it, so a whole
+    frame that draws with OpenGL runs there, whichever window or task asks.
     """
-    global _gl_executor
-    with _gl_lock:
-        if _gl_executor is None:
-            from concurrent.futures import ThreadPoolExecutor
+    from ..render.raster import on_gl_thread as run
 
-            _gl_executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="volumen-gl")
-    return _gl_executor.submit(fn, *args, **kw).result()
+    return run(fn, *args, **kw)
 
 
 def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) -> Frame:

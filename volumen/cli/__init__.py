@@ -21,6 +21,7 @@ COMMANDS = {
     "slices": "_slices",
     "render": "_render",
     "fly": "_fly",
+    "mesh": "_mesh",
     "view": "_view",
     "bench": "_bench",
     "demo": "_demo",

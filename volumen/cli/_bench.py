@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render",)
+BENCHES = ("render", "techniques", "lighting")
 
 
 def register(sub):
     p = sub.add_parser("bench", help="benchmarks: print a table and write it as JSON")
-    p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper")
+    p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper; "
+                   "techniques: meshes, ray casting and texture slicing along a camera path; "
+                   "lighting: shadows and scattering in the seeds' experiment")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
@@ -19,10 +21,19 @@ def register(sub):
 
 
 def run(args):
-    from volumen.bench._render import QUICK, bench_render
+    if args.what == "techniques":
+        from volumen.bench._techniques import main
 
-    kw = dict(QUICK) if args.quick else {}
-    table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, **kw)
+        return main(args)
+    if args.what == "lighting":
+        from volumen.bench._lighting import bench_lighting
+
+        table = bench_lighting(quick=args.quick, repeat=args.repeat)
+    else:
+        from volumen.bench._render import QUICK, bench_render
+
+        kw = dict(QUICK) if args.quick else {}
+        table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, **kw)
     print()
     print(table.render())
     path = table.save(Path(args.out) / f"{args.what}{'-quick' if args.quick else ''}.json")

@@ -32,9 +32,19 @@ def register(sub):
     g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
     g.add_argument("--shading", choices=SHADINGS, help="none, headlight (default), phong (uses --light)")
     g.add_argument("--light", action="append", default=None, metavar="SPEC",
-                   help="a world-fixed light, repeatable: 'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I' "
-                        "(mm, RAS); implies --shading phong")
+                   help="a light, repeatable: 'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I "
+                        "[kind=point|spot|headlight attach=world|camera radius=R]' (mm, RAS; attach=camera: "
+                        "in the camera frame); implies --shading phong unless --shading says otherwise")
     g.add_argument("--background", help="background colour R,G,B in 0..1 (default black)")
+    g.add_argument("--shadow-method", choices=["fast", "direct"],
+                   help="shadows: illumination volumes (fast, default) or shadow rays per sample (direct)")
+    g.add_argument("--sigma-a", type=float, help="scattering: absorption, in units of the TF's extinction")
+    g.add_argument("--sigma-s", type=float, help="scattering: scattering, in units of the TF's extinction")
+    g.add_argument("--phase-g", type=float, help="scattering: Henyey-Greenstein anisotropy g in (-1, 1)")
+    g.add_argument("--pt-samples", type=int, help="pathtrace: samples per pixel")
+    g.add_argument("--pt-bounces", type=int, help="pathtrace: scattering events per path (1 = single)")
+    g.add_argument("--backend", default="cpu",
+                   help="cpu (ray casting, default), slicing[-variant] or mesh (OpenGL); see volumen.render.BACKENDS")
     c = p.add_argument_group("camera")
     c.add_argument("--view", choices=VIEWS, help="anatomical view (default anterior)")
     c.add_argument("--azimuth", type=float, help="degrees about the view's up axis")
@@ -55,27 +65,43 @@ def register(sub):
     return p
 
 
-def parse_spec(text: str, keys: dict[str, int]) -> dict[str, list[float]]:
-    """``'pos=1,2,3 exp=4'`` -> ``{'pos': [1, 2, 3], 'exp': [4]}``; ``keys`` maps key -> count."""
-    out: dict[str, list[float]] = {}
+def parse_spec(text: str, keys: dict[str, int | tuple[str, ...]]) -> dict:
+    """``'pos=1,2,3 exp=4 kind=spot'`` -> ``{'pos': [1, 2, 3], 'exp': [4], 'kind': 'spot'}``.
+
+    ``keys`` maps each key to the count of numbers it takes, or to the tuple of words it accepts.
+    """
+    out: dict = {}
     for part in text.replace(";", " ").split():
         if "=" not in part:
             raise ValueError(f"expected KEY=VALUE in {text!r}, got {part!r}")
         key, val = part.split("=", 1)
         if key not in keys:
             raise ValueError(f"unknown key {key!r} in {text!r}; valid: {', '.join(keys)}")
-        out[key] = _floats(val, keys[key], key)
+        if isinstance(keys[key], tuple):
+            if val not in keys[key]:
+                raise ValueError(f"{key}= must be one of {', '.join(keys[key])}; got {val!r}")
+            out[key] = val
+        else:
+            out[key] = _floats(val, keys[key], key)
     return out
 
 
 def parse_light(text: str):
-    """A :class:`volumen.core.Light` from ``'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I'``."""
+    """A :class:`volumen.core.Light` from ``'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I
+    kind=point|spot|headlight attach=world|camera radius=R'`` (mm; ``attach=camera`` gives position
+    and direction in the camera's right/up/forward frame, an endoscope's flashlight)."""
     from volumen.core import Light
 
-    d = parse_spec(text, {"pos": 3, "dir": 3, "exp": 1, "color": 3, "intensity": 1})
-    if "pos" not in d:
+    d = parse_spec(text, {"pos": 3, "dir": 3, "exp": 1, "color": 3, "intensity": 1,
+                          "kind": ("point", "spot", "headlight"), "attach": ("world", "camera"), "radius": 1})
+    if "pos" not in d and d.get("kind") != "headlight" and d.get("attach") != "camera":
         raise ValueError(f"a light needs pos=X,Y,Z (mm): {text!r}")
-    kw = {"position": d["pos"]}
+    kw = {"position": d["pos"]} if "pos" in d else {}
+    for key in ("kind", "attach"):
+        if key in d:
+            kw[key] = d[key]
+    if "radius" in d:
+        kw["radius"] = d["radius"][0]
     if "dir" in d:
         kw["direction"] = d["dir"]
     if "exp" in d:
@@ -118,10 +144,15 @@ def build(args, base: dict | None, volume):
         color = parse_point(args.iso_color) if args.iso_color else iso.color
         scene = replace(scene, isosurface=Isosurface(value=value, color=color))
     if args.light:
+        lit = scene.shading.mode if scene.shading.mode not in ("none", "headlight") else "phong"
         scene = replace(scene, lights=tuple(parse_light(t) for t in args.light),
-                        shading=replace(scene.shading, mode="phong"))
+                        shading=replace(scene.shading, mode=lit))
     if args.shading:
         scene = replace(scene, shading=replace(scene.shading, mode=args.shading))
+    shade = {k: getattr(args, k) for k in ("shadow_method", "sigma_a", "sigma_s", "phase_g", "pt_samples",
+                                           "pt_bounces") if getattr(args, k) is not None}
+    if shade:
+        scene = replace(scene, shading=replace(scene.shading, **shade))
     samp = {}
     if args.spv is not None:
         samp["samples_per_voxel"] = args.spv
@@ -188,7 +219,7 @@ def run(args):
     volume = load_from_args(args, path=source)
     scene, camera, size, background, orbit = build(args, base, volume)
     t0 = time.perf_counter()
-    image = render(scene, camera, size)
+    image = render(scene, camera, size, backend=args.backend)
     dt = time.perf_counter() - t0
     image.save(args.out, background=background)
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}) in {dt * 1000:.0f} ms")

@@ -21,6 +21,11 @@ def _cpu(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
 #: backend name -> function(scene, camera, size) -> Image
 BACKENDS: dict[str, Callable[[Scene, Camera, tuple[int, int]], Image]] = {"cpu": _cpu}
 
+# the OpenGL techniques (texture slicing variants, meshes); moderngl loads only when one draws
+from .raster import register_backends  # noqa: E402
+
+register_backends(BACKENDS)
+
 
 def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, backend: str = "cpu") -> Image:
     """Render a scene.
@@ -46,6 +51,13 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         mip/minip/average: the projected value in data units (NaN off the
         volume). ``stats``: ``timings`` (seconds: normalize/normals/blocks when
         built, tables, kernel, total), ``samples`` taken, ``rays``, ``rays_hit``.
+
+        Shading ``shadows`` / ``scattering`` reports ``light_volumes`` seconds
+        in the timings when illumination volumes were (re)built, and
+        ``light_volumes_built``; shading ``pathtrace`` (composite mode) runs
+        ``scene.shading.pt_samples`` samples per pixel of :class:`PathTracer`
+        and reports ``spp``; its depth is the mean distance of the first
+        scattering event.
     """
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
@@ -91,8 +103,8 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
         As in :meth:`volumen.core.Camera.orbit`.
     mode : {"composite", "mip", "minip", "average", "isosurface"}
     size : (width, height), pixels
-    shading : {"none", "headlight", "phong"}
-        ("phong" without lights shows ambient light only.)
+    shading : {"none", "headlight", "phong", "shadows", "scattering", "pathtrace"}
+        ("phong" and the lit models without lights show ambient light only.)
     samples_per_voxel : float
     iso_value : float or None
         Isosurface threshold in data units; None: 300 HU for CT, the middle

@@ -16,16 +16,27 @@ kernels call the same source.
 * Spot factor: ``max(dot(L, D), 0) ** exponent`` with ``L`` the unit vector
   from the light to the sample, ``D`` the spot direction; exponent 0 is a
   point light (factor 1).
+* Extinction: a reference-step opacity ``a`` is the optical depth
+  ``tau = -ln(1 - a)`` per reference step, so ``1 - (1 - a) ** r = 1 - exp(-r tau)``
+  and ``1 - opacity accumulated`` along a path is ``exp(-sum of tau * length / ds0)``
+  (Beer-Lambert); shadows and scattering accumulate optical depth.
+* Henyey-Greenstein phase, per steradian:
+  ``p(cos) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos) ** 1.5)``, ``cos`` the cosine
+  between the light's direction of travel and the scattered direction.
 """
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
-__all__ = ["correct_opacity", "composite", "spot_factor", "phong_terms", "power", "REFERENCE_STEP_VOXELS"]
+__all__ = ["correct_opacity", "composite", "spot_factor", "phong_terms", "power", "optical_depth", "hg_phase",
+           "REFERENCE_STEP_VOXELS", "MAX_OPACITY"]
 
 #: the transfer function's opacity is given per this many voxels (the smallest spacing)
 REFERENCE_STEP_VOXELS = 1.0
+#: opacities are clamped to this before taking optical depths (an opaque step is ~14 e-foldings)
+MAX_OPACITY = 1.0 - 1e-6
 
 
 @njit(cache=True, fastmath=True)
@@ -97,3 +108,16 @@ def phong_terms(nx, ny, nz, lx, ly, lz, vx, vy, vz, shininess):
     if rdv <= 0.0:
         return ndl, 0.0
     return ndl, power(rdv, shininess)
+
+
+@njit(cache=True, fastmath=True)
+def optical_depth(alpha):
+    """Optical depth ``-ln(1 - alpha)`` of an opacity (alpha clamped to ``MAX_OPACITY``)."""
+    return -np.log(1.0 - min(max(alpha, 0.0), MAX_OPACITY))
+
+
+@njit(cache=True, fastmath=True)
+def hg_phase(cos_theta, g):
+    """Henyey-Greenstein phase function (1/sr) at ``cos_theta`` for anisotropy ``g`` in (-1, 1)."""
+    d = 1.0 + g * g - 2.0 * g * cos_theta
+    return (1.0 - g * g) / (4.0 * np.pi * d * np.sqrt(d))

@@ -1,1 +1,47 @@
-"""volumen.render.raster (see DESIGN.md section 1)."""
+"""Rasterized techniques on OpenGL (moderngl, headless EGL; Mesa llvmpipe without a GPU).
+
+* texture slicing (:func:`render_slicing`, :class:`SlicingOptions`): view-aligned
+  planes through a 3-D texture, blended back to front or front to back into an
+  8-bit, half-float or float target, pre- or post-classification, uniform or
+  adaptive plane distributions (:data:`ADAPTIVE`), Phong from gradients;
+* meshes (:func:`render_mesh`, :func:`render_isosurface_mesh`,
+  :class:`MeshOptions`): Phong or Gouraud, any lights, ``Image.depth`` written;
+* reduced viewport (:func:`render_reduced`) for any backend.
+
+Every technique is registered in :data:`TECHNIQUES`; :func:`register_backends`
+makes them backends of ``volumen.render.render``. Shaders are the ``.glsl``
+files in ``shaders/``. Nothing here imports OpenGL until a picture is drawn.
+"""
+
+from ._context import PRECISIONS, RasterUnavailable, context_info, get_context, on_gl_thread
+from ._mesh import MeshOptions, clear_mesh_cache, isosurface_mesh, render_isosurface_mesh, render_mesh
+from ._planes import ADAPTIVE, slab_boundaries, slice_polygons
+from ._reduced import reduced_size, render_reduced, upscale
+from ._registry import TECHNIQUES, Technique, register_backends
+from ._slicing import SlicingOptions, render_slicing
+from ._textures import clear_cache
+
+__all__ = [
+    "on_gl_thread",
+    "render_slicing",
+    "SlicingOptions",
+    "ADAPTIVE",
+    "PRECISIONS",
+    "slab_boundaries",
+    "slice_polygons",
+    "render_mesh",
+    "render_isosurface_mesh",
+    "isosurface_mesh",
+    "MeshOptions",
+    "render_reduced",
+    "reduced_size",
+    "upscale",
+    "TECHNIQUES",
+    "Technique",
+    "register_backends",
+    "get_context",
+    "context_info",
+    "RasterUnavailable",
+    "clear_cache",
+    "clear_mesh_cache",
+]

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "ray_interval",
+__all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "ray_interval", "region_interval",
            "C_ORTHO", "G_BOX"]
 
 # packed camera layout
@@ -107,10 +107,9 @@ def to_index(geo, x, y, z, w):
 
 
 @njit(cache=True, fastmath=False)
-def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
-    """``(t0, t1)`` of the ray inside the drawn region (empty when t1 < t0)."""
-    t0 = cam[C_NEAR]
-    t1 = cam[C_FAR]
+def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
+    """``[t0, t1]`` intersected with the drawn region (volume box, crop, clip planes) along ``o + t d``
+    (world mm; ``d`` of any length); empty when the result has t1 < t0."""
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
     di, dj, dk = to_index(geo, dx, dy, dz, 0.0)
     t0, t1 = _slab(oi, di, geo[G_BOX], geo[G_BOX + 3], t0, t1)
@@ -130,3 +129,9 @@ def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
         else:
             t1 = min(t1, -s / dn)
     return t0, t1
+
+
+@njit(cache=True, fastmath=False)
+def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
+    """``(t0, t1)`` of the view ray inside the drawn region and the camera's [near, far] (empty when t1 < t0)."""
+    return region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, cam[C_NEAR], cam[C_FAR])

@@ -12,6 +12,9 @@
   ``[min, max]`` has non-zero opacity, from prefix sums of the table's
   ``alpha > 0``; turned into skip distances by :func:`skip_distance`.
 * gradient-opacity table ``(128,)``: factor per magnitude code.
+* optical-depth table ``(NLUT,)``: ``-ln(1 - alpha)`` of the uncorrected
+  opacity, per reference step (:func:`volumen.render.optics.optical_depth`):
+  what light paths (shadows, scattering) accumulate.
 """
 
 from __future__ import annotations
@@ -19,10 +22,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..optics import correct_opacity
+from ..optics import correct_opacity, optical_depth
 from ._precompute import NLUT
 
-__all__ = ["NPRE", "color_table", "preintegrated_table", "block_visibility", "iso_visibility", "skip_distance",
+__all__ = ["NPRE", "color_table", "extinction_table", "preintegrated_table", "block_visibility", "iso_visibility", "skip_distance",
            "gradient_table"]
 
 #: side of the pre-integrated table
@@ -44,6 +47,20 @@ def color_table(tf, vmin: float, vmax: float, ratio: float | None) -> np.ndarray
         _correct_column(a, float(ratio), out)
         lut[:, 3] = out
     return lut
+
+
+@njit(cache=True)
+def _depth_column(alpha, out):
+    for i in range(alpha.shape[0]):
+        out[i] = optical_depth(alpha[i])
+
+
+def extinction_table(tf, vmin: float, vmax: float) -> np.ndarray:
+    """``(NLUT,)`` float32 optical depth per reference step of ``tf``'s opacity over ``[vmin, vmax]``."""
+    a = tf.lut(vmin, vmax, NLUT)[:, 3].astype(np.float64)
+    out = np.empty_like(a)
+    _depth_column(a, out)
+    return out.astype(np.float32)
 
 
 def preintegrated_table(tf, vmin: float, vmax: float, ratio: float) -> np.ndarray:

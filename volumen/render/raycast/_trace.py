@@ -43,6 +43,8 @@ from numba import njit
 from ..optics import composite, correct_opacity
 from ._geometry import primary_ray, ray_interval, to_index
 from ._sample import jitter01, sample_normal, sample_value
+from ._params import (I_BLOCK, I_GRADOP, I_JITTER, I_MODE, I_MODEL, I_NEAREST, I_NPLANES, I_PREINT, I_SEED,
+                      I_SHADED, I_SKIP, M_SCATTER, P_DS, P_ET, P_ISO, P_ISO_R, P_PRE_SCALE, P_VMIN, P_VSCALE)
 from ._shade import shade
 
 __all__ = ["trace_pixel", "MODE_CODES", "DEPTH_OPACITY", "FAR"]
@@ -53,13 +55,6 @@ DEPTH_OPACITY = 0.5
 #: "infinitely far" inside the kernels, which are compiled with fastmath (no inf/NaN semantics);
 #: the driver turns depth >= FAR into inf and value >= FAR into NaN.
 FAR = 1e30
-
-# float parameters
-P_DS, P_ET, P_KA, P_KD, P_KS, P_SHINE, P_VMIN, P_VSCALE, P_ISO, P_PRE_SCALE, P_ISO_R = range(11)
-N_PRM = 13  # P_ISO_R .. P_ISO_R + 2: the isosurface colour
-# integer parameters
-I_MODE, I_NEAREST, I_JITTER, I_SEED, I_SKIP, I_BLOCK, I_PREINT, I_NLIGHTS, I_GRADOP, I_NPLANES, I_SHADED = range(11)
-N_IPRM = 11
 
 
 @njit(cache=True, fastmath=True)
@@ -112,16 +107,17 @@ def _iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
 
 
 @njit(cache=True, fastmath=True)
-def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, prm, iprm,
-                rgba, depth, value, nsamp):
+def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, lvm, lvd, sig,
+                prm, iprm, rgba, depth, value, nsamp):
     """Cast the ray of pixel (px, py) and write ``rgba[py, px]``, ``depth``, ``value``, ``nsamp`` there.
 
     Parameters are the packed arrays built by ``_cpu.render_cpu``: camera,
     geometry, clip planes (n, 6), normalized volume ``[z, y, x]`` float32,
     packed normals ``[z, y, x, 4]`` int16, colour table (NLUT, 4),
     pre-integrated table (NPRE, NPRE, 4), gradient table (128,), block
-    skip distances (uint8) / min / max ``[bz, by, bx]``, lights (n, 10), float and integer
-    parameters (``P_*``, ``I_*``).
+    skip distances (uint8) / min / max ``[bz, by, bx]``, lights (n, NLCOL), illumination-volume
+    meta rows / buffer and optical-depth table (``_lightvol``), float and integer parameters
+    (``_params``). Shading (every model) goes through ``_shade.shade``.
     """
     rgba[py, px, 0] = 0.0
     rgba[py, px, 1] = 0.0
@@ -144,8 +140,8 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
     skip = iprm[I_SKIP] != 0
     preint = iprm[I_PREINT] != 0
     gradop = iprm[I_GRADOP] != 0
-    nlights = iprm[I_NLIGHTS]
     shaded = iprm[I_SHADED] != 0
+    need_normal = gradop or (shaded and iprm[I_MODEL] != M_SCATTER)
     bsize = iprm[I_BLOCK]
     inv_b = 1.0 / bsize
     gz, gy, gx = bflag.shape
@@ -231,7 +227,9 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
                 cb *= s
                 a = a2
             if a > 0.0 and (shaded or gradop):
-                ngx, ngy, ngz, code = sample_normal(nrm, x, y, z, nearest)
+                ngx = ngy = ngz = code = 0.0
+                if need_normal:
+                    ngx, ngy, ngz, code = sample_normal(nrm, x, y, z, nearest)
                 if gradop:
                     f = glut[min(int(code + 0.5), 127)]
                     a *= f
@@ -240,8 +238,7 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
                     cb *= f
                 if shaded and a > 0.0:
                     fr, fg, fb, sr, sg, sb = shade(ngx, ngy, ngz, -dx, -dy, -dz, ox + t * dx, oy + t * dy, oz + t * dz,
-                                                  x, y, z, vol, lights, nlights, prm[P_KA], prm[P_KD], prm[P_KS],
-                                                  prm[P_SHINE])
+                                                  vol, geo, planes, lights, lvm, lvd, sig, prm, iprm)
                     cr = cr * fr + a * sr
                     cg = cg * fg + a * sg
                     cb = cb * fb + a * sb
@@ -291,10 +288,11 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
                 x = oi + t1 * di
                 y = oj + t1 * dj
                 z = ok + t1 * dk
-                ngx, ngy, ngz, code = sample_normal(nrm, x, y, z, nearest)
+                ngx = ngy = ngz = code = 0.0
+                if need_normal:
+                    ngx, ngy, ngz, code = sample_normal(nrm, x, y, z, nearest)
                 fr, fg, fb, sr, sg, sb = shade(ngx, ngy, ngz, -dx, -dy, -dz, ox + t1 * dx, oy + t1 * dy,
-                                              oz + t1 * dz, x, y, z, vol, lights, nlights, prm[P_KA], prm[P_KD],
-                                              prm[P_KS], prm[P_SHINE])
+                                              oz + t1 * dz, vol, geo, planes, lights, lvm, lvd, sig, prm, iprm)
                 cr = cr * fr + a * sr
                 cg = cg * fg + a * sg
                 cb = cb * fb + a * sb
@@ -321,8 +319,7 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
                 z = ok + dep * dk
                 ngx, ngy, ngz, code = sample_normal(nrm, x, y, z, nearest)
                 fr, fg, fb, sr, sg, sb = shade(ngx, ngy, ngz, -dx, -dy, -dz, ox + dep * dx, oy + dep * dy,
-                                              oz + dep * dz, x, y, z, vol, lights, nlights, prm[P_KA], prm[P_KD],
-                                              prm[P_KS], prm[P_SHINE])
+                                              oz + dep * dz, vol, geo, planes, lights, lvm, lvd, sig, prm, iprm)
                 r = r * fr + sr
                 g = g * fg + sg
                 b = b * fb + sb

@@ -1,0 +1,403 @@
+"""Illumination volumes: per-light transmittance on a lattice of light rays, swept once, read per sample.
+
+Each light gets a lattice of rays from the light through the drawn region,
+built by a compiled sweep over the slices of the volume along the axis the
+light looks down (the slices nearest the light first, every ray in parallel).
+Along each ray the optical depth is accumulated exactly as a direct shadow
+ray does (:mod:`._shadow`: trapezoid rule on the transfer function's optical
+depth of trilinear samples, partial segments where the ray enters and leaves
+the drawn region, extra samples where the ray crosses slices obliquely), and
+the transmittance ``exp(-kext tau)`` is stored where the ray crosses each
+slice. Because every stored value lies on one exact ray, there is no
+slice-to-slice resampling, hence no numerical blur of the shadows with
+distance: a lookup interpolates once (bilinearly between four rays, linearly
+between two slices).
+
+Geometry. Data axes are (0, 1, 2) = (z, y, x). With ``a`` the sweep axis and
+``b < c`` the other two, the light is at ``P`` (index coordinates along
+(a, b, c)) outside the slab of slices ``k0 .. k0 + nk - 1`` along ``a``; the
+ray of lattice node ``(v, u)`` goes from ``P`` through ``Q = (kfar, ov + v h,
+ou + u h)`` on the far slice ``kfar``, and crosses slice ``k`` at
+``P + s (Q - P)`` with ``s = (k - Pa) / (kfar - Pa)``. The lattice spacing is
+``h`` voxels on the far slice (finer on nearer slices) and covers every point
+of the region; ``h = 1 / light_volume_scale``, coarser when the light is so
+near that the lattice would fan out past ``BUDGET`` times the region's nodes, or
+past ``MAX_NODES``. Lights inside the region's box on every axis have no
+lattice: their visibility falls back to direct shadow rays (``LV_KIND = DIRECT``).
+
+Near the sample, surfaces lie within one lattice spacing of the path to the
+light, where any interpolated volume smears them (a lit surface would shadow
+itself): the first ``NEAR_STEPS`` reference steps of each path are marched
+directly (:mod:`._shadow`), and the volume is read where they end.
+
+The volumes are cached on the volume's ``Prepared`` object, keyed by the
+light's world position, the transfer function, the clip box, the resolution
+and the extinction scale, and rebuilt only when one of those changes.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from numba import njit, prange
+
+from ._geometry import region_interval
+from ._sample import sample_value
+
+__all__ = ["LV_KIND", "LATTICE", "DIRECT", "NMETA", "NEAR_STEPS", "plan_lattice", "build_lattice", "lattice_transmittance",
+           "light_volumes"]
+
+(LV_KIND, LV_OFF, LV_NK, LV_NV, LV_NU, LV_AXA, LV_AXB, LV_AXC, LV_PA, LV_PB, LV_PC, LV_KFAR, LV_K0, LV_OV, LV_OU,
+ LV_H) = range(16)
+NMETA = 16
+NONE, LATTICE, DIRECT = 0, 1, 2
+#: a lattice may hold at most this many times the nodes of the region at the requested resolution
+BUDGET = 3.0
+#: most values in one light's lattice (float32: 256 MB); coarser spacing beyond
+MAX_NODES = 2 ** 26
+#: reference steps of each light path marched directly before the illumination volume is read: near the
+#: sample, surfaces lie within one lattice spacing of the path, where any interpolated volume smears them
+NEAR_STEPS = 3.0
+#: largest index-space step between samples along a lattice ray before extra samples are taken
+MAX_STEP = 1.75
+
+
+@njit(cache=True, fastmath=True)
+def _pick(ax, x, y, z):
+    """Index coordinate along data axis ``ax`` (0: z, 1: y, 2: x)."""
+    if ax == 0:
+        return z
+    if ax == 1:
+        return y
+    return x
+
+
+@njit(cache=True, fastmath=True)
+def _slice_value(lvd, base, nv, nu, s, pb, pc, ov, ou, h, cb, cc):
+    u = (pc + (cc - pc) / s - ou) / h
+    v = (pb + (cb - pb) / s - ov) / h
+    if not (u >= 0.0 and v >= 0.0 and u <= nu - 1 and v <= nv - 1):
+        return 1.0
+    u0 = min(int(u), nu - 2)
+    v0 = min(int(v), nv - 2)
+    fu = u - u0
+    fv = v - v0
+    i = base + v0 * nu + u0
+    r0 = lvd[i] + fu * (lvd[i + 1] - lvd[i])
+    r1 = lvd[i + nu] + fu * (lvd[i + nu + 1] - lvd[i + nu])
+    return r0 + fv * (r1 - r0)
+
+
+@njit(cache=True, fastmath=True)
+def lattice_transmittance(lvm, lvd, l, x, y, z):
+    """Transmittance toward light ``l`` at voxel-index position (x, y, z), from its lattice."""
+    ca = _pick(int(lvm[l, LV_AXA]), x, y, z)
+    cb = _pick(int(lvm[l, LV_AXB]), x, y, z)
+    cc = _pick(int(lvm[l, LV_AXC]), x, y, z)
+    nk = int(lvm[l, LV_NK])
+    nv = int(lvm[l, LV_NV])
+    nu = int(lvm[l, LV_NU])
+    pa = lvm[l, LV_PA]
+    kfar = lvm[l, LV_KFAR]
+    k0 = lvm[l, LV_K0]
+    kf = ca - k0
+    low = pa < k0  # light on the low-index side
+    if kf < 0.0:
+        if low:
+            return 1.0
+        kf = 0.0
+    if kf > nk - 1:
+        if not low:
+            return 1.0
+        kf = nk - 1.0
+    i0 = min(int(kf), max(nk - 2, 0))
+    i1 = min(i0 + 1, nk - 1)
+    w = kf - i0
+    off = int(lvm[l, LV_OFF])
+    pb = lvm[l, LV_PB]
+    pc = lvm[l, LV_PC]
+    ov = lvm[l, LV_OV]
+    ou = lvm[l, LV_OU]
+    h = lvm[l, LV_H]
+    inv = 1.0 / (kfar - pa)
+    t0 = _slice_value(lvd, off + i0 * nv * nu, nv, nu, (k0 + i0 - pa) * inv, pb, pc, ov, ou, h, cb, cc)
+    if w <= 0.0 or i1 == i0:
+        return t0
+    t1 = _slice_value(lvd, off + i1 * nv * nu, nv, nu, (k0 + i1 - pa) * inv, pb, pc, ov, ou, h, cb, cc)
+    return t0 + w * (t1 - t0)
+
+
+@njit(cache=True, fastmath=True)
+def _to_world(aff, axa, axb, axc, ca, cb, cc, w):
+    x = ca if axa == 2 else (cb if axb == 2 else cc)
+    y = ca if axa == 1 else (cb if axb == 1 else cc)
+    z = ca if axa == 0 else (cb if axb == 0 else cc)
+    return (aff[0, 0] * x + aff[0, 1] * y + aff[0, 2] * z + aff[0, 3] * w,
+            aff[1, 0] * x + aff[1, 1] * y + aff[1, 2] * z + aff[1, 3] * w,
+            aff[2, 0] * x + aff[2, 1] * y + aff[2, 2] * z + aff[2, 3] * w)
+
+
+@njit(cache=True, fastmath=True)
+def _sig(volt, sig, ca, cb, cc):
+    v = sample_value(volt, cc, cb, ca, False)
+    return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
+
+
+@njit(cache=True, fastmath=True)
+def _sig_slice(volt, sig, k, cb, cc):
+    """``_sig`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives."""
+    nb = volt.shape[1]
+    nc = volt.shape[2]
+    if cb <= 0.0:
+        j0, j1, fb = 0, 0, 0.0
+    elif cb >= nb - 1:
+        j0, j1, fb = nb - 1, nb - 1, 0.0
+    else:
+        j0 = int(cb)
+        j1, fb = j0 + 1, cb - j0
+    if cc <= 0.0:
+        i0, i1, fc = 0, 0, 0.0
+    elif cc >= nc - 1:
+        i0, i1, fc = nc - 1, nc - 1, 0.0
+    else:
+        i0 = int(cc)
+        i1, fc = i0 + 1, cc - i0
+    r0 = volt[k, j0, i0] + fc * (volt[k, j0, i1] - volt[k, j0, i0])
+    r1 = volt[k, j1, i0] + fc * (volt[k, j1, i1] - volt[k, j1, i0])
+    v = r0 + fb * (r1 - r0)
+    return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
+
+
+@njit(parallel=True, cache=True, fastmath=True)
+def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc, wsp, wlen, out):
+    """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u).
+
+    ``volt`` is the normalized volume with its axes ordered (a, b, c); the
+    work arrays (nv, nu) hold each ray's region interval in ``s``, its optical
+    depth so far, its last sample (-1 before the region, -2 after it) and its
+    length in mm per unit ``s``.
+    """
+    nk, nv, nu = out.shape
+    axa = int(meta[LV_AXA])
+    axb = int(meta[LV_AXB])
+    axc = int(meta[LV_AXC])
+    pa = meta[LV_PA]
+    pb = meta[LV_PB]
+    pc = meta[LV_PC]
+    kfar = meta[LV_KFAR]
+    k0 = int(meta[LV_K0])
+    ov = meta[LV_OV]
+    ou = meta[LV_OU]
+    h = meta[LV_H]
+    fwd = pa < k0
+    dsl = 1.0 / abs(kfar - pa)  # s between slices
+    da = kfar - pa
+    ox, oy, oz = _to_world(aff, axa, axb, axc, pa, pb, pc, 1.0)
+    scale = kext / ds0
+    for v in prange(nv):
+        db = ov + v * h - pb
+        for u in range(nu):
+            dc = ou + u * h - pc
+            dx, dy, dz = _to_world(aff, axa, axb, axc, da, db, dc, 0.0)
+            t0, t1 = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 2.0)
+            wt0[v, u] = t0
+            wt1[v, u] = t1
+            wacc[v, u] = 0.0
+            wsp[v, u] = -1.0
+            wlen[v, u] = np.sqrt(dx * dx + dy * dy + dz * dz)
+        for st in range(nk):
+            i = st if fwd else nk - 1 - st
+            k = k0 + i
+            s = (k - pa) * dsl if fwd else (pa - k) * dsl
+            for u in range(nu):
+                t0 = wt0[v, u]
+                t1 = wt1[v, u]
+                sp = wsp[v, u]
+                if t1 >= t0 and s >= t0 and s <= t1:
+                    dc = ou + u * h - pc
+                    acc = wacc[v, u]
+                    length = wlen[v, u]
+                    sg = _sig_slice(volt, sig, k, pb + db * s, pc + dc * s)
+                    if sp < 0.0:  # entering: the partial segment from the region's boundary
+                        acc += sg * (s - max(t0, s - dsl)) * length
+                    else:
+                        m = int(np.ceil(np.sqrt(da * da + db * db + dc * dc) * dsl / MAX_STEP))
+                        if m <= 1:
+                            acc += 0.5 * (sp + sg) * dsl * length
+                        else:
+                            sub = dsl / m
+                            q = sp
+                            for j in range(1, m):
+                                sj = s - dsl + j * sub
+                                r = _sig(volt, sig, pa + da * sj, pb + db * sj, pc + dc * sj)
+                                acc += 0.5 * (q + r) * sub * length
+                                q = r
+                            acc += 0.5 * (q + sg) * sub * length
+                    wsp[v, u] = sg
+                    wacc[v, u] = acc
+                    out[i, v, u] = np.exp(-scale * acc) if acc > 0.0 else 1.0
+                elif sp >= 0.0 and s > t1:  # leaving: the partial segment to the boundary
+                    acc = wacc[v, u] + sp * (t1 - (s - dsl)) * wlen[v, u]
+                    wacc[v, u] = acc
+                    wsp[v, u] = -2.0
+                    out[i, v, u] = np.exp(-scale * acc) if acc > 0.0 else 1.0
+                else:
+                    acc = wacc[v, u]
+                    out[i, v, u] = np.exp(-scale * acc) if acc > 0.0 else 1.0
+
+
+def plan_lattice(light_index, box_lo, box_hi, shape, scale: float):
+    """The lattice geometry for a light, or None when the light is inside the region's box on every axis.
+
+    Parameters
+    ----------
+    light_index : (3,) float
+        The light's position in voxel indices (x, y, z).
+    box_lo, box_hi : (3,) float
+        The drawn region's box in voxel indices (x, y, z) (volume box with the crop).
+    shape : (nz, ny, nx)
+    scale : float
+        Requested resolution: lattice spacing ``1 / scale`` voxels on the far slice.
+
+    Returns
+    -------
+    meta : (NMETA,) float64 or None
+        ``LV_*`` entries (``LV_OFF`` left 0), for the sweep axis that gives the
+        finest lattice within the budget (then the smallest).
+    """
+    p = np.asarray(light_index, float)[::-1]  # data-axis order (z, y, x)
+    lo = np.asarray(box_lo, float)[::-1]
+    hi = np.asarray(box_hi, float)[::-1]
+    best = None
+    for a in range(3):
+        b, c = [d for d in range(3) if d != a]
+        k0 = max(int(math.floor(lo[a] + 1e-9)), 0)
+        k1 = min(int(math.ceil(hi[a] - 1e-9)), shape[a] - 1)
+        if p[a] < k0 - 0.25:
+            near, far = k0, k1
+        elif p[a] > k1 + 0.25:
+            near, far = k1, k0
+        else:
+            continue
+        smin = (near - p[a]) / (far - p[a])
+        h = 1.0 / scale
+        ext = []
+        for d in (b, c):
+            e0 = min(lo[d], p[d] + (lo[d] - p[d]) / smin)
+            e1 = max(hi[d], p[d] + (hi[d] - p[d]) / smin)
+            ext.append((e0, e1))
+        area = (ext[0][1] - ext[0][0]) * (ext[1][1] - ext[1][0])
+        region = max(hi[b] - lo[b] + 1, 1) * max(hi[c] - lo[c] + 1, 1)
+        if area / h ** 2 > BUDGET * region * scale ** 2:
+            h *= math.sqrt(area / h ** 2 / (BUDGET * region * scale ** 2))
+        nk = k1 - k0 + 1
+        if nk * area / h ** 2 > MAX_NODES:
+            h = math.sqrt(nk * area / MAX_NODES)
+        nv = int(math.ceil((ext[0][1] - ext[0][0]) / h)) + 3
+        nu = int(math.ceil((ext[1][1] - ext[1][0]) / h)) + 3
+        rank = (round(h, 6), nk * nv * nu)  # the finest lattice, then the smallest
+        if best is None or rank < best[0]:
+            m = np.zeros(NMETA)
+            m[LV_KIND] = LATTICE
+            m[[LV_NK, LV_NV, LV_NU]] = nk, nv, nu
+            m[[LV_AXA, LV_AXB, LV_AXC]] = a, b, c
+            m[[LV_PA, LV_PB, LV_PC]] = p[a], p[b], p[c]
+            m[LV_KFAR], m[LV_K0] = far, k0
+            m[LV_OV], m[LV_OU], m[LV_H] = ext[0][0] - h, ext[1][0] - h, h
+            best = (rank, m)
+    return None if best is None else best[1]
+
+
+def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None) -> np.ndarray:
+    """Sweep one light's lattice: float32 ``(nk, nv, nu)`` transmittances (into ``out`` when given).
+
+    ``u`` is the normalized volume ``[z, y, x]``, ``sig`` the optical depth per
+    reference step of each table entry, ``affine`` the (4, 4) voxel -> world
+    matrix, ``geo``/``planes`` the packed region, ``ds0`` the reference step
+    (mm), ``kext`` the extinction scale.
+    """
+    nk, nv, nu = (int(meta[i]) for i in (LV_NK, LV_NV, LV_NU))
+    a, b, c = (int(meta[i]) for i in (LV_AXA, LV_AXB, LV_AXC))
+    volt = np.transpose(u, (a, b, c))
+    if out is None:
+        out = np.empty((nk, nv, nu), np.float32)
+    work = [np.empty((nv, nu), np.float64) for _ in range(5)]
+    _sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes, int(nplanes),
+           np.asarray(meta, np.float64), float(ds0), float(kext), *work, out)
+    return out
+
+
+class _Set:
+    """The illumination volumes of one set of lights: packed meta rows and one flat buffer."""
+
+    def __init__(self, keys, lvm, lvd, views):
+        self.keys, self.lvm, self.lvd, self.views = keys, lvm, lvd, views
+
+
+def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes, nplanes, ds0, kext, scale,
+                  method: str):
+    """Meta rows ``(n, NMETA)`` float64 and the flat float32 buffer of every light's illumination volume.
+
+    Parameters
+    ----------
+    prep : Prepared
+        The volume's cache (``prep.u``, ``prep.affine``); the set is kept on it.
+    keys : list of hashable
+        One key per light: what its volume depends on (position, transfer
+        function, clip box, resolution, extinction scale).
+    positions_index : (n, 3) float
+        Light positions in voxel indices (x, y, z).
+    method : {"fast", "direct"}
+        ``direct`` marks every light DIRECT and builds nothing.
+
+    Returns
+    -------
+    lvm, lvd, built : meta rows, buffer, and the number of volumes built now (with their seconds in
+    ``prep.timings["light_volumes"]``).
+    """
+    n = len(keys)
+    if method == "direct" or n == 0:
+        lvm = np.zeros((max(n, 1), NMETA))
+        lvm[:n, LV_KIND] = DIRECT
+        return lvm, np.ones(1, np.float32), 0
+    old = getattr(prep, "light_set", None)
+    if old is not None and old.keys == tuple(keys):
+        return old.lvm, old.lvd, 0
+    olds = {} if old is None else dict(zip(old.keys, old.views))
+    metas = []
+    off = 0
+    for i in range(n):
+        if keys[i] in olds:
+            m = olds[keys[i]][0].copy()
+        else:
+            m = plan_lattice(positions_index[i], box_lo, box_hi, prep.u.shape, scale)
+        if m is None:
+            m = np.zeros(NMETA)
+            m[LV_KIND] = DIRECT
+        else:
+            m[LV_OFF] = off
+            off += int(m[LV_NK] * m[LV_NV] * m[LV_NU])
+        metas.append(m)
+    lvd = np.ones(max(off, 1), np.float32)
+    views = []
+    built = 0
+    t = time.perf_counter()
+    for i, m in enumerate(metas):
+        view = None
+        if m[LV_KIND] == LATTICE:
+            o = int(m[LV_OFF])
+            shape = tuple(int(m[j]) for j in (LV_NK, LV_NV, LV_NU))
+            view = lvd[o:o + int(np.prod(shape))].reshape(shape)
+            if keys[i] in olds and olds[keys[i]][1] is not None:
+                view[...] = olds[keys[i]][1]
+            else:
+                build_lattice(prep.u, sig, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view)
+                built += 1
+        views.append((m, view))
+    if built:
+        prep.timings["light_volumes"] = time.perf_counter() - t
+    lvm = np.stack(metas)
+    prep.light_set = _Set(tuple(keys), lvm, lvd, views)
+    return lvm, lvd, built

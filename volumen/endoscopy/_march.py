@@ -8,7 +8,7 @@ voxel-index space through the packed geometry of the renderer
 (``volumen.render.raycast._geometry.pack_geometry``); samples come from the
 renderer's trilinear reconstruction (``_sample.sample_value``) and a crossing
 between the two samples around it is located by the renderer's regula falsi
-(``_trace._iso_refine``), so no reconstruction formula is written twice.
+(``_trace.iso_refine``), so no reconstruction formula is written twice.
 
 Arrays and scalars only; every function is ``@njit(cache=True)``.
 """
@@ -20,9 +20,7 @@ from numba import njit, prange
 
 # Private kernels of the renderer, imported (not copied) as DESIGN.md section 4 asks;
 # they should become public names of volumen.render.raycast (see the endoscopy report).
-from ..render.raycast._geometry import G_BOX, to_index
-from ..render.raycast._sample import sample_value
-from ..render.raycast._trace import _iso_refine
+from ..render.raycast import G_BOX, iso_refine, sample_value, to_index
 
 __all__ = ["NO_HIT", "first_hit", "wall_gradient", "probe", "fibonacci_directions", "first_hits"]
 
@@ -73,7 +71,7 @@ def first_hit(field, geo, level, ox, oy, oz, dx, dy, dz, tmax, step):
             return tp
         v = sample_value(field, i, j, k, False)
         if v >= level:
-            return _iso_refine(field, False, level, tp, vp, t, v, oi, oj, ok, di, dj, dk)
+            return iso_refine(field, False, level, tp, vp, t, v, oi, oj, ok, di, dj, dk)
         tp = t
         vp = v
     return NO_HIT

@@ -49,7 +49,7 @@ class WallField:
     def geometry(self) -> np.ndarray:
         """Packed float64 geometry for the kernels (world -> index affine and index box)."""
         from ..core import Clipping
-        from ..render.raycast._geometry import pack_geometry
+        from ..render.raycast import pack_geometry
 
         g = self.__dict__.get("_geo")
         if g is None:

@@ -11,6 +11,12 @@ Modules: ``_geometry`` (rays, clipping), ``_sample`` (reconstruction),
 
 from ._cache import clear_cache
 from ._cpu import render_cpu
+from ._geometry import G_BOX, pack_geometry, to_index
 from ._pathtrace import PathTracer
+from ._sample import sample_value
+from ._trace import iso_refine
 
-__all__ = ["render_cpu", "clear_cache", "PathTracer"]
+# render_cpu, clear_cache and PathTracer serve volumen.render; the compiled pieces below are shared
+# with other packages (endoscopy's collision march) so no formula is written twice
+__all__ = ["render_cpu", "clear_cache", "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
+           "iso_refine"]

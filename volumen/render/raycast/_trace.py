@@ -90,7 +90,7 @@ def _lookup_pre(pre, vf, vb, scale):
 
 
 @njit(cache=True, fastmath=True)
-def _iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
+def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
     """Threshold crossing between (ta, fa < iso) and (tb, fb >= iso): regula falsi, 4 steps."""
     for _ in range(4):
         tm = ta + (iso - fa) / (fb - fa) * (tb - ta)
@@ -265,7 +265,7 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
                     tp = max(t - ds, t0)
                     vp = sample_value(vol, oi + tp * di, oj + tp * dj, ok + tp * dk, nearest)
                     taken += 1
-                dep = t if vp >= iso else _iso_refine(vol, nearest, iso, tp, vp, t, v, oi, oj, ok, di, dj, dk)
+                dep = t if vp >= iso else iso_refine(vol, nearest, iso, tp, vp, t, v, oi, oj, ok, di, dj, dk)
                 done = True
         vp = v
         tp = t

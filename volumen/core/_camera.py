@@ -18,11 +18,12 @@ patient's right is on the image's LEFT, as when facing the patient.
 
 from __future__ import annotations
 
-import json
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 from typing import Literal, get_args
 
 import numpy as np
+
+from ._jsondata import JsonData
 
 __all__ = ["Camera", "Projection", "View", "VIEWS"]
 
@@ -60,7 +61,7 @@ def _rotate(v: np.ndarray, axis: np.ndarray, degrees: float) -> np.ndarray:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Camera:
+class Camera(JsonData):
     """A look-at camera in world RAS+ millimetres.
 
     Parameters
@@ -242,26 +243,3 @@ class Camera:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 
-    # -- JSON ---------------------------------------------------------------
-    def to_dict(self) -> dict:
-        """Plain JSON-ready dict (lists for vectors)."""
-        d = asdict(self)
-        for k in ("position", "target", "up"):
-            d[k] = list(d[k])
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "Camera":
-        """Inverse of :meth:`to_dict`; unknown keys raise ValueError."""
-        known = set(cls.__dataclass_fields__)
-        extra = set(d) - known
-        if extra:
-            raise ValueError(f"unknown Camera fields {sorted(extra)}; valid: {sorted(known)}")
-        return cls(**d)
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict())
-
-    @classmethod
-    def from_json(cls, text: str) -> "Camera":
-        return cls.from_dict(json.loads(text))

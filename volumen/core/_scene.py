@@ -10,11 +10,12 @@ that string is the caller's job (the command line and the application pass a
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Literal, get_args
 
 import numpy as np
 
+from ._jsondata import JsonData
 from ._transfer import TransferFunction
 
 __all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "Sampling", "ClipPlane", "Clipping", "Isosurface", "Scene",
@@ -49,30 +50,8 @@ def _nonneg(name: str, v) -> float:
     return v
 
 
-class _Data:
-    """JSON helpers shared by the small frozen settings classes."""
-
-    def to_dict(self) -> dict:
-        return json.loads(json.dumps(asdict(self)))  # tuples -> lists
-
-    @classmethod
-    def from_dict(cls, d: dict):
-        known = {f.name for f in fields(cls)}
-        extra = set(d) - known
-        if extra:
-            raise ValueError(f"unknown {cls.__name__} fields {sorted(extra)}; valid: {sorted(known)}")
-        return cls(**d)
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict())
-
-    @classmethod
-    def from_json(cls, text: str):
-        return cls.from_dict(json.loads(text))
-
-
 @dataclass(frozen=True, kw_only=True)
-class Light(_Data):
+class Light(JsonData):
     """A point, spot or head light, fixed in world space or attached to the camera.
 
     Parameters
@@ -143,7 +122,7 @@ class Light(_Data):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Shading(_Data):
+class Shading(JsonData):
     """Lighting of samples (DESIGN.md section 3): one ``mode``, all from the same kernels.
 
     Parameters
@@ -236,7 +215,7 @@ class Shading(_Data):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Sampling(_Data):
+class Sampling(JsonData):
     """How rays sample the volume.
 
     Parameters
@@ -287,7 +266,7 @@ class Sampling(_Data):
 
 
 @dataclass(frozen=True, kw_only=True)
-class ClipPlane(_Data):
+class ClipPlane(JsonData):
     """A clip plane in world RAS+ mm; the half-space the ``normal`` points into is KEPT:
     points ``x`` with ``dot(x - point, normal) >= 0`` are drawn. ``normal``: any length but zero."""
 
@@ -300,7 +279,7 @@ class ClipPlane(_Data):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Clipping(_Data):
+class Clipping(JsonData):
     """What part of the volume is drawn.
 
     Parameters
@@ -333,7 +312,7 @@ class Clipping(_Data):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Isosurface(_Data):
+class Isosurface(JsonData):
     """The isosurface mode's threshold (data units) and colour (linear RGB)."""
 
     value: float = 0.0

@@ -9,11 +9,12 @@ last point a curve keeps its end value.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, replace
 from typing import Literal, get_args
 
 import numpy as np
+
+from ._jsondata import JsonData
 
 __all__ = ["TransferFunction", "PRESETS", "Preset"]
 
@@ -41,7 +42,7 @@ def _interp(x: np.ndarray, pts: tuple[tuple[float, ...], ...], col: int) -> np.n
 
 
 @dataclass(frozen=True, kw_only=True)
-class TransferFunction:
+class TransferFunction(JsonData):
     """Piecewise-linear colour and opacity over data values.
 
     Parameters
@@ -169,28 +170,6 @@ class TransferFunction:
                    opacity=((lo, 0.0), (lo + 0.1 * span, 0.0), (lo + 0.3 * span, 0.05),
                             (lo + 0.7 * span, 0.3), (hi, 0.5)), name=name)
 
-    # -- JSON ---------------------------------------------------------------
-    def to_dict(self) -> dict:
-        """Plain JSON-ready dict."""
-        return {"color": [list(p) for p in self.color], "opacity": [list(p) for p in self.opacity],
-                "gradient_opacity": None if self.gradient_opacity is None else [list(p) for p in self.gradient_opacity],
-                "name": self.name}
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "TransferFunction":
-        """Inverse of :meth:`to_dict`; unknown keys raise ValueError."""
-        known = set(cls.__dataclass_fields__)
-        extra = set(d) - known
-        if extra:
-            raise ValueError(f"unknown TransferFunction fields {sorted(extra)}; valid: {sorted(known)}")
-        return cls(**d)
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict())
-
-    @classmethod
-    def from_json(cls, text: str) -> "TransferFunction":
-        return cls.from_dict(json.loads(text))
 
 
 # Hounsfield-unit presets: (colour points, opacity points); opacity per voxel step.

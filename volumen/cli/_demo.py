@@ -67,7 +67,7 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
     out.mkdir(parents=True, exist_ok=True)
     cards = []
     for name, volume in phantoms.items():
-        camera = Camera.orbit(volume, view="anterior", azimuth=-25, elevation=10)
+        camera = Camera.orbit(volume, view="anterior", azimuth=-25, elevation=10, zoom=1.5)
         for stem, s, caption in gallery_entries(name, volume):
             mode = s["mode"]
             tf = TransferFunction.preset(s["preset"]) if "preset" in s else default_transfer(volume, mode)
@@ -87,7 +87,7 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
             png = out / f"{name}_{stem}.png"
             image.save(png)
             settings = {"version": 1, "scene": scene.to_dict(), "camera": camera.to_dict(), "size": [size, size],
-                        "background": [0, 0, 0], "orbit": {"view": "anterior", "azimuth": -25, "elevation": 10},
+                        "background": [0, 0, 0], "orbit": {"view": "anterior", "azimuth": -25, "elevation": 10, "zoom": 1.5},
                         "load": {}}
             png.with_suffix(".json").write_text(json.dumps(settings, indent=2))
             cards.append((name, png.name, caption, ms, png.with_suffix(".json").name))

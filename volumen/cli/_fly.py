@@ -34,8 +34,10 @@ def register(sub):
     p.add_argument("--frames", type=int, help="number of frames (default: path duration x fps + 1)")
     p.add_argument("--size", default="256x256", help="frame size WxH in pixels (default 256x256)")
     p.add_argument("--fov", type=float, default=100.0, help="vertical field of view, 30..140 degrees (default 100)")
-    p.add_argument("--shading", choices=["phong", "headlight", "none"], default="phong",
-                   help="phong: flashlight on the camera (default); headlight; none")
+    from volumen.core import SHADINGS
+
+    p.add_argument("--shading", choices=SHADINGS, default="phong",
+                   help="every lit model (phong, the default; shadows, scattering, pathtrace) puts a flashlight on the camera; headlight; none")
     p.add_argument("--mode", choices=["isosurface", "composite"],
                    help="wall as a surface at --threshold, or volume rendering with --preset "
                         "(default: composite when --preset is given, else isosurface)")

@@ -100,8 +100,10 @@ class Endoscope:
         For composite (default: ``endo-air``).
     color : (3,) float
         Linear RGB of the isosurface (mucosa pink by default).
-    shading : {"phong", "headlight", "none"}
-        ``phong``: flashlight on the camera plus ``lights``.
+    shading : one of ``volumen.core.SHADINGS``
+        ``none`` and ``headlight`` as in the ray caster; every lit model (``phong``,
+        ``shadows``, ``scattering``, ``pathtrace``) puts a flashlight on the camera
+        in addition to ``lights``.
     flashlight : float
         Spot exponent of the flashlight (0: a point light at the eye).
     lights : tuple of Light
@@ -129,8 +131,10 @@ class Endoscope:
     def __post_init__(self):
         if self.mode not in ("isosurface", "composite"):
             raise ValueError(f"mode must be 'isosurface' or 'composite', got {self.mode!r}")
-        if self.shading not in ("phong", "headlight", "none"):
-            raise ValueError(f"shading must be one of 'phong', 'headlight', 'none'; got {self.shading!r}")
+        from ..core import SHADINGS
+
+        if self.shading not in SHADINGS:
+            raise ValueError(f"shading must be one of {', '.join(map(repr, SHADINGS))}; got {self.shading!r}")
         if not 30.0 <= self.fov <= 140.0:
             raise ValueError(f"fov must be within [30, 140] degrees for endoscopy, got {self.fov}")
         if not (np.isfinite(self.near) and self.near >= 0):
@@ -145,7 +149,7 @@ class Endoscope:
     def scene(self, pose) -> Scene:
         """The :class:`Scene` seen from ``pose`` (the flashlight sits at the eye)."""
         lights = self.lights
-        if self.shading == "phong":
+        if self.shading not in ("none", "headlight"):
             lights = (Light(position=pose.position, direction=pose.forward, exponent=self.flashlight), *lights)
         return Scene(volume=self.volume, transfer=self.transfer, mode=self.mode, lights=lights,
                      shading=Shading(mode=self.shading),

@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-from ._table import Table, median_time
+from ._table import Table, median_time, resolve_backend
 
 __all__ = ["bench_lighting", "SEEDS"]
 
@@ -77,7 +77,7 @@ def _camera(volume, distance=None):
     return cam.with_(position=tuple(c + back / np.linalg.norm(back) * distance * volume.diagonal))
 
 
-def bench_lighting(*, quick: bool = False, repeat: int = 3, progress=print) -> Table:
+def bench_lighting(*, quick: bool = False, repeat: int = 3, backend: str = "cpu", progress=print) -> Table:
     """Run the benchmark; returns the :class:`Table` (print ``table.render()``, save with ``table.save``).
 
     Parameters
@@ -86,13 +86,20 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, progress=print) -> T
         Tiny sizes (:data:`QUICK`), to check the benchmark itself runs.
     repeat : int
         Timed frames per case (median reported) after one warm-up frame.
+    backend : {"cpu", "cuda", "auto"}
+        ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
     """
+    from functools import partial
+
     from volumen.core import Scene, Shading, TransferFunction
     from volumen.data import phantom
-    from volumen.render import render
+    from volumen.render import render as render_any
+
+    backend, device = resolve_backend(backend)
+    render = partial(render_any, backend=backend)
 
     cfg = QUICK if quick else FULL
-    table = Table("volumen bench lighting (CPU; head phantom ct-bone, anterior; spot lights)", [
+    table = Table(f"volumen bench lighting ({device}; head phantom ct-bone, anterior; spot lights)", [
         ("sweep", "sweep", "s"), ("volume", "volume", "s"), ("viewport", "viewport", "s"),
         ("distance", "eye distance (diag)", "s"), ("lights", "lights", "d"), ("shading", "shading", "s"),
         ("ms", "ms/frame", ".1f"), ("fps", "fps", ".2f"), ("x_phong", "x Phong", ".2f"),
@@ -152,7 +159,10 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, progress=print) -> T
         scene = Scene(volume=vol, transfer=tf, lights=_lights(vol, 1), shading=Shading(mode="shadows"))
         from volumen.render.raycast._cache import prepare
 
-        prepare(vol).light_set = None
+        prep = prepare(vol)
+        prep.light_set = None
+        if getattr(prep, "device", None) is not None:  # the cuda backend's illumination volumes
+            prep.device.light_set = None
         image = render(scene, _camera(vol), (8, 8))
         table.add(sweep="build", volume=vname, lights=1, shading="light volume",
                   build_s=image.stats["timings"].get("light_volumes"))

@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ._table import Table, median_time
+from ._table import Table, median_time, resolve_backend
 from ._vtk import VtkScene, vtk_available
 
 __all__ = ["bench_render", "CASES", "VOLUMES", "IMAGES"]
@@ -52,7 +52,7 @@ def _rgb(image) -> np.ndarray:
 
 
 def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, repeat: int = 3,
-                 with_vtk: bool = True, progress=print) -> Table:
+                 with_vtk: bool = True, backend: str = "cpu", progress=print) -> Table:
     """Run the benchmark; returns the :class:`Table` (print ``table.render()``, save with ``table.save``).
 
     Parameters
@@ -68,6 +68,8 @@ def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, rep
         Timed frames per case (median reported) after one warm-up frame.
     with_vtk : bool
         Also render composite cases with VTK when it is installed.
+    backend : {"cpu", "cuda", "auto"}
+        Our renderer's backend; ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
     """
     from volumen.core import Camera
     from volumen.data import phantom
@@ -76,8 +78,9 @@ def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, rep
     volumes = volumes or VOLUMES
     images = images or IMAGES
     cases = cases or CASES
+    backend, device = resolve_backend(backend)
     use_vtk = with_vtk and vtk_available()
-    table = Table("volumen bench render (CPU ray casting; head phantom, anterior view)", [
+    table = Table(f"volumen bench render ({device} ray casting; head phantom, anterior view)", [
         ("volume", "volume", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
         ("preset", "preset", "s"), ("ms", "ms/frame", ".1f"), ("fps", "fps", ".2f"),
         ("msamples_s", "Msamples/s", ".0f"), ("skip_speedup", "ESS+ERT speed-up", ".2f"),
@@ -95,15 +98,16 @@ def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, rep
             camera = Camera.orbit(vol, view="anterior")
             for mode, shading, preset in cases:
                 scene = _scene(vol, mode, shading, preset, spv)
-                image = render(scene, camera, size)  # warm-up: JIT, per-volume caches
-                ms = median_time(lambda: render(scene, camera, size), repeat=repeat, warmup=0) * 1e3
+                image = render(scene, camera, size, backend=backend)  # warm-up: JIT, per-volume caches
+                ms = median_time(lambda: render(scene, camera, size, backend=backend), repeat=repeat, warmup=0) * 1e3
                 samples = float(np.sum(image.stats.get("samples", 0)))
                 row = table.add(volume=vname, image=iname, mode=mode, shading=shading,
                                 preset=preset or "-", ms=ms, fps=1e3 / ms, msamples_s=samples / ms * 1e-3)
                 if mode in ("composite", "isosurface"):
                     plain = replace(scene, sampling=replace(scene.sampling, skip_empty=False, early_termination=1.0))
-                    render(plain, camera, size)
-                    ms_plain = median_time(lambda: render(plain, camera, size), repeat=1, warmup=0) * 1e3
+                    render(plain, camera, size, backend=backend)
+                    ms_plain = median_time(lambda: render(plain, camera, size, backend=backend), repeat=1,
+                                           warmup=0) * 1e3
                     row["skip_speedup"] = ms_plain / ms
                 if use_vtk and mode == "composite":
                     peer = VtkScene(scene, camera, size)

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 from typing import Any, Sequence
 
-__all__ = ["Table", "machine_info", "median_time"]
+__all__ = ["Table", "machine_info", "median_time", "resolve_backend"]
 
 
 def machine_info() -> dict[str, Any]:
@@ -26,6 +26,22 @@ def machine_info() -> dict[str, Any]:
     except ImportError:  # pragma: no cover - numba is a dependency
         pass
     return info
+
+
+def resolve_backend(backend: str) -> tuple[str, str]:
+    """``(backend, description)`` for a benchmark: ``auto`` resolved; ``cuda`` checked at once, so a machine
+    without a CUDA device fails before any volume is built (``CudaUnavailableError``, which says why)."""
+    if backend == "auto":
+        from volumen.render._api import auto_backend
+
+        backend = auto_backend()
+    if backend == "cuda":
+        from volumen.render.cuda import require_cuda
+
+        return "cuda", f"CUDA {require_cuda()}"
+    if backend == "cpu":
+        return "cpu", "CPU"
+    raise ValueError(f"unknown benchmark backend {backend!r}; valid: cpu, cuda, auto")
 
 
 def median_time(fn, repeat: int = 3, warmup: int = 1) -> float:

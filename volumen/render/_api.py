@@ -9,7 +9,7 @@ from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
 
-__all__ = ["render", "render_volume", "clear_cache", "BACKENDS"]
+__all__ = ["render", "render_volume", "clear_cache", "BACKENDS", "auto_backend"]
 
 
 def _cpu(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
@@ -18,8 +18,26 @@ def _cpu(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
     return render_cpu(scene, camera, size)
 
 
+def _cuda(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
+    from .cuda import render_cuda  # numba.cuda loads here, not at import
+
+    return render_cuda(scene, camera, size)
+
+
+def auto_backend() -> str:
+    """The backend ``"auto"`` stands for: ``"cuda"`` when a CUDA device is usable (never the simulator),
+    else ``"cpu"``."""
+    from .cuda import cuda_available
+
+    return "cuda" if cuda_available() else "cpu"
+
+
+def _auto(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
+    return BACKENDS[auto_backend()](scene, camera, size)
+
+
 #: backend name -> function(scene, camera, size) -> Image
-BACKENDS: dict[str, Callable[[Scene, Camera, tuple[int, int]], Image]] = {"cpu": _cpu}
+BACKENDS: dict[str, Callable[[Scene, Camera, tuple[int, int]], Image]] = {"cpu": _cpu, "cuda": _cuda, "auto": _auto}
 
 # the OpenGL techniques (texture slicing variants, meshes); moderngl loads only when one draws
 from .raster import register_backends  # noqa: E402
@@ -37,7 +55,10 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     camera : Camera
     size : (width, height), pixels
     backend : str
-        A key of :data:`BACKENDS` (``"cpu"``: Numba ray casting).
+        A key of :data:`BACKENDS`: ``"cpu"`` (Numba ray casting), ``"cuda"``
+        (the same kernels on an NVIDIA GPU; raises
+        :class:`~volumen.render.cuda.CudaUnavailableError` where there is
+        none), ``"auto"`` (``"cuda"`` when a device is usable, else ``"cpu"``).
 
     Returns
     -------

@@ -27,6 +27,8 @@ kernels call the same source.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -120,4 +122,4 @@ def optical_depth(alpha):
 def hg_phase(cos_theta, g):
     """Henyey-Greenstein phase function (1/sr) at ``cos_theta`` for anisotropy ``g`` in (-1, 1)."""
     d = 1.0 + g * g - 2.0 * g * cos_theta
-    return (1.0 - g * g) / (4.0 * np.pi * d * np.sqrt(d))
+    return (1.0 - g * g) / (4.0 * math.pi * d * math.sqrt(d))

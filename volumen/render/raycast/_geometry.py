@@ -15,6 +15,8 @@ Drawn region = volume box of voxel centres (index space ``[0, n-1]``)
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -79,7 +81,7 @@ def primary_ray(cam, px, py):
     dx = cam[C_FWD] + sx * cam[C_RIGHT] + sy * cam[C_UP]
     dy = cam[C_FWD + 1] + sx * cam[C_RIGHT + 1] + sy * cam[C_UP + 1]
     dz = cam[C_FWD + 2] + sx * cam[C_RIGHT + 2] + sy * cam[C_UP + 2]
-    n = 1.0 / np.sqrt(dx * dx + dy * dy + dz * dz)
+    n = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
     return cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2], dx * n, dy * n, dz * n
 
 

@@ -47,7 +47,8 @@ from ._geometry import region_interval
 from ._sample import sample_value
 
 __all__ = ["LV_KIND", "LATTICE", "DIRECT", "NMETA", "NEAR_STEPS", "plan_lattice", "build_lattice", "lattice_transmittance",
-           "light_volumes"]
+           "light_volumes", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
+           "lattice_transmittance_of"]
 
 (LV_KIND, LV_OFF, LV_NK, LV_NV, LV_NU, LV_AXA, LV_AXB, LV_AXC, LV_PA, LV_PB, LV_PC, LV_KFAR, LV_K0, LV_OV, LV_OU,
  LV_H) = range(16)
@@ -139,13 +140,13 @@ def _to_world(aff, axa, axb, axc, ca, cb, cc, w):
             aff[2, 0] * x + aff[2, 1] * y + aff[2, 2] * z + aff[2, 3] * w)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _sig(volt, sig, ca, cb, cc):
     v = sample_value(volt, cc, cb, ca, False)
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _sig_slice(volt, sig, k, cb, cc):
     """``_sig`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives."""
     nb = volt.shape[1]
@@ -170,6 +171,96 @@ def _sig_slice(volt, sig, k, cb, cc):
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
+@njit(cache=True, fastmath=True)
+def lattice_frame(meta):
+    """The sweep constants of one lattice: ``(pa, pb, pc, da, k0, nk, dsl, fwd)``.
+
+    ``P = (pa, pb, pc)`` is the light in index coordinates along the sweep
+    axes (a, b, c), ``da`` the distance along ``a`` from the light to the far
+    slice, ``k0`` the first slice, ``nk`` the number of slices, ``dsl`` the
+    ray parameter ``s`` between two slices and ``fwd`` whether the light is on
+    the low-index side (slices swept in increasing order).
+    """
+    pa = meta[LV_PA]
+    k0 = int(meta[LV_K0])
+    da = meta[LV_KFAR] - pa
+    return pa, meta[LV_PB], meta[LV_PC], da, k0, int(meta[LV_NK]), 1.0 / abs(da), pa < k0
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_offsets(meta, v, u):
+    """``(db, dc)``: the direction of lattice ray ``(v, u)`` along the b and c axes (index units, from the
+    light to its node on the far slice)."""
+    return meta[LV_OV] + v * meta[LV_H] - meta[LV_PB], meta[LV_OU] + u * meta[LV_H] - meta[LV_PC]
+
+
+@njit(cache=True, fastmath=True)
+def lattice_ray(aff, geo, planes, nplanes, meta, v, u):
+    """Lattice ray ``(v, u)``: ``(db, dc, t0, t1, length)``.
+
+    ``(da, db, dc)`` is its direction in index coordinates along (a, b, c)
+    (from the light to its node on the far slice), ``[t0, t1]`` its interval
+    in ``s`` inside the drawn region (empty when t1 < t0) and ``length`` its
+    length in mm per unit ``s``.
+    """
+    axa = int(meta[LV_AXA])
+    axb = int(meta[LV_AXB])
+    axc = int(meta[LV_AXC])
+    pa, pb, pc, da, k0, nk, dsl, fwd = lattice_frame(meta)
+    db, dc = lattice_offsets(meta, v, u)
+    ox, oy, oz = _to_world(aff, axa, axb, axc, pa, pb, pc, 1.0)
+    dx, dy, dz = _to_world(aff, axa, axb, axc, da, db, dc, 0.0)
+    t0, t1 = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 2.0)
+    return db, dc, t0, t1, math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_slice(st, nk, k0, pa, dsl, fwd):
+    """Sweep step ``st`` (0 = the slice nearest the light): ``(i, k, s)``: index ``i`` in the lattice, slice
+    ``k`` of the volume, and the ray parameter ``s`` there."""
+    i = st if fwd else nk - 1 - st
+    k = k0 + i
+    s = (k - pa) * dsl if fwd else (pa - k) * dsl
+    return i, k, s
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
+    """Carry one lattice ray across slice ``k`` (at ``s``): returns its new ``(acc, sp)``.
+
+    ``acc`` is the ray's optical depth so far (reference-step units x mm),
+    ``sp`` its last sample (-1 before the region, -2 after it); the
+    transmittance stored at the slice is :func:`lattice_transmittance_of`.
+    """
+    if t1 >= t0 and s >= t0 and s <= t1:
+        sg = _sig_slice(volt, sig, k, pb + db * s, pc + dc * s)
+        if sp < 0.0:  # entering: the partial segment from the region's boundary
+            acc += sg * (s - max(t0, s - dsl)) * length
+        else:
+            m = int(math.ceil(math.sqrt(da * da + db * db + dc * dc) * dsl / MAX_STEP))
+            if m <= 1:
+                acc += 0.5 * (sp + sg) * dsl * length
+            else:
+                sub = dsl / m
+                q = sp
+                for j in range(1, m):
+                    sj = s - dsl + j * sub
+                    r = _sig(volt, sig, pa + da * sj, pb + db * sj, pc + dc * sj)
+                    acc += 0.5 * (q + r) * sub * length
+                    q = r
+                acc += 0.5 * (q + sg) * sub * length
+        return acc, sg
+    if sp >= 0.0 and s > t1:  # leaving: the partial segment to the boundary
+        return acc + sp * (t1 - (s - dsl)) * length, -2.0
+    return acc, sp
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_transmittance_of(acc, scale):
+    """Transmittance ``exp(-scale * acc)`` of an accumulated optical depth (``scale = kext / ds0``)."""
+    return math.exp(-scale * acc) if acc > 0.0 else 1.0
+
+
 @njit(parallel=True, cache=True, fastmath=True)
 def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc, wsp, wlen, out):
     """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u).
@@ -177,75 +268,29 @@ def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc
     ``volt`` is the normalized volume with its axes ordered (a, b, c); the
     work arrays (nv, nu) hold each ray's region interval in ``s``, its optical
     depth so far, its last sample (-1 before the region, -2 after it) and its
-    length in mm per unit ``s``.
+    length in mm per unit ``s``. Rows of rays (fixed v) run in parallel, each
+    swept slice by slice (the per-ray pieces are shared with the CUDA sweep).
     """
     nk, nv, nu = out.shape
-    axa = int(meta[LV_AXA])
-    axb = int(meta[LV_AXB])
-    axc = int(meta[LV_AXC])
-    pa = meta[LV_PA]
-    pb = meta[LV_PB]
-    pc = meta[LV_PC]
-    kfar = meta[LV_KFAR]
-    k0 = int(meta[LV_K0])
-    ov = meta[LV_OV]
-    ou = meta[LV_OU]
-    h = meta[LV_H]
-    fwd = pa < k0
-    dsl = 1.0 / abs(kfar - pa)  # s between slices
-    da = kfar - pa
-    ox, oy, oz = _to_world(aff, axa, axb, axc, pa, pb, pc, 1.0)
+    pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(meta)
     scale = kext / ds0
     for v in prange(nv):
-        db = ov + v * h - pb
         for u in range(nu):
-            dc = ou + u * h - pc
-            dx, dy, dz = _to_world(aff, axa, axb, axc, da, db, dc, 0.0)
-            t0, t1 = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 2.0)
+            _, _, t0, t1, length = lattice_ray(aff, geo, planes, nplanes, meta, v, u)
             wt0[v, u] = t0
             wt1[v, u] = t1
             wacc[v, u] = 0.0
             wsp[v, u] = -1.0
-            wlen[v, u] = np.sqrt(dx * dx + dy * dy + dz * dz)
+            wlen[v, u] = length
         for st in range(nk):
-            i = st if fwd else nk - 1 - st
-            k = k0 + i
-            s = (k - pa) * dsl if fwd else (pa - k) * dsl
+            i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
             for u in range(nu):
-                t0 = wt0[v, u]
-                t1 = wt1[v, u]
-                sp = wsp[v, u]
-                if t1 >= t0 and s >= t0 and s <= t1:
-                    dc = ou + u * h - pc
-                    acc = wacc[v, u]
-                    length = wlen[v, u]
-                    sg = _sig_slice(volt, sig, k, pb + db * s, pc + dc * s)
-                    if sp < 0.0:  # entering: the partial segment from the region's boundary
-                        acc += sg * (s - max(t0, s - dsl)) * length
-                    else:
-                        m = int(np.ceil(np.sqrt(da * da + db * db + dc * dc) * dsl / MAX_STEP))
-                        if m <= 1:
-                            acc += 0.5 * (sp + sg) * dsl * length
-                        else:
-                            sub = dsl / m
-                            q = sp
-                            for j in range(1, m):
-                                sj = s - dsl + j * sub
-                                r = _sig(volt, sig, pa + da * sj, pb + db * sj, pc + dc * sj)
-                                acc += 0.5 * (q + r) * sub * length
-                                q = r
-                            acc += 0.5 * (q + sg) * sub * length
-                    wsp[v, u] = sg
-                    wacc[v, u] = acc
-                    out[i, v, u] = np.exp(-scale * acc) if acc > 0.0 else 1.0
-                elif sp >= 0.0 and s > t1:  # leaving: the partial segment to the boundary
-                    acc = wacc[v, u] + sp * (t1 - (s - dsl)) * wlen[v, u]
-                    wacc[v, u] = acc
-                    wsp[v, u] = -2.0
-                    out[i, v, u] = np.exp(-scale * acc) if acc > 0.0 else 1.0
-                else:
-                    acc = wacc[v, u]
-                    out[i, v, u] = np.exp(-scale * acc) if acc > 0.0 else 1.0
+                db, dc = lattice_offsets(meta, v, u)
+                acc, sp = lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u],
+                                       wlen[v, u], wacc[v, u], wsp[v, u])
+                wacc[v, u] = acc
+                wsp[v, u] = sp
+                out[i, v, u] = lattice_transmittance_of(acc, scale)
 
 
 def plan_lattice(light_index, box_lo, box_hi, shape, scale: float):

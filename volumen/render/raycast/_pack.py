@@ -48,8 +48,12 @@ def _light_keys(scene, lights, geo, planes, kext):
     return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext) for i in range(len(lights))]
 
 
-def pack_frame(scene, camera, size: tuple[int, int]) -> Frame:
-    """Pack a frame; see ``volumen.render.render`` for the meaning of the settings."""
+def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:
+    """Pack a frame; see ``volumen.render.render`` for the meaning of the settings.
+
+    ``build_light_volumes`` has the signature of :func:`._lightvol.light_volumes` (the CUDA backend passes one
+    that keeps the illumination volumes in device memory).
+    """
     volume = scene.volume
     w, h = (int(s) for s in size)
     sh = scene.shading
@@ -112,7 +116,7 @@ def pack_frame(scene, camera, size: tuple[int, int]) -> Frame:
         pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
         keys = _light_keys(scene, lights[:nlights], geo, planes, kext)
         method = "fast" if sh.mode == "pathtrace" else sh.shadow_method
-        lvm, lvd, built = light_volumes(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], sig,
+        lvm, lvd, built = build_light_volumes(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], sig,
                                         geo, planes, nplanes, ds0, kext, sh.light_volume_scale, method)
         f.light_volumes_built = built
     else:

@@ -30,6 +30,8 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
+import math
+
 import numpy as np
 from numba import njit, prange
 
@@ -80,16 +82,16 @@ def sample_hg(g, dx, dy, dz, u1, u2):
         sq = (1.0 - g * g) / (1.0 - g + 2.0 * g * u1)
         c = (1.0 + g * g - sq * sq) / (2.0 * g)
     c = min(max(c, -1.0), 1.0)
-    s = np.sqrt(max(0.0, 1.0 - c * c))
-    phi = 2.0 * np.pi * u2
+    s = math.sqrt(max(0.0, 1.0 - c * c))
+    phi = 2.0 * math.pi * u2
     # orthonormal basis around d (Frisvad / Duff et al.)
     sign = 1.0 if dz >= 0.0 else -1.0
     a = -1.0 / (sign + dz)
     b = dx * dy * a
     t1x, t1y, t1z = 1.0 + sign * dx * dx * a, sign * b, -sign * dx
     t2x, t2y, t2z = b, sign + dy * dy * a, -dy
-    cp = np.cos(phi) * s
-    sp = np.sin(phi) * s
+    cp = math.cos(phi) * s
+    sp = math.sin(phi) * s
     return (c * dx + cp * t1x + sp * t2x, c * dy + cp * t1y + sp * t2y, c * dz + cp * t1z + sp * t2z)
 
 
@@ -111,7 +113,7 @@ def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
     tr = 1.0
     t = ta
     while True:
-        t -= np.log(1.0 - rand01(key, ctr)) / smaj
+        t -= math.log(1.0 - rand01(key, ctr)) / smaj
         ctr += 1
         if t >= tb:
             break
@@ -163,7 +165,7 @@ def trace_path(px, py, sample, cam, geo, planes, vol, lut, sig, lights, prm, ipr
         hit = False
         idx = 0
         while True:  # delta tracking
-            t -= np.log(1.0 - rand01(key, ctr)) / smaj
+            t -= math.log(1.0 - rand01(key, ctr)) / smaj
             ctr += 1
             if t >= tb:
                 break
@@ -233,7 +235,7 @@ def trace_path(px, py, sample, cam, geo, planes, vol, lut, sig, lights, prm, ipr
                 tr_b /= q
         nx, ny, nz = sample_hg(g, dx, dy, dz, rand01(key, ctr), rand01(key, ctr + 1))
         ctr += 2
-        nl = np.sqrt(nx * nx + ny * ny + nz * nz)
+        nl = math.sqrt(nx * nx + ny * ny + nz * nz)
         ox, oy, oz, dx, dy, dz = wx, wy, wz, nx / nl, ny / nl, nz / nl
         ta, tb = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 1e30)
         if not tb > ta:
@@ -292,6 +294,16 @@ class PathTracer:
         f = self.frame
         self.smaj = max(float(f.sig.max()) * f.prm[P_KEXT] / f.prm[P_DS0], 1e-9)
 
+    #: the ``stats["backend"]`` of the images
+    backend = "cpu"
+
+    def _accumulate(self, s0: int, s1: int) -> None:
+        """Add samples ``s0 .. s1 - 1`` of every pixel into ``self.acc`` (h, w, 5)."""
+        f = self.frame
+        w, h = f.size
+        _trace_tiles(tile_order(w, h), TILE, s0, s1, f.cam, f.geo, f.planes, f.vol, f.lut, f.sig, f.lights, f.prm,
+                     f.iprm, self.smaj, self.acc)
+
     def reset(self) -> None:
         """Forget the accumulated samples."""
         self.acc[...] = 0.0
@@ -316,8 +328,7 @@ class PathTracer:
         f = self.frame
         w, h = f.size
         t = time.perf_counter()
-        _trace_tiles(tile_order(w, h), TILE, self.spp, self.spp + n, f.cam, f.geo, f.planes, f.vol, f.lut, f.sig,
-                     f.lights, f.prm, f.iprm, self.smaj, self.acc)
+        self._accumulate(self.spp, self.spp + n)
         dt = time.perf_counter() - t
         self.spp += n
         self.seconds += dt
@@ -329,6 +340,6 @@ class PathTracer:
             depth = np.where(hits > 0, self.acc[..., 4] / np.maximum(hits, 1), np.inf).astype(np.float32)
         timings = dict(f.timings, kernel=dt, total=self.seconds)
         stats = {"timings": timings, "spp": self.spp, "samples": self.spp * w * h, "rays": w * h,
-                 "rays_hit": int(np.count_nonzero(hits)), "backend": "cpu", "mode": "composite",
+                 "rays_hit": int(np.count_nonzero(hits)), "backend": self.backend, "mode": "composite",
                  "shading": "pathtrace", "step_mm": f.ds, "reference_step_mm": f.ds0}
         return Image(rgba=rgba, depth=depth, stats=stats)

@@ -19,7 +19,8 @@ are constant over the step.
 
 from __future__ import annotations
 
-import numpy as np
+import math
+
 from numba import njit
 
 from ..optics import hg_phase
@@ -37,4 +38,4 @@ def medium(shading) -> tuple[float, float]:
 def phase_weight(lx, ly, lz, vx, vy, vz, g):
     """``4 pi p_HG`` for light arriving from unit direction ``L`` (sample -> light) and leaving toward ``V``
     (sample -> viewer): the light travels along ``-L``, so ``cos theta = -dot(L, V)``."""
-    return 4.0 * np.pi * hg_phase(-(lx * vx + ly * vy + lz * vz), g)
+    return 4.0 * math.pi * hg_phase(-(lx * vx + ly * vy + lz * vz), g)

@@ -17,6 +17,8 @@ Models (``iprm[I_MODEL]``):
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -57,7 +59,7 @@ def light_vector(lights, l, wx, wy, wz):
     lx = lights[l, L_POS] - wx
     ly = lights[l, L_POS + 1] - wy
     lz = lights[l, L_POS + 2] - wz
-    d = np.sqrt(lx * lx + ly * ly + lz * lz)
+    d = math.sqrt(lx * lx + ly * ly + lz * lz)
     if d > 0.0:
         lx /= d
         ly /= d
@@ -145,7 +147,7 @@ def shade(gx, gy, gz, vx, vy, vz, wx, wy, wz, vol, geo, planes, lights, lvm, lvd
     kd = prm[P_KD]
     ks = prm[P_KS]
     shininess = prm[P_SHINE]
-    gl = np.sqrt(gx * gx + gy * gy + gz * gz)
+    gl = math.sqrt(gx * gx + gy * gy + gz * gz)
     flat = gl < 1e-3
     nx = 0.0
     ny = 0.0

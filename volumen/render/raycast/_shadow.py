@@ -14,7 +14,8 @@ reaching the point is ``exp(-kext * tau)`` = ``1 - opacity accumulated``
 
 from __future__ import annotations
 
-import numpy as np
+import math
+
 from numba import njit
 
 from ._geometry import region_interval, to_index
@@ -66,4 +67,4 @@ def shadow_transmittance(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz,
     if tb - t > 1e-6 * step:
         s = _sig(vol, sig, oi + tb * di, oj + tb * dj, ok + tb * dk)
         acc += 0.5 * (sp + s) * (tb - t)
-    return np.exp(-kext * acc / ds0)
+    return math.exp(-kext * acc / ds0)

@@ -37,7 +37,8 @@ skipping changes no pixel.
 
 from __future__ import annotations
 
-import numpy as np
+import math
+
 from numba import njit
 
 from ..optics import composite, correct_opacity
@@ -149,7 +150,7 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
     et = prm[P_ET]
     iso = prm[P_ISO]
     jit = jitter01(px, py, iprm[I_SEED]) if iprm[I_JITTER] != 0 else 0.0
-    n = int(np.floor((t1 - t0) / ds - jit + 1e-4)) + 1
+    n = int(math.floor((t1 - t0) / ds - jit + 1e-4)) + 1
     if n < 1:
         n = 1
 
@@ -190,7 +191,7 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
                 if prev_skip:
                     dt = min(_box_exit(x, inv_di, bi, rad, bsize), _box_exit(y, inv_dj, bj, rad, bsize),
                              _box_exit(z, inv_dk, bk, rad, bsize))
-                    kn = int(np.ceil((t + dt - t0) / ds - jit))
+                    kn = int(math.ceil((t + dt - t0) / ds - jit))
                     k = max(kn, k + 1)
                     have_prev = False
                     continue

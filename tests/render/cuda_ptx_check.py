@@ -1,0 +1,83 @@
+"""Compile the CUDA kernels of ``volumen.render.cuda`` to PTX without a GPU (run as a script by test_cuda_ptx).
+
+Prints ``PTX-OK <kernel> <bytes>`` per kernel, or ``PTX-SKIP <reason>`` when
+no CUDA compiler (numba-cuda with libNVVM) is available. Numba asks the
+current device for its compute capability when it compiles a device
+function; with no device, that question is answered with ``--cc`` here.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+import types as pytypes
+
+import numpy as np
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--cc", default="9.0", help="compute capability to compile for (H100: 9.0)")
+    ap.add_argument("--out", help="folder to write <kernel>.ptx into")
+    opts = ap.parse_args()
+    cc = tuple(int(x) for x in opts.cc.split("."))
+    if importlib.util.find_spec("numba_cuda") is None:
+        print("PTX-SKIP numba-cuda is not installed (pip install numba-cuda: the CUDA target these kernels need)")
+        return 0
+    import numba
+    from numba import cuda
+
+    try:
+        from numba.cuda.cudadrv import nvvm
+
+        nvvm.NVVM()
+    except Exception as exc:  # noqa: BLE001 - no libNVVM: nothing to compile with
+        print(f"PTX-SKIP libNVVM not found ({type(exc).__name__}: {str(exc).splitlines()[0][:200]})")
+        return 0
+    import numba.cuda.dispatcher as disp
+
+    disp.get_current_device = lambda: pytypes.SimpleNamespace(compute_capability=cc)
+
+    from volumen.core import Camera, Light, Scene, Shading, TransferFunction
+    from volumen.data import phantom
+    from volumen.render.cuda import _kernels
+    from volumen.render.raycast._lightvol import LV_AXA, LV_AXB, LV_AXC
+    from volumen.render.raycast._pack import pack_frame
+    from volumen.render.raycast._pathtrace import PathTracer
+
+    vol = phantom("head", size=16)
+    cam = Camera.orbit(vol)
+    scene = Scene(volume=vol, transfer=TransferFunction.preset("ct-bone"), lights=(Light(position=(0, 300, 200)),),
+                  shading=Shading(mode="shadows"))
+    f = pack_frame(scene, cam, (8, 8))
+    out2 = np.zeros((8, 8), np.float32)
+    ty = numba.typeof
+    sig = tuple(ty(a) for a in f.args()) + (ty(np.zeros((8, 8, 4), np.float32)), ty(out2), ty(out2),
+                                            ty(np.zeros((8, 8), np.int32)))
+    pt = PathTracer(scene, cam, (8, 8))
+    g = pt.frame
+    sig_paths = (numba.int64, numba.int64) + tuple(ty(a) for a in (g.cam, g.geo, g.planes, g.vol, g.lut, g.sig,
+                                                                   g.lights, g.prm, g.iprm)) + (numba.float64,
+                                                                                                ty(pt.acc))
+    m = f.lvm[0]
+    volt = np.transpose(f.vol, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
+    sig_sweep = (ty(volt), ty(f.sig), ty(np.zeros((3, 4))), ty(f.geo), ty(f.planes), numba.int64, ty(m),
+                 numba.float64, numba.float64, ty(np.zeros((2, 2, 2), np.float32)))
+    failed = 0
+    for name, kern, s in (("trace", _kernels.trace, sig), ("paths", _kernels.paths, sig_paths),
+                          ("sweep", _kernels.sweep, sig_sweep)):
+        try:
+            ptx, _ = cuda.compile_ptx(kern.py_func, s, cc=cc, fastmath=True)
+            print(f"PTX-OK {name} {len(ptx)}")
+            if opts.out:
+                with open(f"{opts.out}/{name}.ptx", "w") as fh:
+                    fh.write(ptx)
+        except Exception as exc:  # noqa: BLE001 - report every kernel
+            failed += 1
+            print(f"PTX-FAIL {name} {type(exc).__name__}: {exc}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,74 @@
+"""The ``cuda`` backend where there is no GPU: a clear error, ``auto`` falls back to the CPU, the benchmarks
+fail fast; and the CUDA kernels compile to PTX for an H100 where a CUDA compiler is installed."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cuda_scenes
+from volumen.render import render
+
+HERE = Path(__file__).parent
+
+try:
+    from volumen.render.cuda import cuda_available
+
+    HAVE_GPU = cuda_available()
+except Exception:  # noqa: BLE001 - numba without CUDA support counts as no GPU
+    HAVE_GPU = False
+
+no_gpu = pytest.mark.skipif(HAVE_GPU, reason="a CUDA device is present: the no-device behaviour cannot be seen")
+
+
+@no_gpu
+def test_cuda_backend_without_a_device_says_so():
+    from volumen.render.cuda import CudaUnavailableError
+
+    scene, cam, size = cuda_scenes.scenes()["composite-phong"]
+    with pytest.raises(CudaUnavailableError, match="no CUDA device is available"):
+        render(scene, cam, size, backend="cuda")
+
+
+@no_gpu
+def test_auto_backend_falls_back_to_the_cpu():
+    from volumen.render._api import auto_backend
+
+    scene, cam, size = cuda_scenes.scenes()["composite-phong"]
+    assert auto_backend() == "cpu"
+    auto = render(scene, cam, size, backend="auto")
+    cpu = render(scene, cam, size, backend="cpu")
+    assert auto.stats["backend"] == "cpu"
+    np.testing.assert_array_equal(auto.rgba, cpu.rgba)
+
+
+@no_gpu
+@pytest.mark.parametrize("what", ["render", "lighting"])
+def test_bench_with_cuda_backend_fails_fast(what, tmp_path):
+    r = subprocess.run([sys.executable, "-m", "volumen", "bench", what, "--backend", "cuda", "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1, (r.stdout, r.stderr)
+    assert "no CUDA device is available" in r.stderr, r.stderr
+    assert not list(tmp_path.iterdir())  # no table written
+
+
+def test_kernels_compile_to_ptx_for_h100():
+    """Compiles the three kernels (and every shared function they call) for compute capability 9.0.
+
+    Needs numba-cuda and libNVVM (the ``cuda`` extra and a CUDA toolkit); skipped, saying why, without them.
+    """
+    env = dict(os.environ)
+    env.pop("NUMBA_ENABLE_CUDASIM", None)
+    r = subprocess.run([sys.executable, str(HERE / "cuda_ptx_check.py"), "--cc", "9.0"], env=env,
+                       capture_output=True, text=True, timeout=900)
+    print(r.stdout)
+    skip = [ln for ln in r.stdout.splitlines() if ln.startswith("PTX-SKIP")]
+    if skip:
+        pytest.skip(skip[0][len("PTX-SKIP "):])
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    assert sum(ln.startswith("PTX-OK") for ln in r.stdout.splitlines()) == 3, r.stdout

@@ -77,3 +77,30 @@ def test_light_spec_words_and_shading_flags(tmp_path):
                  "--save-settings", str(settings)]) == 0
     shading = json.loads(settings.read_text())["scene"]["shading"]
     assert shading["mode"] == "scattering" and shading["sigma_a"] == 0.5 and shading["phase_g"] == 0.3
+
+
+def test_settings_keep_backend_and_reading_options(tmp_path):
+    """The backend and every reading option that decided the picture are saved and used again."""
+    import volumen
+    from volumen.core import Volume
+
+    data = np.full((12, 12, 12), -1000.0, np.float32)
+    data[3:9, 3:9, 3:9] = 1000.0
+    data[0, 0, 0] = np.nan  # replaced by the finite minimum with --nonfinite min, by 0 with the default
+    volumen.save(Volume(data), tmp_path / "v.nrrd")
+    settings = tmp_path / "s.json"
+    argv = ["render", str(tmp_path / "v.nrrd"), "-o", str(tmp_path / "a.png"), "--size", "24x24",
+            "--backend", "slicing", "--nonfinite", "min", "--save-settings", str(settings)]
+    assert main(argv) == 0
+    saved = json.loads(settings.read_text())
+    assert saved["backend"] == "slicing" and saved["load"]["nonfinite"] == "min"
+    assert main(["render", "--settings", str(settings), "-o", str(tmp_path / "b.png")]) == 0
+    np.testing.assert_array_equal(_png(tmp_path / "a.png"), _png(tmp_path / "b.png"))
+
+
+def test_unreadable_inputs_and_outputs_name_the_file(tmp_path, capsys):
+    assert main(["render", "phantom:sphere", "-o", str(tmp_path / "x.png"), "--tf", str(tmp_path / "no.json")]) == 1
+    assert "no.json" in capsys.readouterr().err
+    assert main(["render", "phantom:sphere", "-o", str(tmp_path / "nowhere" / "x.png"), "--size", "8x8"]) == 1
+    err = capsys.readouterr().err
+    assert "nowhere" in err and "Traceback" not in err

@@ -93,3 +93,10 @@ def test_resample_integer_dtype_kept():
     v = Volume(np.full((3, 3, 3), 100, np.int16), spacing=(2.0, 1.0, 1.0))
     r = v.resample(1.0)
     assert r.dtype == np.int16 and np.all(r.data == 100)
+
+
+def test_derived_volumes_do_not_share_warnings():
+    v = Volume(np.zeros((3, 4, 5), np.int16), meta={"warnings": ["from the file"]})
+    c = v.crop(z=(0, 2))
+    c.meta["warnings"].append("cropped")
+    assert v.meta["warnings"] == ["from the file"] and c.meta["warnings"] == ["from the file", "cropped"]

@@ -17,10 +17,25 @@ def test_unfolded_straight_tube_has_its_radius_everywhere():
     u = unfold(WallField.from_threshold(vol, 0.0), cl, angles=72, normal=(0, 0, 1))
     assert u.radius.shape == (72, 31) and u.rgb.shape == (72, 31, 3)
     assert np.abs(u.radius - 9.0).max() < 0.05
-    # angle 0 is the frame's normal (+z), 90 degrees the binormal (x cross z = -y)
-    assert u.angle_of(10.0, (0, 0, 1)) == 0.0 and abs(u.angle_of(10.0, (0, -1, 0)) - 90.0) < 1e-9
+    # angle 0 is the frame's normal (+z), 90 degrees N x T = z cross x = +y
+    assert u.angle_of(10.0, (0, 0, 1)) == 0.0 and abs(u.angle_of(10.0, (0, 1, 0)) - 90.0) < 1e-9
     # head-on light: diffuse 1 everywhere -> one colour
     assert np.ptp(u.rgb[..., 0]) < 0.02
+
+
+def test_unfolded_view_is_the_wall_seen_from_inside_not_mirrored(colon_centerline, torso):
+    """Facing the wall at angle theta with the path running to the right (+T) in the picture, the inside view's
+    up is T x e(theta) (right = forward x up). One row up in the unfolded picture must go that way too, at
+    every column and angle: a mirrored picture would flip left/right against the flythrough."""
+    cl = colon_centerline
+    u = unfold(WallField.from_threshold(torso, -500.0), cl, angles=36, step=20.0)
+    rad = np.radians(u.angle)
+    for i in range(0, len(u.arc), 3):
+        t = cl.tangent_at(u.arc[i])
+        e = np.cos(rad)[:, None] * u.normal[i] + np.sin(rad)[:, None] * u.binormal[i]
+        row_up = np.roll(e, 1, axis=0) - e  # world direction of the row above
+        inside_up = np.cross(t, e)
+        assert np.all(np.einsum("ij,ij->i", row_up, inside_up) > 0)
 
 
 def test_polyp_appears_at_its_arc_and_angle(torso, colon_centerline, endo_dir):

@@ -60,6 +60,10 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, IndexError) as exc:
         print(f"volumen {args.command}: error: {exc}", file=sys.stderr)
         return 1
+    except OSError as exc:  # a file or folder the command reads or writes
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"volumen {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
     except Exception as exc:  # noqa: BLE001 - the user gets one line, developers set VOLUMEN_DEBUG
         if os.environ.get("VOLUMEN_DEBUG"):
             raise

@@ -9,8 +9,8 @@ def add_load_options(p: argparse.ArgumentParser) -> None:
     """Options of :func:`volumen.load` (DICOM series choice, raw geometry, NaN policy)."""
     g = p.add_argument_group("reading")
     g.add_argument("--series", help="DICOM SeriesInstanceUID to load when a folder holds several")
-    g.add_argument("--resample", action="store_true", help="make non-uniform slice spacing uniform")
-    g.add_argument("--nonfinite", choices=["zero", "min", "error", "keep"], default="zero",
+    g.add_argument("--resample", action="store_true", default=None, help="make non-uniform slice spacing uniform")
+    g.add_argument("--nonfinite", choices=["zero", "min", "error", "keep"], default=None,
                    help="what to do with NaN/inf values (default: replace by 0 with a warning)")
     g.add_argument("--shape", help="raw files: NZ,NY,NX")
     g.add_argument("--dtype", help="raw files: numpy dtype, e.g. int16")
@@ -38,7 +38,7 @@ def load_from_args(args: argparse.Namespace, path=None):
     path = path if path is not None else args.input
     if str(path).startswith("phantom:"):
         return load_phantom(str(path))
-    opts = {"nonfinite": args.nonfinite, "resample": args.resample}
+    opts = {"nonfinite": args.nonfinite or "zero", "resample": bool(args.resample)}
     if args.series:
         opts["series"] = args.series
     if args.shape:

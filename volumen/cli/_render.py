@@ -43,7 +43,7 @@ def register(sub):
     g.add_argument("--phase-g", type=float, help="scattering: Henyey-Greenstein anisotropy g in (-1, 1)")
     g.add_argument("--pt-samples", type=int, help="pathtrace: samples per pixel")
     g.add_argument("--pt-bounces", type=int, help="pathtrace: scattering events per path (1 = single)")
-    g.add_argument("--backend", default="cpu",
+    g.add_argument("--backend", default=None,
                    help="cpu (ray casting, default), slicing[-variant] or mesh (OpenGL); see volumen.render.BACKENDS")
     c = p.add_argument_group("camera")
     c.add_argument("--view", choices=VIEWS, help="anatomical view (default anterior)")
@@ -129,7 +129,10 @@ def build(args, base: dict | None, volume):
     scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
     scene = replace(scene, volume_ref=_volume_ref(args, base))
     if args.tf:
-        scene = replace(scene, transfer=TransferFunction.from_json(Path(args.tf).read_text()))
+        try:
+            scene = replace(scene, transfer=TransferFunction.from_json(Path(args.tf).read_text()))
+        except (OSError, ValueError, TypeError) as exc:
+            raise ValueError(f"{args.tf}: not a transfer function JSON file ({exc})") from None
     elif args.preset:
         scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
     elif not base:
@@ -211,7 +214,7 @@ def run(args):
         if base.get("version") != SETTINGS_VERSION or not {"scene", "camera", "size"} <= set(base):
             raise ValueError(f"{args.settings} is not a volumen render settings file (version {SETTINGS_VERSION})")
         for key, val in base.get("load", {}).items():  # reading options recorded with the picture
-            if getattr(args, key, None) in (None, False):
+            if getattr(args, key, None) is None:
                 setattr(args, key, val)
     if not args.input and not base:
         raise ValueError("give an INPUT volume or --settings")
@@ -219,15 +222,20 @@ def run(args):
     volume = load_from_args(args, path=source)
     scene, camera, size, background, orbit = build(args, base, volume)
     t0 = time.perf_counter()
-    image = render(scene, camera, size, backend=args.backend)
+    backend = args.backend or (base or {}).get("backend") or "cpu"
+    out_dir = Path(args.out).resolve().parent
+    if not out_dir.is_dir():
+        raise ValueError(f"{args.out}: folder {out_dir} does not exist")
+    image = render(scene, camera, size, backend=backend)
     dt = time.perf_counter() - t0
     image.save(args.out, background=background)
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}) in {dt * 1000:.0f} ms")
     if args.save_settings:
         load_opts = {k: getattr(args, k) for k in ("series", "resample", "nonfinite", "shape", "dtype", "spacing",
-                                                   "byte_order") if getattr(args, k, None) not in (None, False)}
+                                                   "byte_order") if getattr(args, k, None) is not None}
         settings = {"version": SETTINGS_VERSION, "scene": scene.to_dict(), "camera": camera.to_dict(),
-                    "size": list(size), "background": list(background), "orbit": orbit, "load": load_opts}
+                    "size": list(size), "background": list(background), "orbit": orbit, "load": load_opts,
+                    "backend": backend}
         Path(args.save_settings).write_text(json.dumps(settings, indent=2))
         print(f"wrote {args.save_settings}")
     return 0

@@ -116,7 +116,8 @@ class Volume:
                 )
             self.affine = aff
         self.meta = dict(self.meta)
-        self.meta.setdefault("warnings", [])
+        # each volume owns its warnings (derived volumes copy meta shallowly: large truth arrays are shared)
+        self.meta["warnings"] = list(self.meta.get("warnings", []))
 
     # -- shape and geometry -------------------------------------------------
     @property

@@ -2,9 +2,12 @@
 
 For each centerline sample ``i`` (a column, arc length ``s_i``) and each angle
 ``theta_j`` around it (a row), a ray leaves the centerline point in the plane
-normal to the path, along ``cos(theta) N_i + sin(theta) B_i`` with ``(T, N, B)``
+normal to the path, along ``cos(theta) N_i - sin(theta) B_i`` with ``(T, N, B)``
 the rotation-minimizing frame of :meth:`Centerline.frames` (so an angle means
-the same side of the wall all along the path, without twist). The ray stops
+the same side of the wall all along the path, without twist). Angles run from
+N toward ``-B = N x T`` so that the picture is the mucosa seen from INSIDE, as
+in the flythrough: looking at the wall with the path running to the right
+(+T), the image's up is ``T x e(theta)``, the direction of decreasing rows. The ray stops
 at the wall of a :class:`WallField` (first crossing, as for collisions); the
 hit is shaded with the Phong terms of ``volumen.render.optics`` lit from the
 centerline point, and its distance is kept as a radius map. A polyp shows up
@@ -70,9 +73,9 @@ class Unfolded:
     arc : (N,) float, mm
         Arc length of each column along the centerline.
     angle : (M,) float, degrees
-        Angle of each row from the frame's normal toward its binormal.
+        Angle of each row from the frame's normal N toward ``-B = N x T``.
     normal, binormal : (N, 3) float
-        The frame vectors at each column (angle 0 and 90 degrees).
+        The vectors at angle 0 (N) and 90 degrees (``-B``) at each column.
     """
 
     rgb: np.ndarray
@@ -138,6 +141,7 @@ def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, ma
         s = np.linspace(0.0, cl.length, max(int(round(cl.length / step)), 1) + 1)
         cl = Centerline(cl.at(s), cl.radius_at(s), s)
     _, nrm, bin_ = cl.frames(normal)
+    bin_ = -bin_  # angle 90 degrees: N x T, so the picture is the wall seen from inside (not mirrored)
     if max_radius is None:
         max_radius = max(3.0 * float(np.max(cl.radius)), 20.0)
     theta = np.radians(np.arange(angles) * 360.0 / angles)

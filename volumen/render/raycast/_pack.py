@@ -22,7 +22,8 @@ from ._params import (I_BLOCK, I_BOUNCES, I_GRADOP, I_JITTER, I_MODE, I_MODEL, I
 from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
-from ._tables import (NPRE, block_visibility, color_table, extinction_table, gradient_table, iso_visibility,
+from ._tables import (NPRE, block_visibility, color_table, extinction_table, gradient_table, iso_extinction_table,
+                      iso_visibility,
                       preintegrated_table, skip_distance)
 from ._trace import MODE_CODES
 
@@ -42,7 +43,7 @@ class Frame:
 
 
 def _light_keys(scene, lights, geo, planes, kext):
-    tf = scene.transfer.to_json()
+    tf = scene.transfer.to_json() if scene.mode != "isosurface" else f"iso:{scene.isosurface.value!r}"
     clip = geo.tobytes() + planes.tobytes()
     scale = scene.shading.light_volume_scale
     return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext) for i in range(len(lights))]
@@ -97,7 +98,12 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     else:
         bmin = bmax = np.zeros((1, 1, 1), np.float32)
         bflag = np.zeros((1, 1, 1), np.uint8)
-    sig = extinction_table(tf, prep.vmin, prep.vmax) if sh.mode in LIT_SHADINGS else np.zeros(1, np.float32)
+    if sh.mode not in LIT_SHADINGS:
+        sig = np.zeros(1, np.float32)
+    elif mode == "isosurface":  # the drawn surface casts the shadows
+        sig = iso_extinction_table(u_iso)
+    else:
+        sig = extinction_table(tf, prep.vmin, prep.vmax)
     timings["tables"] = time.perf_counter() - t
 
     if not shaded:

@@ -63,6 +63,18 @@ def extinction_table(tf, vmin: float, vmax: float) -> np.ndarray:
     return out.astype(np.float32)
 
 
+#: optical depth per reference step of an isosurface's inside, for shadows: transmittance e^-30 ~ 1e-13
+ISO_DEPTH = 30.0
+
+
+def iso_extinction_table(u_iso: float) -> np.ndarray:
+    """``(NLUT,)`` float32 optical depth per reference step for shadows in isosurface mode: the surface is
+    the occluder, so samples at or above the normalized threshold ``u_iso`` are opaque and the rest empty
+    (the transfer function's opacity would disagree with the drawn surface near it)."""
+    idx = np.arange(NLUT, dtype=np.float64)
+    return np.where(idx >= u_iso, ISO_DEPTH, 0.0).astype(np.float32)
+
+
 def preintegrated_table(tf, vmin: float, vmax: float, ratio: float) -> np.ndarray:
     """``(NPRE, NPRE, 4)`` float32 pre-integrated table for a step of ``ratio = ds / ds0``.
 

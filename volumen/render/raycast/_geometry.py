@@ -66,7 +66,7 @@ def pack_planes(clipping) -> np.ndarray:
                     np.float64)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def primary_ray(cam, px, py):
     """World ray through the centre of pixel (px, py): ``(ox, oy, oz, dx, dy, dz)``, d unit."""
     w = cam[C_W]
@@ -99,7 +99,7 @@ def _slab(o, d, lo, hi, t0, t1):
     return max(t0, a), min(t1, b)
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def to_index(geo, x, y, z, w):
     """World point (w = 1) or direction (w = 0) -> voxel index space."""
     i = geo[0] * x + geo[1] * y + geo[2] * z + geo[3] * w
@@ -108,7 +108,7 @@ def to_index(geo, x, y, z, w):
     return i, j, k
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
     """``[t0, t1]`` intersected with the drawn region (volume box, crop, clip planes) along ``o + t d``
     (world mm; ``d`` of any length); empty when the result has t1 < t0."""
@@ -133,7 +133,7 @@ def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
     return t0, t1
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
     """``(t0, t1)`` of the view ray inside the drawn region and the camera's [near, far] (empty when t1 < t0)."""
     return region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, cam[C_NEAR], cam[C_FAR])

@@ -26,7 +26,7 @@ def _cell(x, n):
     return i0, i0 + 1, x - i0
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def sample_value(vol, x, y, z, nearest):
     """Trilinear (or nearest when ``nearest``) value of ``vol[z, y, x]`` at index position (x, y, z)."""
     nz, ny, nx = vol.shape
@@ -47,7 +47,7 @@ def sample_value(vol, x, y, z, nearest):
     return np.float64(c0 + fz * (c1 - c0))
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def sample_normal(nrm, x, y, z, nearest):
     """Interpolated packed normal at (x, y, z).
 

@@ -53,7 +53,7 @@ def headlight(camera) -> np.ndarray:
     return pack_lights([Light(kind="headlight")], camera)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def light_vector(lights, l, wx, wy, wz):
     """``(lx, ly, lz, distance mm, spot factor)``: unit vector from world point w toward light ``l``."""
     lx = lights[l, L_POS] - wx
@@ -69,7 +69,7 @@ def light_vector(lights, l, wx, wy, wz):
     return lx, ly, lz, d, spot
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def light_visibility(l, wx, wy, wz, lx, ly, lz, dist, vol, geo, planes, lvm, lvd, sig, prm, iprm):
     """Fraction of light ``l`` reaching the world point w (unit ``L`` toward the light, ``dist`` mm away).
 
@@ -101,7 +101,7 @@ def light_visibility(l, wx, wy, wz, lx, ly, lz, dist, vol, geo, planes, lvm, lvd
     return 1.0
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def shade(gx, gy, gz, vx, vy, vz, wx, wy, wz, vol, geo, planes, lights, lvm, lvd, sig, prm, iprm):
     """Lighting factors of a sample.
 

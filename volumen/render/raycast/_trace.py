@@ -107,7 +107,7 @@ def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
     return ta + (iso - fa) / (fb - fa) * (tb - ta)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, lvm, lvd, sig,
                 prm, iprm, rgba, depth, value, nsamp):
     """Cast the ray of pixel (px, py) and write ``rgba[py, px]``, ``depth``, ``value``, ``nsamp`` there.
@@ -168,6 +168,9 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
     tp = t0
     have_prev = False
     prev_skip = False
+    # jump at the first sample in a skippable block when no neighbouring sample is needed to classify
+    # (post-classified composite, isosurface); otherwise wait for a second one (pre-integration, projections)
+    eager = (mode == COMPOSITE and not preint) or mode == ISOSURFACE
     if mode == ISOSURFACE:
         vp = sample_value(vol, oi + t0 * di, oj + t0 * dj, ok + t0 * dk, nearest)
         taken += 1
@@ -186,9 +189,12 @@ def trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin,
             bi = min(max(int(x * inv_b), 0), gx - 1)
             bj = min(max(int(y * inv_b), 0), gy - 1)
             bk = min(max(int(z * inv_b), 0), gz - 1)
-            rad = _skip_radius(mode, bflag[bk, bj, bi], bmin[bk, bj, bi], bmax[bk, bj, bi], vext)
+            if eager:  # composite / isosurface: the block's skip distance decides alone
+                rad = int(bflag[bk, bj, bi])
+            else:
+                rad = int(_skip_radius(mode, bflag[bk, bj, bi], bmin[bk, bj, bi], bmax[bk, bj, bi], vext))
             if rad > 0:
-                if prev_skip:
+                if prev_skip or eager:
                     dt = min(_box_exit(x, inv_di, bi, rad, bsize), _box_exit(y, inv_dj, bj, rad, bsize),
                              _box_exit(z, inv_dk, bk, rad, bsize))
                     kn = int(math.ceil((t + dt - t0) / ds - jit))

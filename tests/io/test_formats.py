@@ -219,6 +219,19 @@ def test_nrrd_spacings_only_is_taken_as_lps(tmp_path):
     assert any("orientation unknown" in w for w in vol.meta["warnings"])
 
 
+def test_nrrd_spacings_keep_sign_and_cell_centering(tmp_path):
+    """A negative spacing is an axis running the other way; for a cell-centred axis 'axis mins' is the first
+    cell's edge, so the first voxel centre lies half a spacing further."""
+    data = make_data(np.uint8)
+    path = tmp_path / "c.nrrd"
+    nrrd.write(str(path), data, {"spacings": [1.3, -0.7, 2.5], "axis mins": [4.0, 5.0, 6.0],
+                                 "centerings": ["cell", "node", "cell"]}, index_order="C")
+    vol = volumen.load(path)
+    # NRRD axes are (x, y, z) fastest first: x cell (+0.65), y node, z cell (+1.25); LPS -> RAS flips x and y
+    expected = np.array([[-1.3, 0, 0, -(4 + 0.65)], [0, 0.7, 0, -5], [0, 0, 2.5, 6 + 1.25], [0, 0, 0, 1]])
+    np.testing.assert_allclose(vol.affine, expected, atol=1e-12)
+
+
 def _nhdr(path, data_file: str, enc="raw", endian="little", extra="") -> None:
     path.write_text(
         "NRRD0004\n# written by the test\ntype: short\ndimension: 3\n"

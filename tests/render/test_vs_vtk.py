@@ -43,3 +43,14 @@ def test_composite_agrees_with_vtk_fixed_point_mapper(shading, tol, output_dir):
     ours_covered = ours.max(axis=2) > 0.02
     assert np.mean(covered != ours_covered) < 0.02
     assert diff.mean() < tol, f"mean |diff| {diff.mean():.4f}"
+
+
+def test_vtk_peer_refuses_axes_it_cannot_represent():
+    """vtkImageData is built without a direction: a permuted or flipped volume must be refused, not mis-drawn."""
+    vol = _blob_volume(16)
+    perm = np.zeros((4, 4))
+    perm[0, 1] = perm[1, 0] = perm[2, 2] = perm[3, 3] = 1.0  # i -> +y, j -> +x
+    permuted = Volume(vol.data, spacing=(1.0, 1.0, 1.0), affine=perm)
+    scene = Scene(volume=permuted, transfer=TransferFunction.preset("ct-bone"), shading=Shading(mode="none"))
+    with pytest.raises(ValueError, match="RAS"):
+        VtkScene(scene, Camera.orbit(permuted), (8, 8))

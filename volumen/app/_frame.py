@@ -80,12 +80,9 @@ class Frame:
 def to_rgb(image: Image, brightness: float = 1.0, background=(0.0, 0.0, 0.0)) -> np.ndarray:
     """``image`` (premultiplied linear RGBA) times ``brightness``, over ``background``: uint8 ``(H, W, 3)``.
 
-    With ``brightness`` 1 this equals ``image.to_uint8(background)``.
+    The conversion itself is :meth:`Image.to_uint8` (the one place pictures become 8-bit).
     """
-    rgb = image.rgba[..., :3].astype(np.float64) * float(brightness)
-    a = image.rgba[..., 3:4].astype(np.float64)
-    out = rgb + (1.0 - a) * np.asarray(background, float).reshape(1, 1, 3)
-    return np.rint(np.clip(out, 0.0, 1.0) * 255.0).astype(np.uint8)
+    return image.to_uint8(tuple(float(c) for c in background), gain=brightness)
 
 
 def composite_mesh(volume_image: Image, mesh_image: Image) -> Image:

@@ -47,8 +47,10 @@ class VtkScene:
         vol = scene.volume
         if scene.mode != "composite" or scene.shading.mode not in ("none", "headlight"):
             raise ValueError("the VTK peer renders composite mode with shading none or headlight only")
-        if vol.is_oblique or np.any(np.diag(vol.affine)[:3] < 0):
-            raise ValueError("the VTK peer takes axis-aligned RAS volumes only")
+        m = np.asarray(vol.affine, float)[:3, :3]
+        if not (np.allclose(m, np.diag(np.diag(m))) and np.all(np.diag(m) > 0)):
+            # vtkImageData here has no direction: permuted, flipped or oblique axes would be drawn wrongly
+            raise ValueError("the VTK peer takes volumes whose voxel axes i, j, k point +x, +y, +z (RAS) only")
         img = vtk.vtkImageData()
         nz, ny, nx = vol.shape
         img.SetDimensions(nx, ny, nz)

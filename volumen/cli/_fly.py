@@ -17,6 +17,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from ._common import _floats, add_load_options, load_from_args, parse_point
 
 
@@ -115,7 +117,13 @@ def run(args):
     if args.both_directions:
         back = (KeyframePath.from_centerline(cl.reversed(), every=args.every, speed=args.speed)
                 if cl is not None else None)
-        legs.append(("back", back.play(args.fps, args.frames) if back is not None else poses[::-1]))
+        if back is None:  # a keyframe path: fly it backwards, turned round (looking where the camera goes)
+            from volumen.endoscopy import Pose
+
+            turned = [Pose(position=p.position, forward=tuple(-np.asarray(p.forward)), up=p.up) for p in poses[::-1]]
+            legs.append(("back", turned))
+        else:
+            legs.append(("back", back.play(args.fps, args.frames)))
     log = FrameLog()
     out.parent.mkdir(parents=True, exist_ok=True)
     with VideoWriter(out, args.fps) as video:

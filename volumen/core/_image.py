@@ -59,7 +59,7 @@ class Image:
         return self.rgba[..., 3]
 
     def to_uint8(self, background: tuple[float, float, float] | None = (0.0, 0.0, 0.0),
-                 encoding: Literal["linear", "srgb"] = "linear") -> np.ndarray:
+                 encoding: Literal["linear", "srgb"] = "linear", gain: float = 1.0) -> np.ndarray:
         """8-bit picture for display or files.
 
         Parameters
@@ -74,10 +74,13 @@ class Image:
             transfer-function colours appear as authored; ``srgb`` applies the
             sRGB transfer curve (brighter mid-tones, physically displayed
             linear light).
+        gain : float
+            Display brightness: the colour (not the opacity) is scaled by
+            ``gain`` before composing (the application's brightness slider).
         """
         if encoding not in ("linear", "srgb"):
             raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
-        rgb = self.rgba[..., :3].astype(np.float64)
+        rgb = self.rgba[..., :3].astype(np.float64) * float(gain)
         a = self.rgba[..., 3:4].astype(np.float64)
         if background is None:
             with np.errstate(invalid="ignore", divide="ignore"):

@@ -12,7 +12,9 @@ from __future__ import annotations
 import json
 from dataclasses import asdict, fields
 
-__all__ = ["JsonData"]
+import numpy as np
+
+__all__ = ["JsonData", "_choice", "_vec", "_nonneg"]
 
 
 class JsonData:
@@ -37,3 +39,25 @@ class JsonData:
     @classmethod
     def from_json(cls, text: str):
         return cls.from_dict(json.loads(text))
+
+
+# validators shared by the settings dataclasses (their error messages name the field and what it takes)
+def _choice(name: str, value, choices) -> None:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
+
+
+def _vec(name: str, v, n: int = 3, unit: bool = False) -> tuple[float, ...]:
+    a = np.asarray(v, dtype=float).ravel()
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers, got {v!r}")
+    if unit and np.linalg.norm(a) < 1e-12:  # kept as given (exact JSON round trip); renderers normalize
+        raise ValueError(f"{name} must not be the zero vector")
+    return tuple(float(x) for x in a)
+
+
+def _nonneg(name: str, v) -> float:
+    v = float(v)
+    if not (np.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {v}")
+    return v

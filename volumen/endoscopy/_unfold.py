@@ -93,8 +93,13 @@ class Unfolded:
         return float(np.degrees(np.arctan2(d @ b, d @ n)) % 360.0)
 
     def to_uint8(self) -> np.ndarray:
-        """(M, N, 3) uint8 picture (linear values times 255)."""
-        return np.rint(np.clip(self.rgb, 0, 1) * 255).astype(np.uint8)
+        """(M, N, 3) uint8 picture (linear values times 255, through :meth:`volumen.core.Image.to_uint8`)."""
+        from ..core import Image
+
+        m, n, _ = self.rgb.shape
+        rgba = np.concatenate([self.rgb, np.ones((m, n, 1), np.float32)], axis=2).astype(np.float32)
+        return Image(rgba=rgba, depth=np.where(np.isfinite(self.radius), self.radius, np.inf).astype(np.float32)
+                     ).to_uint8()
 
     def save(self, path) -> None:
         """Write :meth:`to_uint8` as a PNG."""

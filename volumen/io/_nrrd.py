@@ -228,9 +228,15 @@ def _geometry(header: dict, warnings: list[str]) -> tuple[np.ndarray, list[int]]
         if len(spatial) != 3:
             raise ValueError(f"needs three spatial axes, got kinds {kinds}")
         steps = np.where(np.isfinite(spacings[spatial]), spacings[spatial], 1.0)
-        columns = np.diag(np.abs(steps))
+        columns = np.diag(steps)  # a negative spacing is an axis running the other way, kept
         mins = np.asarray(header.get("axis mins", header.get("axismins", [0.0] * dim)), dtype=float)
         origin = np.where(np.isfinite(mins[spatial]), mins[spatial], 0.0)
+        # 'axis mins' is a cell's edge for axes declared cell-centred: the first voxel's centre is half a
+        # spacing further along the axis (undeclared centering: the first sample itself, as ITK reads it)
+        centerings = [str(c).lower() for c in header.get("centerings", header.get("centers", ["???"] * dim))]
+        half = np.array([0.5 if centerings[a] == "cell" else 0.0 for a in spatial])
+        has_min = np.isfinite(mins[spatial])
+        origin = origin + np.where(has_min, half * steps, 0.0)
         warnings.append("no 'space directions': orientation unknown, axes taken as LPS like ITK")
     if code is None and dirs is not None:
         warnings.append(f"space {space or '(none)'!r} has no patient frame: taken as LPS like ITK")

@@ -7,7 +7,7 @@ per-pixel / per-ray function (see :mod:`._target`):
 * :func:`paths`: ``raycast._pathtrace.trace_path`` for samples ``s0 .. s1 - 1`` of a pixel
   (CPU: ``raycast._pathtrace._trace_tiles``);
 * :func:`sweep`: one lattice ray of an illumination volume swept slice by slice with
-  ``raycast._lightvol.lattice_step`` (CPU: ``raycast._lightvol._sweep``, which runs rows of rays).
+  ``raycast._lightsweep.lattice_step`` (CPU: ``raycast._lightsweep._sweep``, which runs rows of rays).
 
 This module imports numba's CUDA target: the other modules of the package
 import it inside the functions that launch kernels. The kernels compile on
@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from numba import cuda
 
-from ..raycast._lightvol import lattice_frame, lattice_ray, lattice_slice, lattice_step, lattice_transmittance_of
+from ..raycast._lightsweep import lattice_frame, lattice_ray, lattice_slice, lattice_step, lattice_transmittance_of
 from ..raycast._pathtrace import trace_path
 from ..raycast._trace import trace_pixel
 from ._target import device_function

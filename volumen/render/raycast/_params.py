@@ -33,3 +33,18 @@ M_PHONG, M_SHADOWS, M_SCATTER = 0, 1, 2
 #: Shading.mode -> model code (none: unshaded; pathtrace uses the scattering medium)
 MODEL_CODES = {"none": M_PHONG, "headlight": M_PHONG, "phong": M_PHONG, "shadows": M_SHADOWS,
                "scattering": M_SCATTER, "pathtrace": M_SCATTER}
+
+# illumination volumes (``_lightvol``, ``_lightsweep``): one meta row per light
+(LV_KIND, LV_OFF, LV_NK, LV_NV, LV_NU, LV_AXA, LV_AXB, LV_AXC, LV_PA, LV_PB, LV_PC, LV_KFAR, LV_K0, LV_OV, LV_OU,
+ LV_H) = range(16)
+NMETA = 16
+NONE, LATTICE, DIRECT = 0, 1, 2
+#: a lattice may hold at most this many times the nodes of the region at the requested resolution
+BUDGET = 3.0
+#: most values in one light's lattice (float32: 256 MB); coarser spacing beyond
+MAX_NODES = 2 ** 26
+#: reference steps of each light path marched directly before the illumination volume is read: near the
+#: sample, surfaces lie within one lattice spacing of the path, where any interpolated volume smears them
+NEAR_STEPS = 3.0
+#: largest index-space step between samples along a lattice ray before extra samples are taken
+MAX_STEP = 1.75

@@ -1,0 +1,204 @@
+"""The illumination-volume sweep: per-light-ray pieces shared by the CPU sweep and the CUDA kernel.
+
+See :mod:`._lightvol` for the geometry of a light's lattice of rays (what is
+stored where). Each piece here handles one ray at one slice, so the CPU
+driver (:func:`_sweep`, rows of rays per slice in parallel) and the CUDA
+kernel (one ray per thread) run the same code.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ._geometry import region_interval
+from ._params import (LV_AXA, LV_AXB, LV_AXC, LV_H, LV_K0, LV_KFAR, LV_NK, LV_NU, LV_NV, LV_OU, LV_OV, LV_PA, LV_PB,
+                      LV_PC, MAX_STEP)
+from ._sample import sample_value
+
+__all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
+           "lattice_transmittance_of"]
+
+
+@njit(cache=True, fastmath=True)
+def _to_world(aff, axa, axb, axc, ca, cb, cc, w):
+    x = ca if axa == 2 else (cb if axb == 2 else cc)
+    y = ca if axa == 1 else (cb if axb == 1 else cc)
+    z = ca if axa == 0 else (cb if axb == 0 else cc)
+    return (aff[0, 0] * x + aff[0, 1] * y + aff[0, 2] * z + aff[0, 3] * w,
+            aff[1, 0] * x + aff[1, 1] * y + aff[1, 2] * z + aff[1, 3] * w,
+            aff[2, 0] * x + aff[2, 1] * y + aff[2, 2] * z + aff[2, 3] * w)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _sig(volt, sig, ca, cb, cc):
+    v = sample_value(volt, cc, cb, ca, False)
+    return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _sig_slice(volt, sig, k, cb, cc):
+    """``_sig`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives."""
+    nb = volt.shape[1]
+    nc = volt.shape[2]
+    if cb <= 0.0:
+        j0, j1, fb = 0, 0, 0.0
+    elif cb >= nb - 1:
+        j0, j1, fb = nb - 1, nb - 1, 0.0
+    else:
+        j0 = int(cb)
+        j1, fb = j0 + 1, cb - j0
+    if cc <= 0.0:
+        i0, i1, fc = 0, 0, 0.0
+    elif cc >= nc - 1:
+        i0, i1, fc = nc - 1, nc - 1, 0.0
+    else:
+        i0 = int(cc)
+        i1, fc = i0 + 1, cc - i0
+    r0 = volt[k, j0, i0] + fc * (volt[k, j0, i1] - volt[k, j0, i0])
+    r1 = volt[k, j1, i0] + fc * (volt[k, j1, i1] - volt[k, j1, i0])
+    v = r0 + fb * (r1 - r0)
+    return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
+
+
+@njit(cache=True, fastmath=True)
+def lattice_frame(meta):
+    """The sweep constants of one lattice: ``(pa, pb, pc, da, k0, nk, dsl, fwd)``.
+
+    ``P = (pa, pb, pc)`` is the light in index coordinates along the sweep
+    axes (a, b, c), ``da`` the distance along ``a`` from the light to the far
+    slice, ``k0`` the first slice, ``nk`` the number of slices, ``dsl`` the
+    ray parameter ``s`` between two slices and ``fwd`` whether the light is on
+    the low-index side (slices swept in increasing order).
+    """
+    pa = meta[LV_PA]
+    k0 = int(meta[LV_K0])
+    da = meta[LV_KFAR] - pa
+    return pa, meta[LV_PB], meta[LV_PC], da, k0, int(meta[LV_NK]), 1.0 / abs(da), pa < k0
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_offsets(meta, v, u):
+    """``(db, dc)``: the direction of lattice ray ``(v, u)`` along the b and c axes (index units, from the
+    light to its node on the far slice)."""
+    return meta[LV_OV] + v * meta[LV_H] - meta[LV_PB], meta[LV_OU] + u * meta[LV_H] - meta[LV_PC]
+
+
+@njit(cache=True, fastmath=True)
+def lattice_ray(aff, geo, planes, nplanes, meta, v, u):
+    """Lattice ray ``(v, u)``: ``(db, dc, t0, t1, length)``.
+
+    ``(da, db, dc)`` is its direction in index coordinates along (a, b, c)
+    (from the light to its node on the far slice), ``[t0, t1]`` its interval
+    in ``s`` inside the drawn region (empty when t1 < t0) and ``length`` its
+    length in mm per unit ``s``.
+    """
+    axa = int(meta[LV_AXA])
+    axb = int(meta[LV_AXB])
+    axc = int(meta[LV_AXC])
+    pa, pb, pc, da, k0, nk, dsl, fwd = lattice_frame(meta)
+    db, dc = lattice_offsets(meta, v, u)
+    ox, oy, oz = _to_world(aff, axa, axb, axc, pa, pb, pc, 1.0)
+    dx, dy, dz = _to_world(aff, axa, axb, axc, da, db, dc, 0.0)
+    t0, t1 = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 2.0)
+    return db, dc, t0, t1, math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_slice(st, nk, k0, pa, dsl, fwd):
+    """Sweep step ``st`` (0 = the slice nearest the light): ``(i, k, s)``: index ``i`` in the lattice, slice
+    ``k`` of the volume, and the ray parameter ``s`` there."""
+    i = st if fwd else nk - 1 - st
+    k = k0 + i
+    s = (k - pa) * dsl if fwd else (pa - k) * dsl
+    return i, k, s
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
+    """Carry one lattice ray across slice ``k`` (at ``s``): returns its new ``(acc, sp)``.
+
+    ``acc`` is the ray's optical depth so far (reference-step units x mm),
+    ``sp`` its last sample (-1 before the region, -2 after it); the
+    transmittance stored at the slice is :func:`lattice_transmittance_of`.
+    """
+    if t1 >= t0 and s >= t0 and s <= t1:
+        sg = _sig_slice(volt, sig, k, pb + db * s, pc + dc * s)
+        if sp < 0.0:  # entering: the partial segment from the region's boundary
+            acc += sg * (s - max(t0, s - dsl)) * length
+        else:
+            m = int(math.ceil(math.sqrt(da * da + db * db + dc * dc) * dsl / MAX_STEP))
+            if m <= 1:
+                acc += 0.5 * (sp + sg) * dsl * length
+            else:
+                sub = dsl / m
+                q = sp
+                for j in range(1, m):
+                    sj = s - dsl + j * sub
+                    r = _sig(volt, sig, pa + da * sj, pb + db * sj, pc + dc * sj)
+                    acc += 0.5 * (q + r) * sub * length
+                    q = r
+                acc += 0.5 * (q + sg) * sub * length
+        return acc, sg
+    if sp >= 0.0 and s > t1:  # leaving: the partial segment to the boundary
+        return acc + sp * (t1 - (s - dsl)) * length, -2.0
+    return acc, sp
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lattice_transmittance_of(acc, scale):
+    """Transmittance ``exp(-scale * acc)`` of an accumulated optical depth (``scale = kext / ds0``)."""
+    return math.exp(-scale * acc) if acc > 0.0 else 1.0
+
+
+@njit(parallel=True, cache=True, fastmath=True)
+def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc, wsp, wlen, out):
+    """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u).
+
+    ``volt`` is the normalized volume with its axes ordered (a, b, c); the
+    work arrays (nv, nu) hold each ray's region interval in ``s``, its optical
+    depth so far, its last sample (-1 before the region, -2 after it) and its
+    length in mm per unit ``s``. Rows of rays (fixed v) run in parallel, each
+    swept slice by slice (the per-ray pieces are shared with the CUDA sweep).
+    """
+    nk, nv, nu = out.shape
+    pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(meta)
+    scale = kext / ds0
+    for v in prange(nv):
+        for u in range(nu):
+            _, _, t0, t1, length = lattice_ray(aff, geo, planes, nplanes, meta, v, u)
+            wt0[v, u] = t0
+            wt1[v, u] = t1
+            wacc[v, u] = 0.0
+            wsp[v, u] = -1.0
+            wlen[v, u] = length
+        for st in range(nk):
+            i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
+            for u in range(nu):
+                db, dc = lattice_offsets(meta, v, u)
+                acc, sp = lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u],
+                                       wlen[v, u], wacc[v, u], wsp[v, u])
+                wacc[v, u] = acc
+                wsp[v, u] = sp
+                out[i, v, u] = lattice_transmittance_of(acc, scale)
+
+
+def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None) -> np.ndarray:
+    """Sweep one light's lattice: float32 ``(nk, nv, nu)`` transmittances (into ``out`` when given).
+
+    ``u`` is the normalized volume ``[z, y, x]``, ``sig`` the optical depth per
+    reference step of each table entry, ``affine`` the (4, 4) voxel -> world
+    matrix, ``geo``/``planes`` the packed region, ``ds0`` the reference step
+    (mm), ``kext`` the extinction scale.
+    """
+    nk, nv, nu = (int(meta[i]) for i in (LV_NK, LV_NV, LV_NU))
+    a, b, c = (int(meta[i]) for i in (LV_AXA, LV_AXB, LV_AXC))
+    volt = np.transpose(u, (a, b, c))
+    if out is None:
+        out = np.empty((nk, nv, nu), np.float32)
+    work = [np.empty((nv, nu), np.float64) for _ in range(5)]
+    _sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes, int(nplanes),
+           np.asarray(meta, np.float64), float(ds0), float(kext), *work, out)
+    return out

@@ -41,15 +41,18 @@ def _render(vol, mode, zoom=1.3, **sampling):
     return render(scene, Camera.orbit(vol, azimuth=20, elevation=15, zoom=zoom), (48, 48))
 
 
+@pytest.mark.parametrize("spv, block", [(1.0, 4), (0.5, 2), (0.3, 2)])
 @pytest.mark.parametrize("mode", ["composite", "isosurface", "mip", "minip"])
-def test_skipping_changes_nothing(shells, mode):
-    ref = _render(shells, mode)
-    fast = _render(shells, mode, skip_empty=True, block_size=4)
+def test_skipping_changes_nothing(shells, mode, spv, block):
+    """Empty-space skipping changes no pixel, also below one sample per voxel with small blocks (where a
+    coarse step can step over the crossing block into one entirely above an isosurface's threshold)."""
+    ref = _render(shells, mode, samples_per_voxel=spv)
+    fast = _render(shells, mode, samples_per_voxel=spv, skip_empty=True, block_size=block)
     assert np.abs(fast.rgba - ref.rgba).max() <= 1e-6
     with np.errstate(invalid="ignore"):
         same_depth = (np.isinf(ref.depth) & np.isinf(fast.depth)) | (np.abs(ref.depth - fast.depth) <= 1e-4)
     assert same_depth.all()
-    assert fast.stats["samples"] < 0.8 * ref.stats["samples"], (fast.stats["samples"], ref.stats["samples"])
+    assert fast.stats["samples"] < 0.9 * ref.stats["samples"], (fast.stats["samples"], ref.stats["samples"])
 
 
 def test_early_termination_bounded_change(shells):

@@ -123,8 +123,12 @@ def block_visibility(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) 
 
 
 def iso_visibility(u_iso: float, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
-    """uint8 flags per block: 1 where the block's range contains the normalized threshold."""
-    return ((bmin <= u_iso) & (bmax >= u_iso)).astype(np.uint8)
+    """uint8 flags per block: 1 where some value reaches the normalized threshold (``bmax >= u_iso``).
+
+    A block entirely above the threshold is not skippable either: the first sample a ray takes in it
+    is the hit when the samples before it (at a coarse step) stepped over the crossing block.
+    """
+    return (bmax >= u_iso).astype(np.uint8)
 
 
 def gradient_table(tf, gmax: float) -> np.ndarray:

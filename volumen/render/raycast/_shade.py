@@ -69,7 +69,7 @@ def light_vector(lights, l, wx, wy, wz):
     return lx, ly, lz, d, spot
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, fastmath=True)
 def light_visibility(l, wx, wy, wz, lx, ly, lz, dist, vol, geo, planes, lvm, lvd, sig, prm, iprm):
     """Fraction of light ``l`` reaching the world point w (unit ``L`` toward the light, ``dist`` mm away).
 
@@ -101,7 +101,7 @@ def light_visibility(l, wx, wy, wz, lx, ly, lz, dist, vol, geo, planes, lvm, lvd
     return 1.0
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, fastmath=True)
 def shade(gx, gy, gz, vx, vy, vz, wx, wy, wz, vol, geo, planes, lights, lvm, lvd, sig, prm, iprm):
     """Lighting factors of a sample.
 
@@ -171,7 +171,9 @@ def shade(gx, gy, gz, vx, vy, vz, wx, wy, wz, vol, geo, planes, lights, lvm, lvd
             diff, spec = phong_terms(nx, ny, nz, lx, ly, lz, vx, vy, vz, shininess)
         if diff <= 0.0:
             continue
-        w = spot * light_visibility(l, wx, wy, wz, lx, ly, lz, dist, vol, geo, planes, lvm, lvd, sig, prm, iprm)
+        w = spot
+        if model != M_PHONG:  # Phong: every light reaches every sample (no call: its arrays cost refcounts)
+            w *= light_visibility(l, wx, wy, wz, lx, ly, lz, dist, vol, geo, planes, lvm, lvd, sig, prm, iprm)
         wr = w * lights[l, L_COL]
         wg = w * lights[l, L_COL + 1]
         wb = w * lights[l, L_COL + 2]

@@ -33,19 +33,24 @@ def create_window(path: str | None = None, *, session: str | None = None, size: 
     from ._session import resolve_volume
 
     _application()
+    ref = path or DEFAULT_DATA
+    volume = resolve_volume(ref) if (wait and session is None) else None  # fail before any window exists
     win = MainWindow()
     if size is not None:
         win.resize(*size)
     win.show()
-    if session is not None:
-        if not win.load_session(session) and wait:
-            raise ValueError(win.last_error[1])
-    else:
-        ref = path or DEFAULT_DATA
-        if wait:
-            win.set_volume(resolve_volume(ref), ref)
+    try:
+        if session is not None:
+            if not win.load_session(session) and wait:
+                where, problem = win.last_error
+                raise ValueError(f"{where}: {problem}")
+        elif wait:
+            win.set_volume(volume, ref)
         else:
             win.open_path(ref)
+    except BaseException:
+        win.close()  # stops the render thread before the interpreter shuts down
+        raise
     return win
 
 

@@ -32,6 +32,11 @@ SESSION_VERSION = 1
 class SessionError(VolumenError, ValueError):
     """A session file that cannot be read or applied; the message names the file and the problem."""
 
+    def __init__(self, path, problem: str):
+        self.path = None if path is None else str(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: {problem}" if self.path else problem)
+
 
 def phantom_ref(name: str, size: int | None = None) -> str:
     """The volume reference of a built-in phantom (``phantom:head`` or ``phantom:head?size=64``)."""

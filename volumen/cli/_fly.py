@@ -94,6 +94,8 @@ def run(args):
     if out.suffix.lower() not in (".mp4", ".gif"):
         raise ValueError(f"-o must end with .mp4 or .gif, got {out.name!r}")
     size = _size(args.size)
+    if args.unfold and args.path:  # before any rendering
+        raise ValueError("--unfold needs a centerline (--auto or --start/--end), not --path")
     volume = load_from_args(args)
     cl = None
     if args.path:

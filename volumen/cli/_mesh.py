@@ -27,13 +27,17 @@ def register(sub):
 def run(args):
     from tqdm import tqdm
 
-    from volumen.surface import extract_mesh, write_mesh
+    from volumen.surface import MESH_FORMATS, extract_mesh, write_mesh
 
     if args.iso is None and args.mask is None:
         raise ValueError("give --iso LEVEL (data units) or --mask MASK (or both)")
     if args.step < 1:
         raise ValueError(f"--step must be >= 1, got {args.step}")
     out = Path(args.out)
+    if out.suffix.lower() not in MESH_FORMATS:  # before any work
+        raise ValueError(f"{out}: the suffix picks the mesh format; use one of {', '.join(MESH_FORMATS)}")
+    if not out.resolve().parent.is_dir():
+        raise ValueError(f"{out}: folder {out.resolve().parent} does not exist")
     volume = load_from_args(args)
     mask = load_from_args(args, path=args.mask) if args.mask else None
     if mask is not None and mask.shape != volume.shape:

@@ -8,6 +8,7 @@ again bit for bit. Flags given together with ``--settings`` override it.
 from __future__ import annotations
 
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -222,6 +223,9 @@ def run(args):
     volume = load_from_args(args, path=source)
     scene, camera, size, background, orbit = build(args, base, volume)
     t0 = time.perf_counter()
+    if scene.shading.mode in ("phong", "shadows", "scattering", "pathtrace") and not scene.lights:
+        print(f"warning: shading {scene.shading.mode!r} without --light: only the ambient term lights the picture "
+              "(add --light 'pos=X,Y,Z dir=...' or use --shading headlight)", file=sys.stderr)
     backend = args.backend or (base or {}).get("backend") or "cpu"
     out_dir = Path(args.out).resolve().parent
     if not out_dir.is_dir():

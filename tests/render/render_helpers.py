@@ -34,3 +34,14 @@ def sphere_volume(n: int = 40, radius: float = 12.0, inside: float = 1000.0, out
     w = 0.5 * (1 - np.tanh((r - radius) / smooth))
     data = (outside + (inside - outside) * w).astype(np.float32)
     return Volume(data, spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
+
+
+def three_lights(center) -> tuple:
+    """Three different lights around ``center`` (world mm): a point light, a spot and a narrow blue spot."""
+    from volumen.core import Light
+
+    c = np.asarray(center, float)
+    return (Light(position=tuple(c + [80, 60, 40]), intensity=0.3, color=(1, 0.8, 0.6)),
+            Light(position=tuple(c + [-70, 50, -20]), direction=(0.7, -0.5, 0.2), exponent=4.0, intensity=0.35),
+            Light(position=tuple(c + [0, 90, 0]), direction=(0, -1, 0), exponent=12.0, intensity=0.25,
+                  color=(0.5, 0.7, 1.0)))

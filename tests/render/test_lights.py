@@ -9,7 +9,7 @@ from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, Tr
 
 from volumen.render import render
 
-from render_helpers import sphere_volume
+from render_helpers import three_lights, sphere_volume
 
 TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
 
@@ -34,10 +34,7 @@ def test_headlight_equals_point_light_at_eye(vol, mode):
 def test_lights_add_up(vol):
     cam = Camera.orbit(vol, azimuth=-25, zoom=1.4)
     c = np.asarray(vol.center)
-    lights = (Light(position=tuple(c + [80, 60, 40]), intensity=0.3, color=(1, 0.8, 0.6)),
-              Light(position=tuple(c + [-70, 50, -20]), direction=(0.7, -0.5, 0.2), exponent=4.0, intensity=0.35),
-              Light(position=tuple(c + [0, 90, 0]), direction=(0, -1, 0), exponent=12.0, intensity=0.25,
-                    color=(0.5, 0.7, 1.0)))
+    lights = three_lights(c)
     sh = Shading(mode="phong", ambient=0.15)
     base = Scene(volume=vol, transfer=TF, sampling=Sampling(seed=7))
 

@@ -16,7 +16,7 @@ from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFuncti
 from volumen.render import render
 from volumen.render.optics import hg_phase
 
-from render_helpers import axis_camera, sphere_volume
+from render_helpers import three_lights, axis_camera, sphere_volume
 
 A0 = 0.04
 COLOR = np.array([1.0, 0.6, 0.3])
@@ -78,10 +78,7 @@ def test_lights_add_linearly(mode):
                           opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
     cam = Camera.orbit(vol, azimuth=-25, zoom=1.4)
     c = np.asarray(vol.center)
-    lights = (Light(position=tuple(c + [80, 60, 40]), intensity=0.3, color=(1, 0.8, 0.6)),
-              Light(position=tuple(c + [-70, 50, -20]), direction=(0.7, -0.5, 0.2), exponent=4.0, intensity=0.35),
-              Light(position=tuple(c + [0, 90, 0]), direction=(0, -1, 0), exponent=12.0, intensity=0.25,
-                    color=(0.5, 0.7, 1.0)))
+    lights = three_lights(c)
     base = Scene(volume=vol, transfer=tf, sampling=Sampling(seed=7))
 
     def go(lts, ambient):

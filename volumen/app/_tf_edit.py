@@ -30,21 +30,31 @@ def move_opacity_point(tf: TransferFunction, index: int, value: float, alpha: fl
     return replace(tf, opacity=tuple(tuple(p) for p in pts), name=tf.name.split(" (edited)")[0] + " (edited)")
 
 
+def _inserted(points, row: tuple) -> tuple[tuple, int]:
+    """``points`` (sorted by value) with ``row`` inserted in order, and the row's index."""
+    pts = list(points)
+    i = int(np.searchsorted([p[0] for p in pts], row[0]))
+    pts.insert(i, row)
+    return tuple(pts), i
+
+
+def _removed(points, index: int) -> tuple | None:
+    """``points`` without row ``index``; None when only two rows are left (they always stay)."""
+    if len(points) <= 2:
+        return None
+    return tuple(p for n, p in enumerate(points) if n != index)
+
+
 def add_opacity_point(tf: TransferFunction, value: float, alpha: float) -> tuple[TransferFunction, int]:
     """Insert an opacity point; returns the new function and the point's index."""
-    pts = list(tf.opacity)
-    i = int(np.searchsorted([p[0] for p in pts], value))
-    pts.insert(i, (float(value), float(np.clip(alpha, 0.0, 1.0))))
-    return replace(tf, opacity=tuple(pts)), i
+    pts, i = _inserted(tf.opacity, (float(value), float(np.clip(alpha, 0.0, 1.0))))
+    return replace(tf, opacity=pts), i
 
 
 def remove_opacity_point(tf: TransferFunction, index: int) -> TransferFunction:
     """Remove an opacity point (the last two points always stay)."""
-    if len(tf.opacity) <= 2:
-        return tf
-    pts = list(tf.opacity)
-    del pts[index]
-    return replace(tf, opacity=tuple(pts))
+    pts = _removed(tf.opacity, index)
+    return tf if pts is None else replace(tf, opacity=pts)
 
 
 def move_color_stop(tf: TransferFunction, index: int, value: float) -> TransferFunction:
@@ -64,19 +74,14 @@ def set_color_stop(tf: TransferFunction, index: int, rgb) -> TransferFunction:
 def add_color_stop(tf: TransferFunction, value: float) -> tuple[TransferFunction, int]:
     """Insert a colour stop at ``value`` with the colour the function has there."""
     rgb = tf.evaluate([value])[0, :3]
-    pts = list(tf.color)
-    i = int(np.searchsorted([p[0] for p in pts], value))
-    pts.insert(i, (float(value), *(float(c) for c in rgb)))
-    return replace(tf, color=tuple(pts)), i
+    pts, i = _inserted(tf.color, (float(value), *(float(c) for c in rgb)))
+    return replace(tf, color=pts), i
 
 
 def remove_color_stop(tf: TransferFunction, index: int) -> TransferFunction:
     """Remove a colour stop (the last two stay)."""
-    if len(tf.color) <= 2:
-        return tf
-    pts = list(tf.color)
-    del pts[index]
-    return replace(tf, color=tuple(pts))
+    pts = _removed(tf.color, index)
+    return tf if pts is None else replace(tf, color=pts)
 
 
 def log_histogram(volume, bins: int = 256) -> tuple[np.ndarray, np.ndarray]:

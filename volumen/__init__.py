@@ -7,7 +7,7 @@ when first used.
 from __future__ import annotations
 
 from .core import Volume
-from .errors import VolumeReadError, VolumeWriteError, VolumenError
+from .errors import VolumenError, VolumeReadError, VolumeWriteError
 
 __all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "save", "__version__"]
 __version__ = "0.1.0"

@@ -5,8 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from volumen.core import (ClipPlane, Clipping, Isosurface, Light, Sampling, Scene, Shading, TransferFunction,
-                          Volume)
+from volumen.core import Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading, TransferFunction, Volume
 
 
 def test_defaults_follow_the_design():

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from endo_helpers import TORUS_H, TORUS_R, TORUS_RC
+
 from volumen.core import Volume
 
 

@@ -3,8 +3,18 @@
 import numpy as np
 import pytest
 
-from volumen.endoscopy import (Collider, Endoscope, GuidedNavigator, Keyframe, KeyframePath, ManualNavigator, Pose,
-                               WallField, catmull_rom, slerp)
+from volumen.endoscopy import (
+    Collider,
+    Endoscope,
+    GuidedNavigator,
+    Keyframe,
+    KeyframePath,
+    ManualNavigator,
+    Pose,
+    WallField,
+    catmull_rom,
+    slerp,
+)
 
 
 @pytest.fixture(scope="module")

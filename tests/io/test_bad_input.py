@@ -11,8 +11,15 @@ import pytest
 
 import volumen
 from volumen.core import Volume
-from volumen.errors import (CorruptDataError, DataSizeError, MissingPathError, NonFiniteValuesError,
-                            UnknownFormatError, VolumeReadError, VolumeWriteError)
+from volumen.errors import (
+    CorruptDataError,
+    DataSizeError,
+    MissingPathError,
+    NonFiniteValuesError,
+    UnknownFormatError,
+    VolumeReadError,
+    VolumeWriteError,
+)
 
 SHAPE = (7, 9, 11)  # (nz, ny, nx)
 

@@ -11,15 +11,29 @@ from __future__ import annotations
 import numpy as np
 import pydicom
 import pytest
+from dicom_factory import (
+    PATIENT,
+    new_uid,
+    oblique_cosines,
+    stack_positions,
+    write_enhanced,
+    write_legacy_multiframe,
+    write_non_image,
+    write_series,
+)
 from pydicom.uid import HTJ2KLossless, JPEG2000Lossless, JPEGLosslessSV1, JPEGLSLossless
 
 import volumen
-from volumen.errors import (CorruptDataError, MissingDependencyError, MissingPathError, MultipleSeriesError,
-                            SeriesError, UnknownFormatError, VolumeReadError)
+from volumen.errors import (
+    CorruptDataError,
+    MissingDependencyError,
+    MissingPathError,
+    MultipleSeriesError,
+    SeriesError,
+    UnknownFormatError,
+    VolumeReadError,
+)
 from volumen.io import _dicom
-
-from dicom_factory import (PATIENT, new_uid, oblique_cosines, stack_positions, write_enhanced,
-                           write_legacy_multiframe, write_non_image, write_series)
 
 ROW, COL = oblique_cosines(axis=(1.0, 0.3, 0.0), degrees=20.0)
 ORIGIN = np.array([-100.5, 80.25, 30.0])

@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from volumen.core import Camera, ClipPlane, Clipping, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.data import phantom
 
 SIZE = (10, 8)

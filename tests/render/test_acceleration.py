@@ -7,15 +7,12 @@ wherever anything is visible, so it changes nothing (tested to 1e-6).
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
+from render_helpers import sphere_volume
 
 from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
-
-from render_helpers import sphere_volume
 
 
 @pytest.fixture(scope="module")

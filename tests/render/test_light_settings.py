@@ -6,11 +6,10 @@ import json
 
 import numpy as np
 import pytest
+from render_helpers import sphere_volume
 
 from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
-
-from render_helpers import sphere_volume
 
 TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
 

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from render_helpers import sphere_volume, three_lights
 
 from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
-
 from volumen.render import render
-
-from render_helpers import three_lights, sphere_volume
 
 TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
 

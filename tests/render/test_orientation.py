@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from volumen.core import Camera, Sampling, Scene, Shading, TransferFunction, Volume
+from volumen.core import Camera, Sampling, Scene, TransferFunction, Volume
 from volumen.render import render
 
 SIZE = (64, 64)

@@ -7,12 +7,11 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from render_helpers import sphere_volume
 
 from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.data import phantom
 from volumen.render import PathTracer, render
-
-from render_helpers import sphere_volume
 
 SIZE = (32, 32)
 

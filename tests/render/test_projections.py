@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from volumen.core import ClipPlane, Clipping, Sampling, Scene, TransferFunction, Volume
-from volumen.render import render
-
 from render_helpers import axis_camera
+
+from volumen.core import Clipping, ClipPlane, Sampling, Scene, TransferFunction, Volume
+from volumen.render import render
 
 
 @pytest.fixture(scope="module")

@@ -5,12 +5,10 @@ from __future__ import annotations
 import json
 
 import numpy as np
-
-from volumen.core import (Camera, ClipPlane, Clipping, Isosurface, Light, Sampling, Scene, Shading,
-                          TransferFunction)
-from volumen.render import render
-
 from render_helpers import sphere_volume
+
+from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.render import render
 
 
 def test_json_round_trip_same_objects_same_pixels():

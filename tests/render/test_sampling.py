@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from render_helpers import axis_camera
 
 from volumen.core import Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
-
-from render_helpers import axis_camera
 
 A0 = 0.05  # opacity per reference step (one voxel)
 COLOR = (1.0, 0.5, 0.25)

@@ -11,12 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from render_helpers import axis_camera, sphere_volume, three_lights
 
 from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 from volumen.render.optics import hg_phase
-
-from render_helpers import three_lights, axis_camera, sphere_volume
 
 A0 = 0.04
 COLOR = np.array([1.0, 0.6, 0.3])

@@ -11,13 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from render_helpers import axis_camera
 from scipy import ndimage
 
-from volumen.core import Camera, ClipPlane, Clipping, Light, Sampling, Scene, Shading, TransferFunction, Volume
+from volumen.core import Camera, Clipping, ClipPlane, Light, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.data import phantom
 from volumen.render import render
-
-from render_helpers import axis_camera
 
 SIZE = (64, 64)
 

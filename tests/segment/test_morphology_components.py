@@ -7,8 +7,17 @@ import pytest
 from scipy import ndimage
 
 from volumen.core import Volume
-from volumen.segment import (ball, binary_close, binary_open, dilate, erode, fill_holes, keep_components_touching,
-                             keep_largest_component, label_components)
+from volumen.segment import (
+    ball,
+    binary_close,
+    binary_open,
+    dilate,
+    erode,
+    fill_holes,
+    keep_components_touching,
+    keep_largest_component,
+    label_components,
+)
 
 
 def reference_ball(r: int) -> np.ndarray:

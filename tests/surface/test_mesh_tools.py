@@ -7,8 +7,19 @@ import pytest
 from surface_fields import directed_edges_unique, edge_counts, ellipsoid_field
 
 from volumen.core import Volume
-from volumen.surface import (Mesh, decimate, extract_mesh, laplacian_smooth, largest_component, marching_cubes,
-                             mesh_components, orient_outward, read_mesh, taubin_smooth, write_mesh)
+from volumen.surface import (
+    Mesh,
+    decimate,
+    extract_mesh,
+    laplacian_smooth,
+    largest_component,
+    marching_cubes,
+    mesh_components,
+    orient_outward,
+    read_mesh,
+    taubin_smooth,
+    write_mesh,
+)
 
 
 def unit_cube() -> Mesh:

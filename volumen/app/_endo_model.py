@@ -163,7 +163,7 @@ class Endoscopy:
                 "centerline": None if self.centerline is None else self.centerline.to_dict()}
 
     @classmethod
-    def from_dict(cls, volume, d: dict) -> "Endoscopy":
+    def from_dict(cls, volume, d: dict) -> Endoscopy:
         from ..endoscopy import Centerline
 
         e = cls(volume, lumen=d.get("lumen", "air"), margin=d.get("margin", 2.0), fov=d.get("fov", 90.0))

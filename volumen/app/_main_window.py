@@ -18,8 +18,17 @@ import time
 
 import numpy as np
 from PySide6.QtCore import QCoreApplication, Qt, QTimer
-from PySide6.QtWidgets import (QComboBox, QFileDialog, QGridLayout, QInputDialog, QMainWindow, QTabWidget, QToolBar,
-                               QWidget, QDockWidget)
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDockWidget,
+    QFileDialog,
+    QGridLayout,
+    QInputDialog,
+    QMainWindow,
+    QTabWidget,
+    QToolBar,
+    QWidget,
+)
 
 from ..core import VIEWS, WINDOW_PRESETS, Camera
 from ._clip_panel import ClipPanel

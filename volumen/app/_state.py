@@ -13,8 +13,8 @@ listeners of a *topic* (a plain observer list, so the model never imports Qt):
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Callable
 
 import numpy as np
 

@@ -51,7 +51,7 @@ class Stereo:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Stereo":
+    def from_dict(cls, d: dict) -> Stereo:
         extra = set(d) - {"mode", "eye_separation", "convergence"}
         if extra:
             raise ValueError(f"unknown stereo fields {sorted(extra)}")

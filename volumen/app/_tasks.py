@@ -9,7 +9,8 @@ opened, not executed), so a failure is reported and the application goes on.
 from __future__ import annotations
 
 import threading
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from PySide6.QtCore import QObject, Qt, Signal
 from PySide6.QtWidgets import QMessageBox, QProgressDialog, QWidget
@@ -43,7 +44,7 @@ class Task(QObject):
             self.result = res
             self.done.emit(res)
 
-    def start(self) -> "Task":
+    def start(self) -> Task:
         self._thread.start()
         return self
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QLinearGradient, QPainter, QPen, QPolygonF
-from PySide6.QtWidgets import (QColorDialog, QComboBox, QFormLayout, QLabel, QSlider, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import QColorDialog, QComboBox, QFormLayout, QLabel, QSlider, QVBoxLayout, QWidget
 
 from ..core import PRESETS, TransferFunction
 from . import _tf_edit as edit

@@ -6,8 +6,9 @@ import json
 import os
 import platform
 import time
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 __all__ = ["Table", "machine_info", "median_time", "resolve_backend"]
 

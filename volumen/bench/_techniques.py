@@ -93,10 +93,17 @@ def bench_techniques(*, volumes=None, size=(256, 256), frames: int = 120, mc_siz
     """
     from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction
     from volumen.data import phantom
-    from volumen.render import render
-    from volumen.render.raster import (ADAPTIVE, RasterUnavailable, SlicingOptions, context_info, render_isosurface_mesh,
-                                       render_reduced, render_slicing, register_backends)
-    from volumen.render import BACKENDS
+    from volumen.render import BACKENDS, render
+    from volumen.render.raster import (
+        ADAPTIVE,
+        RasterUnavailable,
+        SlicingOptions,
+        context_info,
+        register_backends,
+        render_isosurface_mesh,
+        render_reduced,
+        render_slicing,
+    )
     from volumen.surface._bench import bench_marching_cubes
 
     volumes = volumes or VOLUMES

@@ -87,8 +87,7 @@ def _centerline(args, volume):
 
 
 def run(args):
-    from volumen.endoscopy import (Endoscope, FrameLog, KeyframePath, VideoWriter, WallField, endoscopy_transfer,
-                                   unfold)
+    from volumen.endoscopy import Endoscope, FrameLog, KeyframePath, VideoWriter, WallField, endoscopy_transfer, unfold
 
     out = Path(args.out)
     if out.suffix.lower() not in (".mp4", ".gif"):

@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from ._common import add_load_options, load_from_args, parse_point, _floats
+from ._common import _floats, add_load_options, load_from_args, parse_point
 
 SETTINGS_VERSION = 1
 
@@ -125,7 +125,7 @@ def build(args, base: dict | None, volume):
     """(scene, camera, size, background) from the flags over an optional settings dict."""
     from dataclasses import replace
 
-    from volumen.core import Camera, ClipPlane, Clipping, Isosurface, Sampling, Scene, TransferFunction
+    from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Sampling, Scene, TransferFunction
 
     scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
     scene = replace(scene, volume_ref=_volume_ref(args, base))

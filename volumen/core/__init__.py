@@ -1,11 +1,11 @@
 """Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only."""
 
-from ._volume import Volume, axis_codes
 from ._camera import VIEWS, Camera
-from ._transfer import PRESETS, TransferFunction
-from ._scene import MODES, SHADINGS, ClipPlane, Clipping, Isosurface, Light, Sampling, Scene, Shading
 from ._image import Image
+from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
 from ._slices import PLANES, WINDOW_PRESETS, Window, canonical, montage, slice_at, slice_image, window_to_uint8
+from ._transfer import PRESETS, TransferFunction
+from ._volume import Volume, axis_codes
 
 __all__ = [
     "Volume",

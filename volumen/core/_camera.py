@@ -181,7 +181,7 @@ class Camera(JsonData):
     # -- framing a volume ---------------------------------------------------
     @classmethod
     def anatomical(cls, volume, view: View = "anterior", *, projection: Projection = "perspective",
-                   fov: float = 30.0, zoom: float = 1.0) -> "Camera":
+                   fov: float = 30.0, zoom: float = 1.0) -> Camera:
         """The camera of one of the six anatomical views, framing the whole volume.
 
         Parameters
@@ -202,7 +202,7 @@ class Camera(JsonData):
     @classmethod
     def orbit(cls, volume, *, azimuth: float = 0.0, elevation: float = 0.0, zoom: float = 1.0,
               view: View = "anterior", projection: Projection = "perspective",
-              fov: float = 30.0) -> "Camera":
+              fov: float = 30.0) -> Camera:
         """A camera on a sphere around the volume's centre, starting from an anatomical view.
 
         The eye starts on the ``view`` side (see :meth:`anatomical`); then
@@ -239,7 +239,7 @@ class Camera(JsonData):
         return cls(position=tuple(centre + back * dist), target=tuple(centre), up=tuple(up), fov=fov,
                    projection=projection, parallel_scale=scale)
 
-    def with_(self, **changes) -> "Camera":
+    def with_(self, **changes) -> Camera:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 

@@ -10,8 +10,9 @@ that string is the caller's job (the command line and the application pass a
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, Literal, get_args
+from typing import Any, Literal, get_args
 
 import numpy as np
 
@@ -177,7 +178,7 @@ class Scene:
             if not isinstance(light, Light):
                 raise ValueError(f"Scene.lights must hold Light objects, got {type(light).__name__}")
 
-    def with_(self, **changes) -> "Scene":
+    def with_(self, **changes) -> Scene:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 
@@ -189,7 +190,7 @@ class Scene:
                 "clipping": self.clipping.to_dict(), "isosurface": self.isosurface.to_dict()}
 
     @classmethod
-    def from_dict(cls, d: dict, *, volume=None, resolve: Callable[[str], Any] | None = None) -> "Scene":
+    def from_dict(cls, d: dict, *, volume=None, resolve: Callable[[str], Any] | None = None) -> Scene:
         """Inverse of :meth:`to_dict`.
 
         ``volume`` is attached as is; otherwise, when ``resolve`` is given, it
@@ -219,5 +220,5 @@ class Scene:
         return json.dumps(self.to_dict(), **kw)
 
     @classmethod
-    def from_json(cls, text: str, *, volume=None, resolve: Callable[[str], Any] | None = None) -> "Scene":
+    def from_json(cls, text: str, *, volume=None, resolve: Callable[[str], Any] | None = None) -> Scene:
         return cls.from_dict(json.loads(text), volume=volume, resolve=resolve)

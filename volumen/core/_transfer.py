@@ -107,7 +107,7 @@ class TransferFunction(JsonData):
         return float(lo), float(hi)
 
     # -- editing ------------------------------------------------------------
-    def shifted(self, offset: float) -> "TransferFunction":
+    def shifted(self, offset: float) -> TransferFunction:
         """Slicer-style shift: move the inner control points by ``offset`` data units.
 
         The first and last point of each curve stay (they anchor the ends of
@@ -124,14 +124,14 @@ class TransferFunction(JsonData):
 
         return replace(self, color=move(self.color), opacity=move(self.opacity))
 
-    def with_opacity_scale(self, factor: float) -> "TransferFunction":
+    def with_opacity_scale(self, factor: float) -> TransferFunction:
         """A copy with every opacity multiplied by ``factor`` (clipped to [0, 1])."""
         return replace(self, opacity=tuple((v, min(max(a * factor, 0.0), 1.0)) for v, a in self.opacity))
 
     # -- constructors -------------------------------------------------------
     @classmethod
     def window_level(cls, window: float, level: float, *, opacity: tuple[float, float] = (0.0, 1.0),
-                     name: str = "") -> "TransferFunction":
+                     name: str = "") -> TransferFunction:
         """Grayscale ramp: black at ``level - window/2``, white at ``level + window/2`` (data units).
 
         ``opacity`` gives the alpha at the bottom and top of the window (ramped
@@ -144,7 +144,7 @@ class TransferFunction(JsonData):
                    opacity=((lo, opacity[0]), (hi, opacity[1])), name=name)
 
     @classmethod
-    def preset(cls, name: Preset, *, value_range: tuple[float, float] | None = None) -> "TransferFunction":
+    def preset(cls, name: Preset, *, value_range: tuple[float, float] | None = None) -> TransferFunction:
         """A named preset.
 
         CT presets are in Hounsfield units. ``mr-default`` and ``mip-gray`` are

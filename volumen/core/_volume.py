@@ -212,7 +212,7 @@ class Volume:
         return np.histogram(d, bins=bins, range=(lo, hi))
 
     # -- derived volumes ------------------------------------------------------
-    def with_data(self, data: np.ndarray, **changes) -> "Volume":
+    def with_data(self, data: np.ndarray, **changes) -> Volume:
         """A volume on the same grid with other values (a mask, a filtered copy)."""
         kw = dict(spacing=self.spacing, affine=self.affine.copy(), modality=self.modality,
                   units=self.units, name=self.name, meta=dict(self.meta))
@@ -222,7 +222,7 @@ class Volume:
         return Volume(data, **kw)
 
     def crop(self, z: slice | tuple = slice(None), y: slice | tuple = slice(None),
-             x: slice | tuple = slice(None)) -> "Volume":
+             x: slice | tuple = slice(None)) -> Volume:
         """Sub-volume by index ranges ``[z, y, x]`` (slices or ``(start, stop)``); the affine is shifted
         so every kept voxel keeps its world position. The data is a copy."""
         sl = [s if isinstance(s, slice) else slice(*s) for s in (z, y, x)]
@@ -239,7 +239,7 @@ class Volume:
                       units=self.units, name=self.name, meta=dict(self.meta))
 
     def resample(self, spacing: float | tuple[float, float, float] | None = None, order: int = 1,
-                 mode: str = "nearest") -> "Volume":
+                 mode: str = "nearest") -> Volume:
         """Resample onto a grid of ``spacing`` mm (a number for isotropic, or ``(dz, dy, dx)``).
 
         Default: isotropic at the smallest current spacing. The new grid starts at

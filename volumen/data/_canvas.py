@@ -49,7 +49,7 @@ class Grid:
     origin: tuple[float, float, float]
 
     @classmethod
-    def centred(cls, fov_xyz, size, center=(0.0, 0.0, 0.0)) -> "Grid":
+    def centred(cls, fov_xyz, size, center=(0.0, 0.0, 0.0)) -> Grid:
         """A grid covering ``fov_xyz`` (x, y, z) mm around ``center``.
 
         ``size`` is the voxel count along the longest axis (isotropic voxels) or a

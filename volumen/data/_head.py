@@ -24,8 +24,18 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import (Canvas, Grid, Region, box_sd, ellipse_cylinder_sd, ellipsoid_sd, ellipsoid_support,
-                      smooth_union, sphere_sd, surface_point)
+from ._canvas import (
+    Canvas,
+    Grid,
+    Region,
+    box_sd,
+    ellipse_cylinder_sd,
+    ellipsoid_sd,
+    ellipsoid_support,
+    smooth_union,
+    sphere_sd,
+    surface_point,
+)
 from ._tubes import make_path, paint_tubes, truth_tube
 
 __all__ = ["head"]

@@ -10,7 +10,7 @@ same bytes.
 from __future__ import annotations
 
 import inspect
-from typing import Callable
+from collections.abc import Callable
 
 from ..core import Volume
 from ._head import head

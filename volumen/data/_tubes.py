@@ -45,7 +45,7 @@ class Tube:
     mask: np.ndarray
     centerline: np.ndarray
     radius: np.ndarray
-    branches: tuple["Tube", ...] = ()
+    branches: tuple[Tube, ...] = ()
 
     @property
     def arc_length(self) -> np.ndarray:

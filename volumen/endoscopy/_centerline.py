@@ -151,7 +151,7 @@ class Centerline:
             nrm[i + 1] = r
         return t, nrm, np.cross(t, nrm)
 
-    def reversed(self) -> "Centerline":
+    def reversed(self) -> Centerline:
         """The same path from its end to its start."""
         return Centerline(self.points[::-1].copy(), self.radius[::-1].copy(), self.length - self.arc[::-1])
 
@@ -160,7 +160,7 @@ class Centerline:
         return {"points": self.points.tolist(), "radius": self.radius.tolist(), "arc": self.arc.tolist()}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Centerline":
+    def from_dict(cls, d: dict) -> Centerline:
         extra = set(d) - {"points", "radius", "arc"}
         if extra:
             raise ValueError(f"unknown Centerline fields {sorted(extra)}; valid: ['arc', 'points', 'radius']")
@@ -170,7 +170,7 @@ class Centerline:
         return json.dumps(self.to_dict())
 
     @classmethod
-    def from_json(cls, text: str) -> "Centerline":
+    def from_json(cls, text: str) -> Centerline:
         return cls.from_dict(json.loads(text))
 
 

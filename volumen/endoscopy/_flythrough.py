@@ -143,7 +143,7 @@ class Endoscope:
             object.__setattr__(self, "transfer", endoscopy_transfer("endo-air"))
         object.__setattr__(self, "lights", tuple(self.lights))
 
-    def with_(self, **changes) -> "Endoscope":
+    def with_(self, **changes) -> Endoscope:
         return replace(self, **changes)
 
     def scene(self, pose) -> Scene:

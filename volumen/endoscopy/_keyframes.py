@@ -160,7 +160,7 @@ class KeyframePath:
     # -- construction -------------------------------------------------------
     @classmethod
     def from_centerline(cls, centerline, *, every: float = 10.0, look_ahead: float = 10.0, up=None,
-                        speed: float = 20.0, start: float = 0.0, end: float | None = None) -> "KeyframePath":
+                        speed: float = 20.0, start: float = 0.0, end: float | None = None) -> KeyframePath:
         """Keyframes sampled every ``every`` mm along a :class:`Centerline` between arc ``start`` and ``end`` (mm).
 
         The view looks ``look_ahead`` mm ahead along the path; ``up`` follows
@@ -188,7 +188,7 @@ class KeyframePath:
         return {"speed": self.speed, "keyframes": [k.to_dict() for k in self.keyframes]}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "KeyframePath":
+    def from_dict(cls, d: dict) -> KeyframePath:
         extra = set(d) - {"speed", "keyframes"}
         if extra:
             raise ValueError(f"unknown keyframe path fields {sorted(extra)}; valid: ['keyframes', 'speed']")
@@ -200,7 +200,7 @@ class KeyframePath:
         return json.dumps(self.to_dict(), **kw)
 
     @classmethod
-    def from_json(cls, text: str) -> "KeyframePath":
+    def from_json(cls, text: str) -> KeyframePath:
         return cls.from_dict(json.loads(text))
 
     def save(self, path) -> None:
@@ -210,7 +210,7 @@ class KeyframePath:
         Path(path).write_text(self.to_json(indent=1))
 
     @classmethod
-    def load(cls, path) -> "KeyframePath":
+    def load(cls, path) -> KeyframePath:
         """Read a path written by :meth:`save`; a bad file raises ValueError naming it."""
         from pathlib import Path
 

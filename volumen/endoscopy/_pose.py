@@ -127,12 +127,12 @@ class Pose:
         return quat_from_matrix(self.matrix())
 
     @classmethod
-    def from_quaternion(cls, position, q) -> "Pose":
+    def from_quaternion(cls, position, q) -> Pose:
         """The pose at ``position`` (mm) with the orientation of quaternion ``q``."""
         m = quat_to_matrix(q)
         return cls(position=tuple(position), forward=tuple(-m[:, 2]), up=tuple(m[:, 1]))
 
-    def rotated(self, axis, degrees: float) -> "Pose":
+    def rotated(self, axis, degrees: float) -> Pose:
         """The pose turned by ``degrees`` about a world ``axis`` through the eye."""
         r = quat_to_matrix(quat_from_axis_angle(axis, degrees))
         return Pose(self.position, tuple(r @ np.asarray(self.forward)), tuple(r @ np.asarray(self.up)))
@@ -160,7 +160,7 @@ class Pose:
         return {"position": list(self.position), "forward": list(self.forward), "up": list(self.up)}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Pose":
+    def from_dict(cls, d: dict) -> Pose:
         extra = set(d) - {"position", "forward", "up"}
         if extra:
             raise ValueError(f"unknown Pose fields {sorted(extra)}; valid: ['forward', 'position', 'up']")

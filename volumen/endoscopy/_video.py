@@ -79,7 +79,7 @@ class VideoWriter:
                         loop=0)
             self._gif = []
 
-    def __enter__(self) -> "VideoWriter":
+    def __enter__(self) -> VideoWriter:
         return self
 
     def __exit__(self, *exc) -> None:

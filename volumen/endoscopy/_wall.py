@@ -64,7 +64,7 @@ class WallField:
 
     @classmethod
     def from_threshold(cls, volume, threshold: float = -500.0,
-                       lumen: Literal["below", "above"] = "below") -> "WallField":
+                       lumen: Literal["below", "above"] = "below") -> WallField:
         """Wall where the data crosses ``threshold`` (data units, e.g. HU).
 
         Parameters
@@ -86,7 +86,7 @@ class WallField:
         return cls(volume, np.negative(data, dtype=np.float32), -float(threshold), "threshold")
 
     @classmethod
-    def from_transfer(cls, volume, transfer, opacity: float = 0.5) -> "WallField":
+    def from_transfer(cls, volume, transfer, opacity: float = 0.5) -> WallField:
         """Wall where the transfer function's opacity (per reference step) reaches ``opacity`` (0..1)."""
         if not 0.0 < opacity <= 1.0:
             raise ValueError(f"opacity must be in (0, 1], got {opacity}")
@@ -95,7 +95,7 @@ class WallField:
         return cls(volume, field, float(opacity), "transfer")
 
     @classmethod
-    def from_mask(cls, volume, mask) -> "WallField":
+    def from_mask(cls, volume, mask) -> WallField:
         """Wall outside a boolean lumen ``mask [z, y, x]`` (same shape as the volume)."""
         m = np.asarray(mask)
         if m.shape != volume.shape:

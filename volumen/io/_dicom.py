@@ -23,8 +23,14 @@ from pydicom.errors import InvalidDicomError
 from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
 
 from ..core import Volume
-from ..errors import (CorruptDataError, MissingDependencyError, MissingPathError, MultipleSeriesError, SeriesError,
-                      UnknownFormatError)
+from ..errors import (
+    CorruptDataError,
+    MissingDependencyError,
+    MissingPathError,
+    MultipleSeriesError,
+    SeriesError,
+    UnknownFormatError,
+)
 from ._dicom_series import Geometry, SeriesHeaders, measure, read_headers
 
 __all__ = ["read"]

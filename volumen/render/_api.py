@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction
 from ..core._camera import Projection, View

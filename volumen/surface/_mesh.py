@@ -84,7 +84,7 @@ class Mesh:
         return enclosed_volume(self)
 
     def with_geometry(self, vertices: np.ndarray, faces: np.ndarray | None = None,
-                      normals: np.ndarray | None = None, **meta) -> "Mesh":
+                      normals: np.ndarray | None = None, **meta) -> Mesh:
         """A new mesh with other vertices (and faces); normals recomputed unless given."""
         return Mesh(vertices, self.faces if faces is None else faces, normals,
                     meta={**self.meta, **meta})

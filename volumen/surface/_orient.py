@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+
 from ._mesh import Mesh
 
 __all__ = ["orient_outward"]

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from raster_helpers import homogeneous_volume, save_row
+
 from volumen.core import Camera, Clipping, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 from volumen.render.raster import ADAPTIVE, SlicingOptions, render_slicing

@@ -15,8 +15,20 @@ import time
 
 import numpy as np
 
-from ..raycast._lightvol import DIRECT, LATTICE, LV_AXA, LV_AXB, LV_AXC, LV_KIND, LV_NK, LV_NU, LV_NV, LV_OFF, NMETA
-from ..raycast._lightvol import plan_lattice
+from ..raycast._lightvol import (
+    DIRECT,
+    LATTICE,
+    LV_AXA,
+    LV_AXB,
+    LV_AXC,
+    LV_KIND,
+    LV_NK,
+    LV_NU,
+    LV_NV,
+    LV_OFF,
+    NMETA,
+    plan_lattice,
+)
 from ._memory import device_volume, permuted
 
 __all__ = ["device_light_volumes"]

@@ -7,8 +7,8 @@ backend table (``volumen.render.BACKENDS``) under their names.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from ._mesh import MeshOptions, render_isosurface_mesh
 from ._slicing import SlicingOptions, render_slicing

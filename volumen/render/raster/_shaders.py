@@ -28,7 +28,7 @@ SHADER_FILES = ("slicing", "mesh", "lighting")
 _programs: dict = {}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def shader_source(name: str) -> str:
     """Text of ``shaders/<name>.glsl`` (read once)."""
     if name not in SHADER_FILES:

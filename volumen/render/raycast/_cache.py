@@ -70,7 +70,7 @@ class Prepared:
         return self._blocks[block]
 
 
-_CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _key(volume) -> tuple:

@@ -14,8 +14,23 @@ import numpy as np
 from numba import njit, prange
 
 from ._geometry import region_interval
-from ._params import (LV_AXA, LV_AXB, LV_AXC, LV_H, LV_K0, LV_KFAR, LV_NK, LV_NU, LV_NV, LV_OU, LV_OV, LV_PA, LV_PB,
-                      LV_PC, MAX_STEP)
+from ._params import (
+    LV_AXA,
+    LV_AXB,
+    LV_AXC,
+    LV_H,
+    LV_K0,
+    LV_KFAR,
+    LV_NK,
+    LV_NU,
+    LV_NV,
+    LV_OU,
+    LV_OV,
+    LV_PA,
+    LV_PB,
+    LV_PC,
+    MAX_STEP,
+)
 from ._sample import sample_value
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",

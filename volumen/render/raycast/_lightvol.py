@@ -43,15 +43,44 @@ import time
 import numpy as np
 from numba import njit
 
-from ._lightsweep import (build_lattice, lattice_frame, lattice_offsets, lattice_ray, lattice_slice, lattice_step,
-                          lattice_transmittance_of)
+from ._lightsweep import (
+    build_lattice,
+    lattice_frame,
+    lattice_offsets,
+    lattice_ray,
+    lattice_slice,
+    lattice_step,
+    lattice_transmittance_of,
+)
 
 __all__ = ["LV_KIND", "LATTICE", "DIRECT", "NMETA", "NEAR_STEPS", "plan_lattice", "build_lattice", "lattice_transmittance",
            "light_volumes", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of"]
 
-from ._params import (BUDGET, DIRECT, LATTICE, LV_AXA, LV_AXB, LV_AXC, LV_H, LV_K0, LV_KFAR, LV_KIND, LV_NK,
-                      LV_NU, LV_NV, LV_OFF, LV_OU, LV_OV, LV_PA, LV_PB, LV_PC, MAX_NODES, NEAR_STEPS, NMETA)
+from ._params import (
+    BUDGET,
+    DIRECT,
+    LATTICE,
+    LV_AXA,
+    LV_AXB,
+    LV_AXC,
+    LV_H,
+    LV_K0,
+    LV_KFAR,
+    LV_KIND,
+    LV_NK,
+    LV_NU,
+    LV_NV,
+    LV_OFF,
+    LV_OU,
+    LV_OV,
+    LV_PA,
+    LV_PB,
+    LV_PC,
+    MAX_NODES,
+    NEAR_STEPS,
+    NMETA,
+)
 
 
 @njit(cache=True, fastmath=True)

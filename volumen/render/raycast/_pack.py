@@ -15,16 +15,55 @@ import numpy as np
 from ._cache import prepare
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
 from ._lightvol import light_volumes
-from ._params import (I_BLOCK, I_BOUNCES, I_GRADOP, I_JITTER, I_MODE, I_MODEL, I_NEAREST, I_NLIGHTS, I_NPLANES,
-                      I_PREINT, I_SEED, I_SHADED, I_SKIP, MODEL_CODES, N_IPRM, N_PRM, P_ALBEDO, P_DS, P_DS0, P_ET,
-                      P_G, P_ISO, P_ISO_R, P_KA, P_KD, P_KEXT, P_KS, P_PRE_SCALE, P_SH_OFF, P_SH_STEP, P_SHINE,
-                      P_VMIN, P_VSCALE)
+from ._params import (
+    I_BLOCK,
+    I_BOUNCES,
+    I_GRADOP,
+    I_JITTER,
+    I_MODE,
+    I_MODEL,
+    I_NEAREST,
+    I_NLIGHTS,
+    I_NPLANES,
+    I_PREINT,
+    I_SEED,
+    I_SHADED,
+    I_SKIP,
+    MODEL_CODES,
+    N_IPRM,
+    N_PRM,
+    P_ALBEDO,
+    P_DS,
+    P_DS0,
+    P_ET,
+    P_G,
+    P_ISO,
+    P_ISO_R,
+    P_KA,
+    P_KD,
+    P_KEXT,
+    P_KS,
+    P_PRE_SCALE,
+    P_SH_OFF,
+    P_SH_STEP,
+    P_SHINE,
+    P_VMIN,
+    P_VSCALE,
+)
 from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
-from ._tables import (NPRE, block_visibility, color_table, extinction_table, gradient_table, iso_extinction_table,
-                      iso_visibility,
-                      preintegrated_table, skip_distance)
+from ._tables import (
+    NPRE,
+    block_visibility,
+    color_table,
+    extinction_table,
+    gradient_table,
+    iso_extinction_table,
+    iso_visibility,
+    preintegrated_table,
+    skip_distance,
+)
 from ._trace import MODE_CODES
 
 __all__ = ["Frame", "pack_frame", "LIT_SHADINGS"]

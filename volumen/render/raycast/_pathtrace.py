@@ -27,10 +27,9 @@ per-pixel function: it is callable from a CUDA kernel.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import replace
-
-import math
 
 import numpy as np
 from numba import njit, prange
@@ -38,8 +37,7 @@ from numba import njit, prange
 from ._cpu import TILE, tile_order
 from ._geometry import primary_ray, ray_interval, region_interval, to_index
 from ._pack import pack_frame
-from ._params import (I_BOUNCES, I_NLIGHTS, I_NPLANES, I_SEED, P_ALBEDO, P_DS0, P_G, P_KA, P_KD, P_KEXT,
-                      P_SH_OFF)
+from ._params import I_BOUNCES, I_NLIGHTS, I_NPLANES, I_SEED, P_ALBEDO, P_DS0, P_G, P_KA, P_KD, P_KEXT, P_SH_OFF
 from ._sample import sample_value
 from ._scatter import phase_weight
 from ._shade import L_COL, L_RAD, light_vector

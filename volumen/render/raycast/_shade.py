@@ -25,8 +25,23 @@ from numba import njit
 from ..optics import phong_terms, spot_factor
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
-from ._params import (I_MODEL, I_NLIGHTS, I_NPLANES, M_PHONG, M_SCATTER, P_ALBEDO, P_DS0, P_G, P_KA, P_KD,
-                      P_KEXT, P_KS, P_SH_OFF, P_SH_STEP, P_SHINE)
+from ._params import (
+    I_MODEL,
+    I_NLIGHTS,
+    I_NPLANES,
+    M_PHONG,
+    M_SCATTER,
+    P_ALBEDO,
+    P_DS0,
+    P_G,
+    P_KA,
+    P_KD,
+    P_KEXT,
+    P_KS,
+    P_SH_OFF,
+    P_SH_STEP,
+    P_SHINE,
+)
 from ._scatter import phase_weight
 from ._shadow import shadow_transmittance
 

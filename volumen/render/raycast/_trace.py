@@ -43,9 +43,28 @@ from numba import njit
 
 from ..optics import composite, correct_opacity
 from ._geometry import primary_ray, ray_interval, to_index
+from ._params import (
+    I_BLOCK,
+    I_GRADOP,
+    I_JITTER,
+    I_MODE,
+    I_MODEL,
+    I_NEAREST,
+    I_NPLANES,
+    I_PREINT,
+    I_SEED,
+    I_SHADED,
+    I_SKIP,
+    M_SCATTER,
+    P_DS,
+    P_ET,
+    P_ISO,
+    P_ISO_R,
+    P_PRE_SCALE,
+    P_VMIN,
+    P_VSCALE,
+)
 from ._sample import jitter01, sample_normal, sample_value
-from ._params import (I_BLOCK, I_GRADOP, I_JITTER, I_MODE, I_MODEL, I_NEAREST, I_NPLANES, I_PREINT, I_SEED,
-                      I_SHADED, I_SKIP, M_SCATTER, P_DS, P_ET, P_ISO, P_ISO_R, P_PRE_SCALE, P_VMIN, P_VSCALE)
 from ._shade import shade
 
 __all__ = ["trace_pixel", "MODE_CODES", "DEPTH_OPACITY", "FAR"]

@@ -60,8 +60,14 @@ def test_render_volume_one_call(ball):
 def test_bad_arguments_name_valid_values(ball):
     scene = Scene(volume=ball)
     cam = Camera.anatomical(ball, "anterior")
-    with pytest.raises(ValueError, match="cpu"):
-        render(scene, cam, (8, 8), backend="opengl")
+    with pytest.raises(ValueError, match="unknown device 'opengl'; valid: cpu, cuda, gl, auto"):
+        render(scene, cam, (8, 8), device="opengl")
+    with pytest.raises(ValueError, match="unknown technique 'splatting'; valid: raycast, slicing, mesh"):
+        render(scene, cam, (8, 8), technique="splatting")
+    with pytest.raises(ValueError, match="technique 'raycast' has no option 'precision'; valid: none"):
+        render(scene, cam, (8, 8), precision="uint8")
+    with pytest.raises(ValueError, match="technique 'slicing' runs on gl"):
+        render(scene, cam, (8, 8), device="cpu", technique="slicing")
     with pytest.raises(ValueError, match="composite"):
         Scene(volume=ball, mode="xray")
     with pytest.raises(ValueError, match="volume"):

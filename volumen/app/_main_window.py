@@ -277,7 +277,8 @@ class MainWindow(QMainWindow):
     def frame_job(self) -> FrameJob:
         """What the 3D view shows now."""
         st = self.state
-        return FrameJob(scene=st.scene, camera=st.camera, size=self.view3d.view_size, backend=st.backend,
+        return FrameJob(scene=st.scene, camera=st.camera, size=self.view3d.view_size, device=st.device,
+                        technique=st.technique,
                         brightness=st.brightness, background=st.background, stereo=st.stereo,
                         mesh=st.mesh, mesh_display=st.mesh_display, token=self.token)
 

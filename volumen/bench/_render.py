@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ._table import Table, median_time, resolve_backend
+from ._table import Table, median_time, resolve_device
 from ._vtk import VtkScene, vtk_available
 
 __all__ = ["bench_render", "CASES", "VOLUMES", "IMAGES"]
@@ -78,7 +78,7 @@ def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, rep
     volumes = volumes or VOLUMES
     images = images or IMAGES
     cases = cases or CASES
-    backend, device = resolve_backend(backend)
+    backend, device = resolve_device(backend)
     use_vtk = with_vtk and vtk_available()
     table = Table(f"volumen bench render ({device} ray casting; head phantom, anterior view)", [
         ("volume", "volume", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
@@ -98,15 +98,15 @@ def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, rep
             camera = Camera.orbit(vol, view="anterior")
             for mode, shading, preset in cases:
                 scene = _scene(vol, mode, shading, preset, spv)
-                image = render(scene, camera, size, backend=backend)  # warm-up: JIT, per-volume caches
-                ms = median_time(lambda: render(scene, camera, size, backend=backend), repeat=repeat, warmup=0) * 1e3
+                image = render(scene, camera, size, device=backend)  # warm-up: JIT, per-volume caches
+                ms = median_time(lambda: render(scene, camera, size, device=backend), repeat=repeat, warmup=0) * 1e3
                 samples = float(np.sum(image.stats.get("samples", 0)))
                 row = table.add(volume=vname, image=iname, mode=mode, shading=shading,
                                 preset=preset or "-", ms=ms, fps=1e3 / ms, msamples_s=samples / ms * 1e-3)
                 if mode in ("composite", "isosurface"):
                     plain = replace(scene, sampling=replace(scene.sampling, skip_empty=False, early_termination=1.0))
-                    render(plain, camera, size, backend=backend)
-                    ms_plain = median_time(lambda: render(plain, camera, size, backend=backend), repeat=1,
+                    render(plain, camera, size, device=backend)
+                    ms_plain = median_time(lambda: render(plain, camera, size, device=backend), repeat=1,
                                            warmup=0) * 1e3
                     row["skip_speedup"] = ms_plain / ms
                 if use_vtk and mode == "composite":

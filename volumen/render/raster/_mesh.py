@@ -192,8 +192,8 @@ def render_mesh(mesh, camera, size, *, scene=None, color=None, options: MeshOpti
     timings["total"] = time.perf_counter() - t_start
     from ...core import Image
 
-    stats = {"timings": timings, "backend": "mesh", "options": opt.to_dict(), "triangles": mesh.n_faces,
-             "renderer": ctx.info.get("GL_RENDERER")}
+    stats = {"timings": timings, "options": opt.to_dict(), "triangles": mesh.n_faces,
+             "gl_renderer": ctx.info.get("GL_RENDERER")}
     return Image(rgba=rgba, depth=depth, stats=stats)
 
 

@@ -89,8 +89,8 @@ def _cases(base, size, gl: bool, planes) -> list:
         return lambda c: render_reduced(scene, c, size, fraction, **how)
 
     cases = [("mesh", "phong", frame(technique="mesh"))] if gl else []
-    cases.append(("ray casting", "headlight spv 1", lambda c: render(base, c, size)))
-    cases += [("ray casting", f"headlight reduced 1/{int(1 / f)}", frame(fraction=f)) for f in (0.5, 0.25)]
+    cases.append(("raycast", "headlight spv 1", lambda c: render(base, c, size)))
+    cases += [("raycast", f"headlight reduced 1/{int(1 / f)}", frame(fraction=f)) for f in (0.5, 0.25)]
     if not gl:
         return cases
     for spv in (1.0, 2.0):

@@ -1,6 +1,6 @@
 # Two commands set up and use volumen on a fresh Debian machine with Python >= 3.11:
 #   make demo   - create .venv, install, write the phantom montages and renderings into out/
-#   make test   - create .venv, install with test extras, run the whole suite
+#   make test   - create .venv, install with test extras, lint (ruff), run the whole suite
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -35,7 +35,9 @@ system-data:
 demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
+# a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
 test: $(STAMP) system-data
+	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 clean:

@@ -34,7 +34,7 @@ def test_four_views_show_the_phantom_and_the_3d_picture_is_upright(make_window, 
     widths = (rgb.sum(axis=2) > 0).sum(axis=1)
     top, bottom = rows[0], rows[-1]
     assert widths[top + (bottom - top) // 4] > widths[bottom - (bottom - top) // 8]
-    for plane, view in win.slices.items():
+    for view in win.slices.values():
         assert view.geometry_ is not None and view.index == view.geometry_.index_of(head64.center)
 
 
@@ -184,12 +184,12 @@ def test_interface_answers_within_100_ms_during_a_slow_render(make_window, qtbot
     qtbot.waitUntil(lambda: not win.worker.idle, timeout=5000)
     ax = win.slices["axial"]
     delays = []
-    for n in range(5):
+    for _ in range(5):
         i0 = ax.index
         t = time.perf_counter()
         QApplication.postEvent(ax, QWheelEvent(QPointF(50, 50), QPointF(50, 50), QPoint(0, 0), QPoint(0, 120),
                                                Qt.NoButton, Qt.NoModifier, Qt.ScrollUpdate, False))
-        qtbot.waitUntil(lambda: ax.index == i0 + 1, timeout=2000)
+        qtbot.waitUntil(lambda i0=i0: ax.index == i0 + 1, timeout=2000)
         delays.append(time.perf_counter() - t)
         qtbot.wait(20)
     assert not win.worker.idle, "the render finished before the events were handled: make it slower"

@@ -42,14 +42,15 @@ def test_flags_override_settings(tmp_path):
                  "--save-settings", str(tmp_path / "m.json")]) == 0
     m = json.loads((tmp_path / "m.json").read_text())
     assert m["scene"]["mode"] == "mip" and m["size"] == [24, 24]
-    # MIP of the sphere phantom (1000 HU inside, through the saved ct-bone colours) is bright in the middle, black in the corners
+    # MIP of the sphere phantom (1000 HU inside, through the saved ct-bone colours): bright in the middle, black corners
     img = _png(tmp_path / "m.png").astype(float).mean(axis=2)
     assert img[12, 12] > 100 and img[0, 0] < 10
 
 
 def test_light_spec_parsing():
     light = parse_light("pos=1,2,3 dir=0,0,-2 exp=8 color=1,0.5,0 intensity=2")
-    assert light.position == (1.0, 2.0, 3.0) and light.direction == (0.0, 0.0, -2.0)  # kept as given; renderers normalize
+    assert light.position == (1.0, 2.0, 3.0)
+    assert light.direction == (0.0, 0.0, -2.0)  # kept as given; renderers normalize
     assert light.exponent == 8.0 and light.intensity == 2.0 and light.color == (1.0, 0.5, 0.0)
     with pytest.raises(ValueError, match="pos="):
         parse_light("exp=2")

@@ -17,7 +17,8 @@ SIZE = (48, 48)
 def test_every_mode_and_shading(ball, mode, shading, render_dir):
     lo, hi = ball.value_range()
     tf = (TransferFunction.preset("mip-gray", value_range=(lo, hi)) if mode in ("mip", "minip", "average")
-          else TransferFunction(color=((-1000, 1, 1, 1), (1000, 1, 0.8, 0.6)), opacity=((-1000, 0), (0, 0.1), (1000, 0.8))))
+          else TransferFunction(color=((-1000, 1, 1, 1), (1000, 1, 0.8, 0.6)),
+                                opacity=((-1000, 0), (0, 0.1), (1000, 0.8))))
     lights = (Light(position=tuple(np.asarray(ball.center) + [60, 80, 40])),)
     scene = Scene(volume=ball, mode=mode, transfer=tf, shading=Shading(mode=shading), lights=lights,
                   isosurface=Isosurface(value=0.0))

@@ -247,7 +247,7 @@ class MainWindow(QMainWindow):
         if path:
             try:
                 save(path)
-            except Exception as exc:  # noqa: BLE001
+            except Exception as exc:  # noqa: BLE001 - any failure is reported in a dialog, the window stays
                 self.report_error("Cannot save the picture", str(exc))
 
     def _screenshot_3d_dialog(self) -> None:
@@ -260,7 +260,7 @@ class MainWindow(QMainWindow):
             try:
                 size = tuple(int(v) for v in text.lower().split("x"))
                 self.screenshot_3d(path, size)
-            except Exception as exc:  # noqa: BLE001
+            except Exception as exc:  # noqa: BLE001 - any failure is reported in a dialog, the window stays
                 self.report_error("Cannot make the screenshot", str(exc))
 
     def screenshot_3d(self, path, size: tuple[int, int]):
@@ -306,7 +306,7 @@ class MainWindow(QMainWindow):
             self.final_token = max(self.final_token, frame.token)
             self.statusBar().showMessage(f"frame {frame.seconds * 1000:.0f} ms", 3000)
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         super().resizeEvent(event)
         self.request_render(final=True)
 
@@ -350,7 +350,7 @@ class MainWindow(QMainWindow):
         if on:
             self.view3d.setFocus()
 
-    def keyPressEvent(self, event) -> None:  # noqa: N802
+    def keyPressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         key = event.key()
         name = QKEYS.get(key)
         if name and self.endo_panel.key(name):
@@ -363,7 +363,7 @@ class MainWindow(QMainWindow):
         else:
             super().keyPressEvent(event)
 
-    def closeEvent(self, event) -> None:  # noqa: N802
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         self.endo_panel.timer.stop()
         self.worker.stop(timeout=30.0)
         super().closeEvent(event)

@@ -88,7 +88,7 @@ class View3D(QWidget):
         v = self.state.volume
         return 0.08 * v.diagonal if v is not None else 20.0
 
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         p = QPainter(self)
         p.fillRect(self.rect(), Qt.black)
         if self._qimage is not None:
@@ -143,7 +143,7 @@ class View3D(QWidget):
             p.drawText(6, 16, self.status_text)
 
     # -- mouse ----------------------------------------------------------------
-    def mousePressEvent(self, event) -> None:  # noqa: N802
+    def mousePressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         cam = self.state.camera
         if cam is None:
             return
@@ -169,7 +169,7 @@ class View3D(QWidget):
         if self._drag is not None:
             self.state.interacting = True
 
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802
+    def mouseMoveEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         pos = (event.position().x(), event.position().y())
         cam = self.state.camera
         if self._drag is None:
@@ -197,13 +197,13 @@ class View3D(QWidget):
                 gestures.aim_light(light, cam, dx, dy)
             self.state.replace_light(n, new)
 
-    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
+    def mouseReleaseEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self._drag is not None:
             self._drag = None
             self.state.interacting = False
             self.interaction_finished.emit()
 
-    def wheelEvent(self, event) -> None:  # noqa: N802
+    def wheelEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         cam = self.state.camera
         steps = event.angleDelta().y() / 120
         if cam is not None and steps and not self.flying:

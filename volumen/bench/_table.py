@@ -90,7 +90,10 @@ class Table:
         heads = [h for _k, h, _f in self.columns]
         cells = [[self._cell(r, k, f) for k, _h, f in self.columns] for r in self.rows]
         widths = [max([len(h)] + [len(c[i]) for c in cells]) for i, h in enumerate(heads)]
-        line = lambda vals: "| " + " | ".join(v.rjust(w) for v, w in zip(vals, widths)) + " |"  # noqa: E731
+
+        def line(vals):
+            return "| " + " | ".join(v.rjust(w) for v, w in zip(vals, widths, strict=True)) + " |"
+
         out = [f"### {self.title}", "", line(heads), "|" + "|".join("-" * (w + 2) for w in widths) + "|"]
         out += [line(c) for c in cells]
         out += [""] + [f"- {n}" for n in self.notes]

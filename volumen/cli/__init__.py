@@ -36,7 +36,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"volumen {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for name, mod in COMMANDS.items():
+    for mod in COMMANDS.values():
         module = importlib.import_module(f"{__name__}.{mod}")
         p = module.register(sub)
         p.set_defaults(_run=module.run)
@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"volumen {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 1
-    except Exception as exc:  # noqa: BLE001 - the user gets one line, developers set VOLUMEN_DEBUG
+    except Exception as exc:  # the user gets one line, developers set VOLUMEN_DEBUG
         if os.environ.get("VOLUMEN_DEBUG"):
             raise
         print(f"volumen {args.command}: internal error: {type(exc).__name__}: {exc} "

@@ -1,4 +1,5 @@
-"""``volumen fly INPUT (--path P.json | --start X,Y,Z --end X,Y,Z | --auto) -o OUT.mp4``: a virtual endoscopy flythrough.
+"""``volumen fly INPUT (--path P.json | --start X,Y,Z --end X,Y,Z | --auto) -o OUT.mp4``: a virtual endoscopy
+flythrough.
 
 The path comes from a keyframe file (``--path``, as written by ``--save-path``
 or :meth:`volumen.endoscopy.KeyframePath.save`), or from the centerline of the
@@ -39,7 +40,8 @@ def register(sub):
     from volumen.core import SHADINGS
 
     p.add_argument("--shading", choices=SHADINGS, default="phong",
-                   help="every lit model (phong, the default; shadows, scattering, pathtrace) puts a flashlight on the camera; headlight; none")
+                   help="every lit model (phong, the default; shadows, scattering, pathtrace) puts a flashlight on "
+                        "the camera; headlight; none")
     p.add_argument("--mode", choices=["isosurface", "composite"],
                    help="wall as a surface at --threshold, or volume rendering with --preset "
                         "(default: composite when --preset is given, else isosurface)")
@@ -65,7 +67,7 @@ def _size(text: str) -> tuple[int, int]:
 
 
 def default_seed(volume):
-    """The lumen seed of a phantom: its colon's first centerline point (rectum), else its first tube's; None otherwise."""
+    """The lumen seed of a phantom: its colon's first centerline point (rectum), else its first tube's; else None."""
     truth = volume.meta.get("truth") or {}
     tubes = [truth["colon"]] if "colon" in truth else [t for t in truth.values() if hasattr(t, "centerline")]
     return tuple(float(v) for v in tubes[0].centerline[0]) if tubes else None

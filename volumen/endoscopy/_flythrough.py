@@ -72,7 +72,8 @@ class FrameLog:
         return float(np.sum(t * t) / np.sum(t)) if t.size and t.sum() > 0 else float("nan")
 
     def to_dict(self) -> dict:
-        """``frames``, ``mean_s``, ``weighted_mean_s`` (sum t^2 / sum t), ``total_s``, ``min_s``, ``max_s``, ``times_s``."""
+        """``frames``, ``mean_s``, ``weighted_mean_s`` (sum t^2 / sum t), ``total_s``, ``min_s``, ``max_s``,
+        ``times_s``."""
         t = self.times
         return {"frames": len(t), "mean_s": self.mean, "weighted_mean_s": self.weighted_mean,
                 "total_s": float(np.sum(t)) if t else 0.0, "min_s": min(t) if t else None,

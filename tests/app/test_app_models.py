@@ -143,3 +143,26 @@ def test_session_file_is_written_atomically_and_checked(tmp_path, head64):
     path.write_text("{nope")
     with pytest.raises(SessionError, match="JSON"):
         load_session(path)
+
+
+def test_session_keeps_device_and_technique_and_reads_old_backend_names(tmp_path, head64):
+    """A session records the device and the technique with its options as ``volumen render --save-settings``
+    does (top-level ``device``, ``technique``); a session of volumen 0.1 (``app.technique = "mesh-gouraud"``)
+    still opens."""
+    from volumen.app._session import apply_session, session_dict
+    from volumen.app._state import AppState
+    from volumen.render import Technique
+
+    st = AppState()
+    st.set_volume(head64, "phantom:head?size=64")
+    st.set_display(technique=Technique("slicing", planes="two-then-one", precision="float16"))
+    assert st.device == "gl"  # the technique's default device, as cpu is not one of its devices
+    d = json.loads(json.dumps(session_dict(st, (64, 64))))
+    assert d["device"] == "gl" and d["technique"]["options"]["planes"] == "two-then-one"
+    again = AppState()
+    apply_session(again, d, head64)
+    assert (again.device, again.technique) == (st.device, st.technique)
+    old = {k: v for k, v in d.items() if k not in ("device", "technique")}
+    old["app"] = dict(d["app"], technique="mesh-gouraud")
+    apply_session(again, old, head64)
+    assert (again.device, again.technique) == ("gl", Technique("mesh", shading="gouraud"))

@@ -1,4 +1,4 @@
-"""Tiny scenes for comparing the ``cuda`` backend with the CPU, and the script that renders them on the simulator.
+"""Tiny scenes for comparing the ``cuda`` device with the CPU, and the script that renders them on the simulator.
 
 ``python cuda_scenes.py OUT.npz`` (with ``NUMBA_ENABLE_CUDASIM=1`` set before
 numba loads) renders every scene of :func:`scenes` with ``device="cuda"``

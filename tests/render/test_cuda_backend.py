@@ -27,7 +27,7 @@ no_gpu = pytest.mark.skipif(HAVE_GPU, reason="a CUDA device is present: the no-d
 
 
 @no_gpu
-def test_cuda_backend_without_a_device_says_so():
+def test_cuda_device_without_a_gpu_says_so():
     from volumen.render.cuda import CudaUnavailableError
 
     scene, cam, size = cuda_scenes.scenes()["composite-phong"]
@@ -49,7 +49,7 @@ def test_auto_device_falls_back_to_the_cpu():
 
 @no_gpu
 @pytest.mark.parametrize("what", ["render", "lighting"])
-def test_bench_with_cuda_backend_fails_fast(what, tmp_path):
+def test_bench_on_the_cuda_device_fails_fast(what, tmp_path):
     r = subprocess.run([sys.executable, "-m", "volumen", "bench", what, "--device", "cuda", "--quick",
                         "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 1, (r.stdout, r.stderr)

@@ -1,4 +1,4 @@
-"""The ``cuda`` backend on numba's CUDA simulator gives the CPU's pixels, for every mode and shading model.
+"""The ``cuda`` device on numba's CUDA simulator gives the CPU's pixels, for every mode and shading model.
 
 The simulator must be switched on before numba loads, and this test process
 must stay out of it (the other tests run compiled CPU code), so one

@@ -199,7 +199,7 @@ def render_mesh(mesh, camera, size, *, scene=None, color=None, options: MeshOpti
 
 @gl_thread
 def render_isosurface_mesh(scene, camera, size, options: MeshOptions | None = None):
-    """Mesh backend: the isosurface of ``scene.volume`` at ``scene.isosurface.value`` by marching cubes
+    """Technique ``mesh``: the isosurface of ``scene.volume`` at ``scene.isosurface.value`` by marching cubes
     (cached), drawn by :func:`render_mesh` in ``scene.isosurface.color``; ``stats["timings"]["mesh"]``
     is the extraction time (0 when cached)."""
     opt = options or MeshOptions()

@@ -183,7 +183,8 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     axis with the larger pixel spacing so one pixel covers the same mm both ways.
     Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
     ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
-    data with no window is shown as stored, 0..255).
+    data with no window is shown as stored, 0..255). A volume whose
+    ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
     if window is None and volume.units == "HU":
@@ -191,6 +192,8 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     if window is None and volume.is_color and img.dtype == np.uint8:
         window = Window(level=127.5, width=255.0)
     out = window_to_uint8(img, window)
+    if volume.meta.get("display_inverted"):  # MONOCHROME1: low values are white
+        out = 255 - out
     if square_pixels and not np.isclose(sr, sc, rtol=1e-3):
         from scipy import ndimage
 

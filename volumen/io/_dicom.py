@@ -13,36 +13,18 @@ numbers, study dates) is never copied into the volume, its warnings or any error
 from __future__ import annotations
 
 import os
-import warnings
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
-import pydicom
-from pydicom.errors import InvalidDicomError
-from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
 
 from ..core import Volume
-from ..errors import (
-    CorruptDataError,
-    MissingDependencyError,
-    MissingPathError,
-    MultipleSeriesError,
-    SeriesError,
-    UnknownFormatError,
-)
-from ._dicom_series import Geometry, SeriesHeaders, measure, read_headers
+from ..errors import CorruptDataError, MissingPathError, MultipleSeriesError, SeriesError, UnknownFormatError
+from ._dicom_geometry import Geometry, measure
+from ._dicom_pixels import decode
+from ._dicom_series import SeriesHeaders, read_headers
 
-__all__ = ["read"]
-
-_INSTALL = {
-    "JPEG-LS": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install pyjpegls, or: pip install python-gdcm)",
-    "JPEG 2000": "pip install pylibjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)",
-    "JPEG": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install python-gdcm)",
-    "RLE": "pip install pylibjpeg pylibjpeg-rle",
-}
-_INSTALL_ANY = "pip install pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)"
-
+__all__ = ["read", "scan"]
 
 def _files(path) -> tuple[list[Path], Path]:
     """The candidate files and the path to name in messages (the folder, file, or the list's common folder)."""
@@ -76,55 +58,14 @@ def _choose(series: dict[str, SeriesHeaders], uid: str | None, where) -> SeriesH
     return next(iter(series.values()))
 
 
-def _decode(path: str, frames: int | None, shape: tuple[int, int]) -> np.ndarray:
-    """Stored pixel values of one file: ``(rows, cols)``, or ``(frames, rows, cols)`` if ``frames``."""
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                ds = pydicom.dcmread(path)
-            except InvalidDicomError:  # no preamble: accepted by the header pass for its DICOM suffix
-                ds = pydicom.dcmread(path, force=True)
-                if "TransferSyntaxUID" not in ds.file_meta:
-                    ds.file_meta.TransferSyntaxUID = (ImplicitVRLittleEndian if ds.original_encoding[0]
-                                                      else ExplicitVRLittleEndian)
-    except Exception as exc:  # noqa: BLE001 - whatever pydicom raises, the file is unreadable
-        raise CorruptDataError(path, f"is not a readable DICOM file ({type(exc).__name__})") from None
-    if "PixelData" not in ds:
-        raise CorruptDataError(path, "has no pixel data (truncated file?)")
-    ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
-    ts_name = f"{ts.name} ({ts})" if ts is not None else "an unknown transfer syntax"
-    if ts is not None and ts.is_compressed:
-        from pydicom.pixels import get_decoder
-
-        try:
-            available = get_decoder(ts).is_available
-        except NotImplementedError:
-            raise CorruptDataError(path, f"pixel data uses {ts_name}, which no pydicom decoder supports") from None
-        if not available:
-            hint = next((v for k, v in _INSTALL.items() if k in ts.name), _INSTALL_ANY)
-            raise MissingDependencyError(path, f"pixel data is compressed with {ts_name} and no installed "
-                                               f"decoder reads it; install one: {hint}")
-    if int(ds.get("SamplesPerPixel", 1) or 1) != 1:
-        raise SeriesError(path, f"colour images (SamplesPerPixel={ds.SamplesPerPixel}, "
-                                f"{ds.get('PhotometricInterpretation', '')}) are not volumes volumen reads")
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            arr = ds.pixel_array
-    except Exception as exc:  # noqa: BLE001
-        raise CorruptDataError(path, f"could not decode its {ts_name} pixel data ({type(exc).__name__}: "
-                                     f"{str(exc)[:160]})") from None
-    if frames == 1 and arr.ndim == 2:
-        arr = arr[None]
-    want = shape if frames is None else (frames, *shape)
-    if arr.shape != want:
-        raise CorruptDataError(path, f"pixel data has shape {arr.shape}, the header says {want}")
-    return arr
+def _samples(series: SeriesHeaders) -> int:
+    """Values per pixel after decoding: 3 for colour (RGB, YBR_*, PALETTE COLOR), else 1."""
+    info = series.info
+    return 3 if info["samples_per_pixel"] == 3 or info["photometric"] == "PALETTE COLOR" else 1
 
 
 def _stack(series: SeriesHeaders, geo: Geometry) -> np.ndarray:
-    """Stored values ``(n, rows, cols)`` in the sorted slice order (each file read once)."""
+    """Values ``(n, rows, cols)`` (or ``(n, rows, cols, 3)``) in the sorted slice order (each file read once)."""
     slices = series.slices
     dest: dict[str, list[tuple[int, int | None]]] = defaultdict(list)
     for k, idx in enumerate(geo.order):
@@ -135,13 +76,13 @@ def _stack(series: SeriesHeaders, geo: Geometry) -> np.ndarray:
     out = None
     for path, targets in dest.items():
         multi = targets[0][1] is not None
-        arr = _decode(path, n_frames[path] if multi else None, slices[0].shape)
+        arr = decode(path, n_frames[path] if multi else None, slices[0].shape, _samples(series))
         if out is None:
-            out = np.empty((len(slices), *slices[0].shape), arr.dtype)
+            out = np.empty((len(slices), *arr.shape[1:]), arr.dtype)
         elif arr.dtype != out.dtype:
             out = out.astype(np.result_type(out.dtype, arr.dtype))
         for k, frame in targets:
-            out[k] = arr if frame is None else arr[frame]
+            out[k] = arr[0 if frame is None else frame]
     return out
 
 
@@ -226,19 +167,7 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     MissingDependencyError
         Compressed pixel data without an installed decoder (names what to install).
     """
-    files, where = _files(path)
-    if not files:
-        raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")
-    notes: list[str] = []
-    dicomdirs: list[str] = []
-    found = read_headers(files, notes, dicomdirs)
-    if not found:
-        if notes or dicomdirs:
-            what = f"{len(notes)} DICOM file(s) without pixel data" if notes else ""
-            what += (" and " if what else "") + (f"{len(dicomdirs)} DICOMDIR index file(s) whose images are "
-                                                  "missing" if dicomdirs else "")
-            raise SeriesError(where, f"holds no DICOM images, only {what}")
-        raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
+    found, notes, where = scan(path)
     chosen = _choose(found, series, where)
     geo = measure(chosen.slices, where)
     info = chosen.info
@@ -246,7 +175,7 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     data, rescale = _rescale(_stack(chosen, geo), np.array([s.slope for s in slices]),
                              np.array([s.intercept for s in slices]))
     meta = {
-        "series_uid": chosen.uid, "series_description": chosen.description,
+        "series_uid": chosen.uid, "series_description": chosen.description, "series_number": info["series_number"],
         "manufacturer": info["manufacturer"], "manufacturer_model": info["manufacturer_model"],
         "sop_class": info["sop_class"], "transfer_syntax": info["transfer_syntax"],
         "photometric": info["photometric"], "n_files": len(chosen.files), "multiframe": slices[0].frame is not None,
@@ -255,6 +184,7 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
         "slice_normal": [float(v) for v in geo.normal_lps * (-1.0, -1.0, 1.0)],  # RAS+
         "warnings": notes + geo.warnings,
     }
+    _display_facts(meta, info)
     if geo.tilt_deg > 0.01:
         meta["gantry_tilt_deg"] = geo.tilt_deg
     affine, spacing = geo.affine, geo.spacing
@@ -270,6 +200,48 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
         meta["warnings"].append(meta["resampled"])
     modality = info["modality"]
     rtype = info["rescale_type"]
-    units = rtype if rtype and rtype.upper() != "US" else ("HU" if modality == "CT" else "")
+    units = "" if data.ndim == 4 else (rtype if rtype and rtype.upper() != "US" else ("HU" if modality == "CT" else ""))
     return Volume(data, spacing=spacing, affine=affine, modality=modality, units=units,
                   name=chosen.description or "DICOM series", meta=meta)
+
+
+def _display_facts(meta: dict, info: dict) -> None:
+    """How the values should be shown: MONOCHROME1 inverted, LUTs applied or available."""
+    if info["photometric"] == "MONOCHROME1":
+        meta["display_inverted"] = True  # stored values kept; slice views show low values white
+        meta["warnings"].append("MONOCHROME1: values kept as stored (low = white on film); slice views show "
+                                "them inverted")
+    if info["modality_lut"]:
+        meta["modality_lut"] = f"applied ({info['modality_lut']})"
+    if info["voi_lut"]:
+        meta["voi_lut"] = f"not applied: available for display ({info['voi_lut']})"
+
+
+def scan(path) -> tuple[dict[str, SeriesHeaders], list[str], Path]:
+    """Read the headers under ``path``: ``(series by SeriesInstanceUID, notes, path for messages)``.
+
+    Unreadable files are notes (path and cause) as long as some series is found;
+    when none is, the error says why (the unreadable file itself when there is one).
+    """
+    files, where = _files(path)
+    if not files:
+        raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")
+    notes: list[str] = []
+    dicomdirs: list[str] = []
+    bad: list[tuple[str, str]] = []
+    found = read_headers(files, notes, dicomdirs, bad)
+    if not found:
+        if bad:
+            first, problem = bad[0]
+            if len(files) == 1:
+                raise CorruptDataError(first, problem)
+            raise CorruptDataError(where, f"holds no readable DICOM images: {len(bad)} unreadable DICOM file(s), "
+                                          f"e.g. {first}: {problem}")
+        if notes or dicomdirs:
+            what = f"{len(notes)} DICOM file(s) without pixel data" if notes else ""
+            what += (" and " if what else "") + (f"{len(dicomdirs)} DICOMDIR index file(s) whose images are "
+                                                  "missing" if dicomdirs else "")
+            raise SeriesError(where, f"holds no DICOM images, only {what}")
+        raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
+    notes.extend(f"skipped unreadable file {p}: {problem}" for p, problem in bad)
+    return found, notes, where

@@ -1,0 +1,112 @@
+"""DICOM pixels of one file -> stored or physical values, ``(frames, rows, cols)`` or colour ``(..., 3)``.
+
+Decoding is pydicom's (its plugins: pylibjpeg with libjpeg / openjpeg / rle, pyjpegls,
+gdcm, Pillow; pydicom tries each installed one in turn). On top of the decoded array:
+
+* colour: RGB and YBR_* come back as RGB (pydicom converts YCbCr); PALETTE COLOR is
+  expanded through its lookup table (``apply_color_lut``) to RGB;
+* a Modality LUT Sequence is applied here (``apply_modality_lut``); the linear
+  RescaleSlope / RescaleIntercept is applied by the caller, per slice;
+* FloatPixelData / DoubleFloatPixelData are read as float32 / float64.
+
+MONOCHROME1 is returned as stored (the caller flags it for inverted display).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pydicom
+from pydicom.errors import InvalidDicomError
+from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
+
+from ..errors import CorruptDataError, MissingDependencyError, SeriesError
+from ._dicom_series import PIXEL_TAGS
+
+__all__ = ["decode"]
+
+_INSTALL = {
+    "JPEG-LS": "pip install pyjpegls (or: pip install pylibjpeg pylibjpeg-libjpeg, or: pip install python-gdcm)",
+    "JPEG 2000": "pip install pylibjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)",
+    "JPEG": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install python-gdcm)",
+    "RLE": "pip install pylibjpeg pylibjpeg-rle",
+}
+_INSTALL_ANY = "pip install pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)"
+
+
+def _open(path: str):
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                ds = pydicom.dcmread(path)
+            except InvalidDicomError:  # no preamble: accepted by the header pass for its DICOM suffix
+                ds = pydicom.dcmread(path, force=True)
+                if "TransferSyntaxUID" not in ds.file_meta:
+                    ds.file_meta.TransferSyntaxUID = (ImplicitVRLittleEndian if ds.original_encoding[0]
+                                                      else ExplicitVRLittleEndian)
+    except Exception as exc:  # noqa: BLE001 - whatever pydicom raises, the file is unreadable
+        raise CorruptDataError(path, f"is not a readable DICOM file ({type(exc).__name__})") from None
+    if not any(tag in ds for tag in PIXEL_TAGS):
+        raise CorruptDataError(path, "has no pixel data (truncated file?)")
+    return ds
+
+
+def _transfer_syntax(ds, path: str) -> str:
+    """The transfer syntax's name for messages; raises when compressed data has no installed decoder."""
+    ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
+    ts_name = f"{ts.name} ({ts})" if ts else "an unknown transfer syntax"
+    if ts and ts.is_compressed and "PixelData" in ds:
+        from pydicom.pixels import get_decoder
+
+        try:
+            available = get_decoder(ts).is_available
+        except NotImplementedError:
+            raise CorruptDataError(path, f"pixel data uses {ts_name}, which no pydicom decoder supports") from None
+        if not available:
+            hint = next((v for k, v in _INSTALL.items() if k in ts.name), _INSTALL_ANY)
+            raise MissingDependencyError(path, f"pixel data is compressed with {ts_name} and no installed "
+                                               f"decoder reads it; install one: {hint}")
+    return ts_name
+
+
+def _values(ds, path: str, ts_name: str) -> np.ndarray:
+    """Decoded pixels with colour made RGB and a Modality LUT Sequence applied."""
+    from pydicom.pixels import apply_color_lut, apply_modality_lut
+
+    photometric = str(ds.get("PhotometricInterpretation", "") or "").strip().upper()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            arr = ds.pixel_array
+            if photometric == "PALETTE COLOR":
+                arr = apply_color_lut(arr, ds)
+            elif "ModalityLUTSequence" in ds:
+                arr = apply_modality_lut(arr, ds)
+    except Exception as exc:  # noqa: BLE001
+        raise CorruptDataError(path, f"could not decode its {ts_name} pixel data ({type(exc).__name__}: "
+                                     f"{str(exc)[:160]})") from None
+    if arr.dtype.kind not in "iuf":
+        raise SeriesError(path, f"pixel values of type {arr.dtype} are not a volume volumen reads")
+    return arr
+
+
+def decode(path: str, frames: int | None, shape: tuple[int, int], samples: int) -> np.ndarray:
+    """Pixel values of one file as ``(frames, rows, cols)``, or ``(frames, rows, cols, 3)`` RGB.
+
+    ``frames`` is the number of frames the header pass found (``None`` for a single-frame
+    file: one frame), ``shape`` the image's ``(rows, cols)``, ``samples`` 1 or 3 (the
+    series' SamplesPerPixel after colour expansion). Raises CorruptDataError for an
+    undecodable file, MissingDependencyError when no decoder is installed.
+    """
+    ds = _open(path)
+    ts_name = _transfer_syntax(ds, path)
+    arr = _values(ds, path, ts_name)
+    n = 1 if frames is None else frames
+    frame_shape = (*shape, 3) if samples == 3 else shape
+    if arr.shape == frame_shape:
+        arr = arr[None]
+    if arr.shape != (n, *frame_shape):
+        raise CorruptDataError(path, f"pixel data has shape {arr.shape}, the header says {(n, *frame_shape)}")
+    return arr

@@ -177,7 +177,8 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     meta = {
         "series_uid": chosen.uid, "series_description": chosen.description, "series_number": info["series_number"],
         "manufacturer": info["manufacturer"], "manufacturer_model": info["manufacturer_model"],
-        "sop_class": info["sop_class"], "transfer_syntax": info["transfer_syntax"],
+        "sop_class": info["sop_class"], "sop_class_uid": info["sop_class_uid"],
+        "transfer_syntax": info["transfer_syntax"], "transfer_syntax_uid": info["transfer_syntax_uid"],
         "photometric": info["photometric"], "n_files": len(chosen.files), "multiframe": slices[0].frame is not None,
         "rescale": rescale, "window_presets": info["window_presets"],
         "slice_positions": [float(p) for p in geo.positions],
@@ -238,10 +239,12 @@ def scan(path) -> tuple[dict[str, SeriesHeaders], list[str], Path]:
             raise CorruptDataError(where, f"holds no readable DICOM images: {len(bad)} unreadable DICOM file(s), "
                                           f"e.g. {first}: {problem}")
         if notes or dicomdirs:
-            what = f"{len(notes)} DICOM file(s) without pixel data" if notes else ""
-            what += (" and " if what else "") + (f"{len(dicomdirs)} DICOMDIR index file(s) whose images are "
-                                                  "missing" if dicomdirs else "")
-            raise SeriesError(where, f"holds no DICOM images, only {what}")
+            kinds = sorted({n[n.rindex("(") + 1:-1] for n in notes if n.endswith(")")})
+            what = [f"{len(notes)} DICOM file(s) without pixel data ({', '.join(kinds)})"] if notes else []
+            what += [f"{len(dicomdirs)} DICOMDIR index file(s) whose images are missing"] if dicomdirs else []
+            raise SeriesError(where, f"holds no DICOM images, only {' and '.join(what)}")
+        if len(files) == 1 and files[0] == where:
+            raise UnknownFormatError(where, "is not a DICOM file (no 'DICM' marker and no DICOM suffix)")
         raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
     notes.extend(f"skipped unreadable file {p}: {problem}" for p, problem in bad)
     return found, notes, where

@@ -4,7 +4,7 @@ Decoding is pydicom's (its plugins: pylibjpeg with libjpeg / openjpeg / rle, pyj
 gdcm, Pillow; pydicom tries each installed one in turn). On top of the decoded array:
 
 * colour: RGB and YBR_* come back as RGB (pydicom converts YCbCr); PALETTE COLOR is
-  expanded through its lookup table (``apply_color_lut``) to RGB;
+  expanded through its lookup table (``apply_color_lut``) to 8-bit RGB;
 * a Modality LUT Sequence is applied here (``apply_modality_lut``); the linear
   RescaleSlope / RescaleIntercept is applied by the caller, per slice;
 * FloatPixelData / DoubleFloatPixelData are read as float32 / float64.
@@ -71,6 +71,52 @@ def _transfer_syntax(ds, path: str) -> str:
     return ts_name
 
 
+def _gdcm_pixels(path: str) -> np.ndarray | None:
+    """Greyscale pixels decoded by GDCM itself, ``(frames, rows, cols)``; ``None`` when it cannot.
+
+    pydicom's gdcm plugin refuses 12-bit JPEG Extended (Process 4), which GDCM decodes;
+    this is the fallback for such files (greyscale only: colour stays with pydicom's
+    YCbCr handling).
+    """
+    try:
+        import gdcm
+    except ImportError:
+        return None
+    reader = gdcm.ImageReader()
+    reader.SetFileName(path)
+    if not reader.Read():
+        return None
+    image = reader.GetImage()
+    fmt = image.GetPixelFormat()
+    dtype = _GDCM_TYPES.get(fmt.GetScalarTypeAsString())
+    if dtype is None or fmt.GetSamplesPerPixel() != 1:
+        return None
+    dims = [image.GetDimension(i) for i in range(image.GetNumberOfDimensions())]
+    cols, rows, frames = dims[0], dims[1], (dims[2] if len(dims) > 2 else 1)
+    raw = image.GetBuffer().encode("utf-8", "surrogateescape")  # GDCM's SWIG returns bytes as str
+    if len(raw) != rows * cols * frames * np.dtype(dtype).itemsize:
+        return None
+    return np.frombuffer(raw, dtype).reshape(frames, rows, cols).copy()
+
+
+_GDCM_TYPES = {"UINT8": np.uint8, "INT8": np.int8, "UINT16": np.uint16, "INT16": np.int16,
+               "UINT32": np.uint32, "INT32": np.int32, "FLOAT32": np.float32, "FLOAT64": np.float64}
+
+
+def _decoded(ds, path: str) -> np.ndarray:
+    """pydicom's decoded pixels; GDCM directly for compressed greyscale that pydicom's plugins refuse."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return ds.pixel_array
+    except Exception:
+        ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
+        arr = _gdcm_pixels(path) if ts and ts.is_compressed and "PixelData" in ds else None
+        if arr is None:
+            raise
+        return arr
+
+
 def _values(ds, path: str, ts_name: str) -> np.ndarray:
     """Decoded pixels with colour made RGB and a Modality LUT Sequence applied."""
     from pydicom.pixels import apply_color_lut, apply_modality_lut
@@ -79,9 +125,9 @@ def _values(ds, path: str, ts_name: str) -> np.ndarray:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            arr = ds.pixel_array
+            arr = _decoded(ds, path)
             if photometric == "PALETTE COLOR":
-                arr = apply_color_lut(arr, ds)
+                arr = _to_8bit(apply_color_lut(arr, ds))
             elif "ModalityLUTSequence" in ds:
                 arr = apply_modality_lut(arr, ds)
     except Exception as exc:  # noqa: BLE001
@@ -90,6 +136,11 @@ def _values(ds, path: str, ts_name: str) -> np.ndarray:
     if arr.dtype.kind not in "iuf":
         raise SeriesError(path, f"pixel values of type {arr.dtype} are not a volume volumen reads")
     return arr
+
+
+def _to_8bit(rgb: np.ndarray) -> np.ndarray:
+    """Palette colours as 8-bit RGB: 16-bit LUT entries (full scale 0..65535) keep their high byte."""
+    return (rgb >> 8).astype(np.uint8) if rgb.dtype == np.uint16 else rgb
 
 
 def decode(path: str, frames: int | None, shape: tuple[int, int], samples: int) -> np.ndarray:

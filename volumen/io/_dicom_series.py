@@ -228,6 +228,7 @@ def _info(ds) -> dict:
         voi = _item(ds, "FrameVOILUTSequence", first)
     modality_lut = (ds.get("ModalityLUTSequence") or [None])[0]
     voi_lut = (ds.get("VOILUTSequence") or [None])[0]
+    sop = ds.get("SOPClassUID") or getattr(ds.get("file_meta"), "MediaStorageSOPClassUID", "")
     try:
         samples = int(ds.get("SamplesPerPixel", 1) or 1)
     except (TypeError, ValueError):
@@ -237,8 +238,10 @@ def _info(ds) -> dict:
         "series_number": str(ds.get("SeriesNumber", "") or ""),
         "manufacturer": str(ds.get("Manufacturer", "") or ""),
         "manufacturer_model": str(ds.get("ManufacturerModelName", "") or ""),
-        "sop_class": _uid_name(ds.get("SOPClassUID") or getattr(ds.get("file_meta"), "MediaStorageSOPClassUID", "")),
+        "sop_class": _uid_name(sop),
+        "sop_class_uid": str(sop or "").strip(),
         "transfer_syntax": _uid_name(ts),
+        "transfer_syntax_uid": str(ts or "").strip(),
         "rescale_type": str((pvt or ds).get("RescaleType", "") or ds.get("DoseUnits", "") or ""),
         "samples_per_pixel": samples,
         "photometric": str(ds.get("PhotometricInterpretation", "") or "").strip().upper(),

@@ -44,10 +44,16 @@ def describe(volume) -> dict:
         "affine": np.round(volume.affine, 6).tolist(),
         "warnings": list(meta.get("warnings", [])),
     }
-    for key in ("series_uid", "series_description", "n_files", "transfer_syntax", "manufacturer"):
+    facts["colour"] = "RGB" if volume.is_color else ""
+    for key in ("series_uid", "series_description", "series_number", "n_files", "transfer_syntax", "sop_class",
+                "photometric", "manufacturer", "modality_lut", "voi_lut", "display_inverted"):
         if key in meta:
             facts[key] = meta[key]
     return facts
+
+
+_LABELS = {"series_uid": "series_uid", "n_files": "n_files", "transfer_syntax": "transfer", "sop_class": "SOP class",
+           "photometric": "photometric", "modality_lut": "modality LUT", "voi_lut": "VOI LUT"}
 
 
 def _series_listing(args) -> tuple[list, list[str]] | None:
@@ -62,7 +68,7 @@ def _series_listing(args) -> tuple[list, list[str]] | None:
 
 def _print_listing(path, series, notes) -> None:
     print(f"{len(series)} image series in {path}:")
-    print(f"{'#':>5}  mod  {'size (x y slices)':<20} {'files':>11}  description  SeriesInstanceUID")
+    print(f"{'#':>5}  {'mod':<3} {'columns x rows x slices':<23} {'files':>11}  description  SeriesInstanceUID")
     for s in series:
         print(s.line())
     for n in notes:
@@ -103,9 +109,11 @@ def run(args):
         f"modality:     {facts['modality']}",
         f"values:       {facts['value_range'][0]:g} .. {facts['value_range'][1]:g} {facts['units']} ({facts['dtype']})",
     ]
-    for key in ("series_uid", "n_files", "transfer_syntax"):
-        if key in facts:
-            lines.append(f"{key + ':':14}{facts[key]}")
+    if facts["colour"]:
+        lines.append(f"colour:       {facts['colour']} (channel last: data is z, y, x, 3)")
+    for key, label in _LABELS.items():
+        if facts.get(key):
+            lines.append(f"{label + ':':14}{facts[key]}")
     for w in facts["warnings"]:
         lines.append(f"warning:      {w}")
     print("\n".join(lines))

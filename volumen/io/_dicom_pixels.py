@@ -93,7 +93,10 @@ def _gdcm_pixels(path: str) -> np.ndarray | None:
         return None
     dims = [image.GetDimension(i) for i in range(image.GetNumberOfDimensions())]
     cols, rows, frames = dims[0], dims[1], (dims[2] if len(dims) > 2 else 1)
-    raw = image.GetBuffer().encode("utf-8", "surrogateescape")  # GDCM's SWIG returns bytes as str
+    buffer = image.GetBuffer()
+    if not buffer:
+        return None
+    raw = buffer.encode("utf-8", "surrogateescape")  # GDCM's SWIG returns bytes as str
     if len(raw) != rows * cols * frames * np.dtype(dtype).itemsize:
         return None
     return np.frombuffer(raw, dtype).reshape(frames, rows, cols).copy()
@@ -111,7 +114,12 @@ def _decoded(ds, path: str) -> np.ndarray:
             return ds.pixel_array
     except Exception:
         ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
-        arr = _gdcm_pixels(path) if ts and ts.is_compressed and "PixelData" in ds else None
+        arr = None
+        if ts and ts.is_compressed and "PixelData" in ds:
+            try:
+                arr = _gdcm_pixels(path)
+            except Exception:  # noqa: BLE001 - GDCM failing too: pydicom's error is the one to report
+                arr = None
         if arr is None:
             raise
         return arr
@@ -132,7 +140,7 @@ def _values(ds, path: str, ts_name: str) -> np.ndarray:
                 arr = apply_modality_lut(arr, ds)
     except Exception as exc:  # noqa: BLE001
         raise CorruptDataError(path, f"could not decode its {ts_name} pixel data ({type(exc).__name__}: "
-                                     f"{str(exc)[:160]})") from None
+                                     f"{' '.join(str(exc).split())[:240]})") from None
     if arr.dtype.kind not in "iuf":
         raise SeriesError(path, f"pixel values of type {arr.dtype} are not a volume volumen reads")
     return arr

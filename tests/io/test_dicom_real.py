@@ -161,3 +161,20 @@ def test_modality_lut_sequence_is_applied(tmp_path):
     vol = volumen.load(tmp_path / "lut.dcm")
     np.testing.assert_array_equal(vol.data[0], 3 * (ds.pixel_array.astype(int) - first))
     assert "times three" in vol.meta["modality_lut"]
+
+
+@pytest.mark.parametrize("syntax", [pydicom.uid.RLELossless, pydicom.uid.JPEGLSLossless, pydicom.uid.JPEG2000Lossless,
+                                    pydicom.uid.DeflatedExplicitVRLittleEndian])
+def test_lossless_syntaxes_round_trip_exactly(tmp_path, syntax):
+    """CT_small.dcm compressed by pydicom's encoders (or deflated) loads to the same HU as the original."""
+    ds = pydicom.dcmread(get_testdata_file("CT_small.dcm"))
+    original = volumen.load(get_testdata_file("CT_small.dcm"))
+    if syntax == pydicom.uid.DeflatedExplicitVRLittleEndian:
+        ds.file_meta.TransferSyntaxUID = syntax
+    else:
+        ds.compress(syntax)
+    ds.save_as(tmp_path / "x.dcm")
+    vol = volumen.load(tmp_path / "x.dcm")
+    assert vol.meta["transfer_syntax_uid"] == syntax
+    np.testing.assert_array_equal(vol.data, original.data)
+    np.testing.assert_allclose(vol.affine, original.affine)

@@ -159,9 +159,11 @@ def decode(path: str, frames: int | None, shape: tuple[int, int], samples: int) 
     series' SamplesPerPixel after colour expansion). Raises CorruptDataError for an
     undecodable file, MissingDependencyError when no decoder is installed.
     """
-    ds = _open(path)
-    ts_name = _transfer_syntax(ds, path)
-    arr = _values(ds, path, ts_name)
+    with warnings.catch_warnings():  # pydicom's warnings may quote element values
+        warnings.simplefilter("ignore")
+        ds = _open(path)
+        ts_name = _transfer_syntax(ds, path)
+        arr = _values(ds, path, ts_name)
     n = 1 if frames is None else frames
     frame_shape = (*shape, 3) if samples == 3 else shape
     if arr.shape == frame_shape:

@@ -305,9 +305,11 @@ def read_headers(paths: list[Path], notes: list[str], dicomdirs: list[str],
     series: dict[str, SeriesHeaders] = {}
     for p in paths:
         try:
-            ds = _read_header(p)
-            if ds is not None:
-                _add_file(series, ds, str(p), notes, dicomdirs)
+            with warnings.catch_warnings():  # pydicom converts values lazily; its warnings may quote them
+                warnings.simplefilter("ignore")
+                ds = _read_header(p)
+                if ds is not None:
+                    _add_file(series, ds, str(p), notes, dicomdirs)
         except VolumeReadError as exc:
             if bad is None:
                 raise

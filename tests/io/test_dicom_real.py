@@ -107,16 +107,30 @@ def test_palette_colour_is_expanded_through_its_lut(tmp_path, palette):
     assert lum.shape == vol.shape and lum.max() > lum.min()
 
 
-def test_float_pixel_data(tmp_path):
+@pytest.mark.parametrize("tag, dtype", [("FloatPixelData", np.float32), ("DoubleFloatPixelData", np.float64)])
+def test_float_pixel_data(tmp_path, tag, dtype):
     ds = _ct(PixelData=None, RescaleSlope=None, RescaleIntercept=None, BitsStored=None, HighBit=None,
              PixelRepresentation=None, SmallestImagePixelValue=None, LargestImagePixelValue=None)
-    values = np.linspace(-1.5, 2.5, 128 * 128, dtype=np.float32).reshape(128, 128)
-    ds.BitsAllocated = 32
-    ds.FloatPixelData = values.tobytes()
+    values = np.linspace(-1.5, 2.5, 128 * 128, dtype=dtype).reshape(128, 128)
+    ds.BitsAllocated = 8 * np.dtype(dtype).itemsize
+    setattr(ds, tag, values.tobytes())
     ds.save_as(tmp_path / "float.dcm")
     vol = volumen.load(tmp_path / "float.dcm")
-    assert vol.dtype == np.float32
+    assert vol.dtype == dtype
     np.testing.assert_array_equal(vol.data[0], values)
+
+
+def test_voi_lut_is_reported_not_applied(tmp_path):
+    ds = _ct()
+    voi = pydicom.Dataset()
+    voi.LUTDescriptor = [4096, 0, 16]
+    voi.LUTData = (np.arange(4096, dtype=np.uint16) // 16).tobytes()
+    voi.LUTExplanation = "soft tissue"
+    ds.VOILUTSequence = [voi]
+    ds.save_as(tmp_path / "voi.dcm")
+    vol = volumen.load(tmp_path / "voi.dcm")
+    np.testing.assert_array_equal(vol.data, volumen.load(get_testdata_file("CT_small.dcm")).data)
+    assert "soft tissue" in vol.meta["voi_lut"] and "not applied" in vol.meta["voi_lut"]
 
 
 def test_legacy_multiframe_without_positions_gets_a_stated_spacing():

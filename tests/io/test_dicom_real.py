@@ -192,3 +192,15 @@ def test_lossless_syntaxes_round_trip_exactly(tmp_path, syntax):
     assert vol.meta["transfer_syntax_uid"] == syntax
     np.testing.assert_array_equal(vol.data, original.data)
     np.testing.assert_allclose(vol.affine, original.affine)
+
+
+def test_colour_volume_is_refused_by_writers_with_a_typed_error(tmp_path):
+    from volumen.errors import VolumeWriteError
+
+    vol = volumen.load(get_testdata_file("SC_rgb_jpeg_dcmtk.dcm"))
+    for name in ("x.nii.gz", "x.nrrd", "x.mha", "x.npy"):
+        with pytest.raises(VolumeWriteError, match="colour"):
+            volumen.save(vol, tmp_path / name)
+    grey = vol.with_data(vol.luminance())
+    volumen.save(grey, tmp_path / "grey.nii.gz")
+    np.testing.assert_allclose(volumen.load(tmp_path / "grey.nii.gz").data, vol.luminance(), rtol=1e-6)

@@ -204,3 +204,16 @@ def test_colour_volume_is_refused_by_writers_with_a_typed_error(tmp_path):
     grey = vol.with_data(vol.luminance())
     volumen.save(grey, tmp_path / "grey.nii.gz")
     np.testing.assert_allclose(volumen.load(tmp_path / "grey.nii.gz").data, vol.luminance(), rtol=1e-6)
+
+
+def test_a_series_with_a_broken_file_of_its_own_refuses_and_the_others_load(tmp_path):
+    folder = _series(tmp_path / "f", n=3)
+    _series(folder, n=4, uid="1.2.826.0.1.3680043.8.498.2", number=2, description="second")
+    broken = folder / "first_1.dcm"
+    iop = "\\".join(v.original_string for v in pydicom.dcmread(broken).ImageOrientationPatient).encode()
+    raw = broken.read_bytes()
+    assert raw.count(iop) == 1
+    broken.write_bytes(raw.replace(iop, b"x" + iop[1:]))  # not numbers; the file's series is still known
+    with pytest.raises(CorruptDataError, match="first_1.dcm.*ImageOrientationPatient"):
+        volumen.load(folder, series="1.2.826.0.1.3680043.8.498.1")
+    assert volumen.load(folder, series="1.2.826.0.1.3680043.8.498.2").shape == (4, 128, 128)

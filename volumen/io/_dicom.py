@@ -169,6 +169,9 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     """
     found, notes, where = scan(path)
     chosen = _choose(found, series, where)
+    if chosen.bad:  # a file of this very series is broken: a slice would be missing
+        path, problem = chosen.bad[0]
+        raise CorruptDataError(path, f"{problem} (a file of series {chosen.uid}, which cannot load without it)")
     geo = measure(chosen.slices, where)
     info = chosen.info
     slices = [chosen.slices[i] for i in geo.order]
@@ -221,19 +224,20 @@ def _display_facts(meta: dict, info: dict) -> None:
 def scan(path) -> tuple[dict[str, SeriesHeaders], list[str], Path]:
     """Read the headers under ``path``: ``(series by SeriesInstanceUID, notes, path for messages)``.
 
-    Unreadable files are notes (path and cause) as long as some series is found;
-    when none is, the error says why (the unreadable file itself when there is one).
+    Unreadable files are notes (path and cause) as long as some series is found (and
+    listed in ``SeriesHeaders.bad`` of their series when their SeriesInstanceUID could be
+    read); when none is found, the error says why (the unreadable file itself when there is one).
     """
     files, where = _files(path)
     if not files:
         raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")
     notes: list[str] = []
     dicomdirs: list[str] = []
-    bad: list[tuple[str, str]] = []
+    bad: list[tuple[str, str, str]] = []
     found = read_headers(files, notes, dicomdirs, bad)
     if not found:
         if bad:
-            first, problem = bad[0]
+            first, problem, _ = bad[0]
             if len(files) == 1:
                 raise CorruptDataError(first, problem)
             raise CorruptDataError(where, f"holds no readable DICOM images: {len(bad)} unreadable DICOM file(s), "
@@ -246,5 +250,8 @@ def scan(path) -> tuple[dict[str, SeriesHeaders], list[str], Path]:
         if len(files) == 1 and files[0] == where:
             raise UnknownFormatError(where, "is not a DICOM file (no 'DICM' marker and no DICOM suffix)")
         raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
-    notes.extend(f"skipped unreadable file {p}: {problem}" for p, problem in bad)
+    for path, problem, uid in bad:
+        if uid in found:
+            found[uid].bad.append((path, problem))
+        notes.append(f"skipped unreadable file {path}: {problem}")
     return found, notes, where

@@ -65,6 +65,7 @@ class SeriesHeaders:
     info: dict
     slices: list[SliceHeader] = field(default_factory=list)
     files: list[str] = field(default_factory=list)
+    bad: list[tuple[str, str]] = field(default_factory=list)  # (path, problem) of its unreadable files
 
 
 def _floats(value, n: int, path, tag: str) -> tuple[float, ...] | None:
@@ -292,30 +293,37 @@ def _add_file(series: dict[str, SeriesHeaders], ds, path: str, notes: list[str],
     series[uid].files.append(path)
 
 
+def _series_uid(ds) -> str:
+    """SeriesInstanceUID of a dataset whose other values may be broken; ``""`` when unknown."""
+    try:
+        return str(ds.get("SeriesInstanceUID", "") or "").strip() if ds is not None else ""
+    except Exception:  # noqa: BLE001 - a broken element: the series is unknown
+        return ""
+
+
 def read_headers(paths: list[Path], notes: list[str], dicomdirs: list[str],
-                 bad: list[tuple[str, str]] | None = None) -> dict[str, SeriesHeaders]:
+                 bad: list[tuple[str, str, str]] | None = None) -> dict[str, SeriesHeaders]:
     """Read the headers of ``paths`` and group the image slices by SeriesInstanceUID.
 
     Files that are not DICOM (no ``DICM`` preamble and no DICOM suffix) and DICOMDIR
     files are skipped silently (DICOMDIRs listed in ``dicomdirs``); DICOM files without
     image data get a line in ``notes``. A DICOM file whose header cannot be read is
-    appended to ``bad`` as ``(path, problem)`` and the others go on; with ``bad=None``
-    it raises :class:`CorruptDataError` instead.
+    appended to ``bad`` as ``(path, problem, SeriesInstanceUID or "")`` and the others go
+    on; with ``bad=None`` it raises :class:`CorruptDataError` instead.
     """
     series: dict[str, SeriesHeaders] = {}
     for p in paths:
+        ds = None
         try:
             with warnings.catch_warnings():  # pydicom converts values lazily; its warnings may quote them
                 warnings.simplefilter("ignore")
                 ds = _read_header(p)
                 if ds is not None:
                     _add_file(series, ds, str(p), notes, dicomdirs)
-        except VolumeReadError as exc:
+        except Exception as exc:  # noqa: BLE001 - typed errors, or a header value pydicom cannot convert
+            typed = exc if isinstance(exc, VolumeReadError) else CorruptDataError(
+                p, f"has an unreadable header ({type(exc).__name__})")
             if bad is None:
-                raise
-            bad.append((str(p), exc.problem))
-        except Exception as exc:  # noqa: BLE001 - a header value pydicom cannot convert
-            if bad is None:
-                raise CorruptDataError(p, f"has an unreadable header ({type(exc).__name__})") from None
-            bad.append((str(p), f"has an unreadable header ({type(exc).__name__})"))
+                raise typed from None
+            bad.append((str(p), typed.problem, _series_uid(ds)))
     return series

@@ -216,4 +216,5 @@ def test_a_series_with_a_broken_file_of_its_own_refuses_and_the_others_load(tmp_
     broken.write_bytes(raw.replace(iop, b"x" + iop[1:]))  # not numbers; the file's series is still known
     with pytest.raises(CorruptDataError, match="first_1.dcm.*ImageOrientationPatient"):
         volumen.load(folder, series="1.2.826.0.1.3680043.8.498.1")
+    assert [(s.files, s.unreadable) for s in list_series(folder)] == [(2, 1), (4, 0)]
     assert volumen.load(folder, series="1.2.826.0.1.3680043.8.498.2").shape == (4, 128, 128)

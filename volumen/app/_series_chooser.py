@@ -37,7 +37,8 @@ class SeriesChooser(QDialog):
         self.table.setSelectionMode(QTableWidget.SingleSelection)
         self.table.setEditTriggers(QTableWidget.NoEditTriggers)
         for row, s in enumerate(self.series):
-            cells = (s.number or "-", s.modality, " x ".join(map(str, s.size)), str(s.files),
+            cells = (s.number or "-", s.modality, " x ".join(map(str, s.size)),
+                     f"{s.files} (+{s.unreadable} unreadable)" if s.unreadable else str(s.files),
                      s.description or "(no description)")
             for col, value in enumerate(cells):
                 item = QTableWidgetItem(value)

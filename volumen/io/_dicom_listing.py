@@ -14,7 +14,9 @@ __all__ = ["SeriesSummary", "list_series"]
 class SeriesSummary:
     """One image series of a folder: technical facts only.
 
-    ``size`` is ``(columns, rows, slices)`` (slices counts frames of multi-frame files).
+    ``size`` is ``(columns, rows, slices)`` (slices counts frames of multi-frame files);
+    ``unreadable`` counts the series' files whose header could not be read (the series
+    then does not load).
     """
 
     uid: str
@@ -26,12 +28,14 @@ class SeriesSummary:
     colour: bool
     sop_class: str
     transfer_syntax: str
+    unreadable: int = 0
 
     def line(self) -> str:
         """``number  modality  cols x rows x slices  files  description  uid`` for listings."""
         c, r, n = self.size
+        bad = f" (+{self.unreadable} unreadable)" if self.unreadable else ""
         return (f"{self.number or '-':>5}  {self.modality:<3} {c:>4} x {r:<4} x {n:<5} {self.files:>5} file(s)  "
-                f"{self.description or '(no description)'}  {self.uid}")
+                f"{self.description or '(no description)'}  {self.uid}{bad}")
 
 
 def _number_key(s: SeriesSummary):
@@ -60,5 +64,5 @@ def list_series(path, notes: list[str] | None = None) -> list[SeriesSummary]:
             uid=s.uid, number=info["series_number"], description=s.description, modality=info["modality"],
             size=(first.shape[1], first.shape[0], len(s.slices)), files=len(s.files),
             colour=info["samples_per_pixel"] == 3 or info["photometric"] == "PALETTE COLOR",
-            sop_class=info["sop_class"], transfer_syntax=info["transfer_syntax"]))
+            sop_class=info["sop_class"], transfer_syntax=info["transfer_syntax"], unreadable=len(s.bad)))
     return sorted(out, key=_number_key)

@@ -1,10 +1,13 @@
 """DICOM reader: a folder, a file or a list of files holding one image series -> :class:`Volume`.
 
 Headers of every file are read first (:mod:`._dicom_series` groups them by
-SeriesInstanceUID, orders slices along their normal and builds the geometry);
-pixels are then read for the chosen series only, rescaled to physical units
-(RescaleSlope / RescaleIntercept: CT in HU) and stacked ``[slice, row, column]``
-= ``[z, y, x]``. DICOM is LPS+; the affine is turned into RAS+ once, here.
+SeriesInstanceUID; a file that cannot be read is a note, not the end of the
+folder), :mod:`._dicom_geometry` orders the slices along their normal and builds
+the geometry; pixels are then decoded for the chosen series only
+(:mod:`._dicom_pixels`: colour as RGB, Modality LUT applied), rescaled to physical
+units (RescaleSlope / RescaleIntercept: CT in HU) and stacked ``[slice, row, column]``
+= ``[z, y, x]`` (``[z, y, x, 3]`` for colour). DICOM is LPS+; the affine is turned
+into RAS+ once, in :mod:`._dicom_geometry`.
 
 Patient identity (names, IDs, dates of birth, addresses, institutions, accession
 numbers, study dates) is never copied into the volume, its warnings or any error.
@@ -25,6 +28,7 @@ from ._dicom_pixels import decode
 from ._dicom_series import SeriesHeaders, read_headers
 
 __all__ = ["read", "scan"]
+
 
 def _files(path) -> tuple[list[Path], Path]:
     """The candidate files and the path to name in messages (the folder, file, or the list's common folder)."""
@@ -148,20 +152,25 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     -------
     Volume
         ``data`` ``[z, y, x]`` = ``[slice, row, column]`` in physical units (RescaleSlope /
-        RescaleIntercept applied; CT in HU): the stored integer dtype when the rescale is
-        the identity, an integer dtype wide enough when slope and intercept are whole
-        numbers shared by all slices, float32 otherwise. ``spacing`` ``(dz, dy, dx)`` mm,
-        with dz from the slice positions; ``affine`` (column, row, slice) -> RAS+ mm.
-        ``meta`` holds technical facts only: ``series_uid``, ``series_description``,
-        ``slice_positions`` (mm along the slice normal), ``rescale``, ``window_presets``,
-        ``transfer_syntax``, ``n_files``, ``warnings``...
+        RescaleIntercept or the Modality LUT Sequence applied; CT in HU): the stored integer
+        dtype when the rescale is the identity, an integer dtype wide enough when slope and
+        intercept are whole numbers shared by all slices, float32 otherwise (float64 for
+        DoubleFloatPixelData). Colour (RGB, YBR_*, PALETTE COLOR) is ``[z, y, x, 3]`` RGB.
+        ``spacing`` ``(dz, dy, dx)`` mm, with dz from the slice positions; ``affine``
+        (column, row, slice) -> RAS+ mm. ``meta`` holds technical facts only:
+        ``series_uid``, ``series_description``, ``series_number``, ``slice_positions`` (mm
+        along the slice normal), ``rescale``, ``window_presets``, ``transfer_syntax(_uid)``,
+        ``sop_class(_uid)``, ``photometric``, ``display_inverted`` (MONOCHROME1),
+        ``modality_lut``, ``voi_lut``, ``n_files``, ``warnings`` (every assumption made and
+        every file skipped)...
 
     Raises
     ------
     MissingPathError, UnknownFormatError
         Missing path; no DICOM files.
     CorruptDataError
-        A DICOM file that cannot be parsed or decoded (named).
+        A file of the chosen series that cannot be parsed or decoded (named); every file
+        unreadable.
     SeriesError, MultipleSeriesError
         No images, several series and none chosen, inconsistent or duplicate slices.
     MissingDependencyError

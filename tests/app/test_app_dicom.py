@@ -71,3 +71,17 @@ def test_corrupt_dicom_file_shows_an_error_and_keeps_volume_and_session(make_win
     _close_boxes()
     assert win.state.volume is volume and win.state.scene == scene and win.state.camera == camera
     assert win.view3d.frame is not None
+
+
+def test_series_reference_round_trips_through_resolve_volume(tmp_path):
+    """Sessions and recent files name a chosen series as ``FOLDER?series=UID``."""
+    from volumen.app._session import resolve_volume, series_ref, split_series_ref
+
+    folder = _folder_with_two_series_and_a_corrupt_file(tmp_path / "d")
+    ref = series_ref(str(folder), UIDS[0])
+    assert split_series_ref(ref) == (str(folder), UIDS[0]) and series_ref(str(folder), None) == str(folder)
+    vol = resolve_volume(ref)
+    assert vol.shape == (3, 128, 128) and vol.meta["series_uid"] == UIDS[0]
+    odd = tmp_path / "odd?series=x"  # a real path that looks like a reference is never split
+    odd.mkdir()
+    assert split_series_ref(str(odd)) == (str(odd), None)

@@ -190,7 +190,7 @@ class MainWindow(QMainWindow):
         A DICOM folder holding several series opens the series chooser (``self.series_chooser``);
         the chosen one (``series``, a SeriesInstanceUID) is then loaded.
         """
-        from ._session import series_ref
+        from ._session import load_or_list, series_ref
 
         ref = series_ref(path, series)
 
@@ -206,7 +206,7 @@ class MainWindow(QMainWindow):
         def bad(exc):
             self.report_error("Cannot open the data", str(exc))
 
-        self._loading = run_task(self, lambda: _load_or_list(ref), done, bad, label=f"Loading {path}...")
+        self._loading = run_task(self, lambda: load_or_list(ref), done, bad, label=f"Loading {path}...")
         return self._loading
 
     def _choose_series(self, path: str, series: list, notes: list[str]) -> None:
@@ -385,16 +385,3 @@ class MainWindow(QMainWindow):
 
 QKEYS = {Qt.Key_W: "W", Qt.Key_S: "S", Qt.Key_A: "A", Qt.Key_D: "D", Qt.Key_R: "R", Qt.Key_F: "F",
          Qt.Key_Left: "Left", Qt.Key_Right: "Right", Qt.Key_Up: "Up", Qt.Key_Down: "Down"}
-
-
-def _load_or_list(ref: str):
-    """The volume of ``ref``, or ``(series summaries, notes)`` when it is a folder of several series."""
-    from ..errors import MultipleSeriesError
-    from ..io import list_series
-    from ._session import resolve_volume, split_series_ref
-
-    try:
-        return resolve_volume(ref)
-    except MultipleSeriesError:
-        notes: list[str] = []
-        return list_series(split_series_ref(ref)[0], notes), notes

@@ -24,7 +24,7 @@ from ..core import Camera, Scene, Window
 from ..errors import VolumenError
 
 __all__ = ["SESSION_VERSION", "SessionError", "session_dict", "apply_session", "save_session", "load_session",
-           "resolve_volume", "phantom_ref", "series_ref", "split_series_ref", "write_atomic"]
+           "resolve_volume", "phantom_ref", "series_ref", "split_series_ref", "load_or_list", "write_atomic"]
 
 SESSION_VERSION = 1
 
@@ -67,6 +67,19 @@ def resolve_volume(ref: str):
 
     path, series = split_series_ref(ref)
     return load(path) if series is None else load(path, series=series)
+
+
+def load_or_list(ref: str):
+    """The volume of ``ref``, or ``(series summaries, notes)`` when it is a DICOM folder of several
+    series (for the series chooser); other failures raise as :func:`resolve_volume` does."""
+    from ..errors import MultipleSeriesError
+    from ..io import list_series
+
+    try:
+        return resolve_volume(ref)
+    except MultipleSeriesError:
+        notes: list[str] = []
+        return list_series(split_series_ref(ref)[0], notes), notes
 
 
 _SERIES = "?series="

@@ -65,6 +65,7 @@ class MainWindow(QMainWindow):
         self.last_error = None
         self.endoscopy = None
         self._loading = None
+        self.series_chooser = None  # the open series chooser, if any
 
         self.slices = {p: SliceView(st, p) for p in ("axial", "coronal", "sagittal")}
         self.view3d = View3D(st)
@@ -183,21 +184,35 @@ class MainWindow(QMainWindow):
         if path:
             self.open_path(path)
 
-    def open_path(self, path: str):
-        """Load ``path`` in the background (progress dialog); on failure an error dialog, the old data stays."""
-        from ._session import resolve_volume
+    def open_path(self, path: str, series: str | None = None):
+        """Load ``path`` in the background (progress dialog); on failure an error dialog, the old data stays.
 
-        def done(volume):
-            self.set_volume(volume, path if str(path).startswith("phantom:") else str(path))
+        A DICOM folder holding several series opens the series chooser (``self.series_chooser``);
+        the chosen one (``series``, a SeriesInstanceUID) is then loaded.
+        """
+        from ._session import load_or_list, series_ref
+
+        ref = series_ref(path, series)
+
+        def done(result):
+            if isinstance(result, tuple):  # several series: (summaries, notes)
+                self._choose_series(path, *result)
+                return
+            self.set_volume(result, ref)
             if not str(path).startswith("phantom:"):
-                self.recent.add(str(path))
+                self.recent.add(ref)
                 self._fill_recent()
 
         def bad(exc):
             self.report_error("Cannot open the data", str(exc))
 
-        self._loading = run_task(self, lambda: resolve_volume(str(path)), done, bad, label=f"Loading {path}...")
+        self._loading = run_task(self, lambda: load_or_list(ref), done, bad, label=f"Loading {path}...")
         return self._loading
+
+    def _choose_series(self, path: str, series: list, notes: list[str]) -> None:
+        from ._series_chooser import ask_series
+
+        self.series_chooser = ask_series(self, str(path), series, lambda uid: self.open_path(path, series=uid), notes)
 
     # -- sessions -------------------------------------------------------------
     def session(self) -> dict:

@@ -24,7 +24,7 @@ from ..core import Camera, Scene, Window
 from ..errors import VolumenError
 
 __all__ = ["SESSION_VERSION", "SessionError", "session_dict", "apply_session", "save_session", "load_session",
-           "resolve_volume", "phantom_ref", "write_atomic"]
+           "resolve_volume", "phantom_ref", "series_ref", "split_series_ref", "load_or_list", "write_atomic"]
 
 SESSION_VERSION = 1
 
@@ -44,7 +44,8 @@ def phantom_ref(name: str, size: int | None = None) -> str:
 
 
 def resolve_volume(ref: str):
-    """Load the volume named by a reference: ``phantom:NAME[?size=N]`` or a file / DICOM folder path.
+    """Load the volume named by a reference: ``phantom:NAME[?size=N]``, a file / DICOM folder path, or
+    ``FOLDER?series=UID`` for one series of a DICOM folder.
 
     Raises
     ------
@@ -64,7 +65,40 @@ def resolve_volume(ref: str):
         return phantom(name, **kw)
     from ..io import load
 
-    return load(ref)
+    path, series = split_series_ref(ref)
+    return load(path) if series is None else load(path, series=series)
+
+
+def load_or_list(ref: str):
+    """The volume of ``ref``, or ``(series summaries, notes)`` when it is a DICOM folder of several
+    series (for the series chooser); other failures raise as :func:`resolve_volume` does."""
+    from ..errors import MultipleSeriesError
+    from ..io import list_series
+
+    try:
+        return resolve_volume(ref)
+    except MultipleSeriesError:
+        notes: list[str] = []
+        return list_series(split_series_ref(ref)[0], notes), notes
+
+
+_SERIES = "?series="
+
+
+def series_ref(path: str, series: str | None) -> str:
+    """The reference of DICOM series ``series`` (a SeriesInstanceUID) in folder ``path``: ``PATH?series=UID``."""
+    return str(path) if series is None else f"{path}{_SERIES}{series}"
+
+
+def split_series_ref(ref: str) -> tuple[str, str | None]:
+    """``(path, SeriesInstanceUID or None)`` of a reference made by :func:`series_ref` (a path that
+    exists as written is never split)."""
+    import os
+
+    path, sep, series = ref.rpartition(_SERIES)
+    if not sep or os.path.exists(ref):
+        return ref, None
+    return path, series
 
 
 def session_dict(state, size: tuple[int, int], endoscopy: dict | None = None) -> dict:

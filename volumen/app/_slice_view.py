@@ -75,9 +75,12 @@ class SliceView(QWidget):
         g = self.geometry_
         key = (id(g.volume), self.index, self.state.window, id(self.state.mask_canonical))
         if self._cache != key:
-            gray = np.ascontiguousarray(window_to_uint8(g.image(self.index), self.state.window))
-            self._gray = gray
-            self._image = QImage(gray.data, gray.shape[1], gray.shape[0], gray.strides[0], QImage.Format_Grayscale8)
+            gray = window_to_uint8(g.image(self.index), self.state.window)
+            if self.state.volume is not None and self.state.volume.meta.get("display_inverted"):
+                gray = 255 - gray  # MONOCHROME1: low values white
+            gray = self._gray = np.ascontiguousarray(gray)
+            fmt = QImage.Format_RGB888 if gray.ndim == 3 else QImage.Format_Grayscale8  # colour volumes: RGB
+            self._image = QImage(gray.data, gray.shape[1], gray.shape[0], gray.strides[0], fmt)
             self._mask_image = None
             if self.state.mask_canonical is not None:
                 m = g.image(self.index, self.state.mask_canonical) > 0

@@ -17,7 +17,7 @@ def _angle(a, b) -> float:
 
 
 def test_orbit_turns_by_degrees_per_pixel_and_keeps_the_distance(head64):
-    from volumen.app._interaction import DEGREES_PER_PIXEL, orbit
+    from volumen.core.gestures import DEGREES_PER_PIXEL, orbit
 
     cam = Camera.anatomical(head64, "anterior")
     back0 = np.subtract(cam.position, cam.target)
@@ -33,7 +33,7 @@ def test_orbit_turns_by_degrees_per_pixel_and_keeps_the_distance(head64):
 
 
 def test_pan_moves_the_target_by_the_pixel_size_and_zoom_divides_the_distance(head64):
-    from volumen.app._interaction import mm_per_pixel, pan, zoom
+    from volumen.core.gestures import mm_per_pixel, pan, zoom
 
     cam = Camera.anatomical(head64, "anterior")
     s = mm_per_pixel(cam, (200, 200))
@@ -44,8 +44,8 @@ def test_pan_moves_the_target_by_the_pixel_size_and_zoom_divides_the_distance(he
 
 
 def test_light_moves_in_the_view_plane_and_the_cone_apex_is_its_projection(head64):
-    from volumen.app._interaction import aim_light, light_at_camera, move_light
     from volumen.app._overlays import light_cone, pick_light
+    from volumen.core.gestures import aim_light, light_at_camera, move_light
 
     cam = Camera.anatomical(head64, "anterior")
     light = Light(position=tuple(np.add(cam.target, (0, 60, 0))), direction=(0, -1, 0), exponent=5)

@@ -39,7 +39,7 @@ def test_four_views_show_the_phantom_and_the_3d_picture_is_upright(make_window, 
 
 
 def test_mouse_drag_orbits_the_camera_by_the_expected_angle(make_window, qtbot):
-    from volumen.app._interaction import DEGREES_PER_PIXEL
+    from volumen.core.gestures import DEGREES_PER_PIXEL
 
     win = make_window()
     cam0 = win.state.camera

@@ -26,7 +26,7 @@ from PySide6.QtWidgets import (
 )
 
 from ..core import Light
-from ._interaction import light_at_camera
+from ..core.gestures import light_at_camera
 
 __all__ = ["LightPanel", "add_light_at_camera", "attach_light"]
 

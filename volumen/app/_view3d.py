@@ -18,7 +18,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QImage, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QWidget
 
-from . import _interaction as gestures
+from ..core import gestures
 from ._overlays import crosshair_lines, light_cone, pick_light, project_polyline
 
 __all__ = ["View3D"]

@@ -1,5 +1,8 @@
-"""Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only."""
+"""Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only.
 
+:mod:`volumen.core.gestures` turns mouse drags into cameras and lights (the app and the notebook share it)."""
+
+from . import gestures
 from ._camera import VIEWS, Camera
 from ._image import Image
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
@@ -8,6 +11,7 @@ from ._transfer import PRESETS, TransferFunction
 from ._volume import Volume, axis_codes
 
 __all__ = [
+    "gestures",
     "Volume",
     "axis_codes",
     "Camera",

@@ -1,4 +1,5 @@
-"""Mouse gestures of the 3D view as camera and light arithmetic (plain numpy, no Qt).
+"""Mouse gestures of a 3D view as camera and light arithmetic (plain numpy): the desktop application
+and the notebook widget turn the same drag into the same camera.
 
 Pixel offsets are ``(dx, dy)`` with x to the right and y DOWN the screen, as
 mouse events give them.
@@ -21,7 +22,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import Camera, Light
+from ._camera import Camera
+from ._lighting import Light
 
 __all__ = ["DEGREES_PER_PIXEL", "orbit", "pan", "zoom", "mm_per_pixel", "move_light", "aim_light",
            "light_at_camera", "rotate"]

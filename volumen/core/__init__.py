@@ -1,8 +1,9 @@
 """Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only.
 
-:mod:`volumen.core.gestures` turns mouse drags into cameras and lights (the app and the notebook share it)."""
+:mod:`volumen.core.gestures` turns mouse drags into cameras and lights (the app and the notebook share it);
+:mod:`volumen.core.display` makes the PNG and HTML with which Image, Volume and Mesh show themselves in notebooks."""
 
-from . import gestures
+from . import display, gestures
 from ._camera import VIEWS, Camera
 from ._image import Image
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
@@ -12,6 +13,7 @@ from ._volume import Volume, axis_codes
 
 __all__ = [
     "gestures",
+    "display",
     "Volume",
     "axis_codes",
     "Camera",

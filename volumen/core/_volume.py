@@ -296,6 +296,18 @@ class Volume:
         return Volume(out, spacing=tuple(new), affine=aff, modality=self.modality, units=self.units,
                       name=self.name, meta=meta)
 
+    def _repr_png_(self) -> bytes:
+        """Notebook display: the axial, coronal and sagittal planes through the centre."""
+        from .display import volume_png
+
+        return volume_png(self)
+
+    def _repr_html_(self) -> str:
+        """Notebook display: the geometry as a table beside the three planes."""
+        from .display import volume_html
+
+        return volume_html(self)
+
     def __repr__(self) -> str:
         lo, hi = self.value_range()
         grid = f"shape(z,y,x,rgb)={self.data.shape}" if self.is_color else f"shape(z,y,x)={self.shape}"

@@ -13,11 +13,12 @@ from __future__ import annotations
 from ._loop import REDUCED_FRACTION, REFINE_AFTER, RenderLoop
 from ._view import View, ViewState, drag_kind, draw_frame
 
-__all__ = ["show", "View", "ViewState", "RenderLoop", "draw_frame", "drag_kind", "export_html",
+__all__ = ["show", "View", "ViewState", "RenderLoop", "draw_frame", "drag_kind", "export_html", "phantom_ref",
            "REDUCED_FRACTION", "REFINE_AFTER"]
 
 
-def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, preset: str | None = None, **how):
+def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, preset: str | None = None,
+         volume_ref: str = "", **how):
     """An interactive notebook view of a Volume or a Scene.
 
     Parameters
@@ -31,6 +32,9 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
         Show the linked axial / coronal / sagittal views with window and level.
     preset : str, optional
         A transfer-function preset name (``volumen.core.PRESETS``) for a volume.
+    volume_ref : str, optional
+        Where the volume comes from (a path), written into ``viewer.scene.to_dict()`` so ``volumen render
+        --settings`` can load it; default ``phantom:NAME?size=N`` for a built-in phantom, else empty.
     **how
         ``device``, ``technique`` and technique options for ``volumen.render.render``.
 
@@ -47,7 +51,7 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
 
         vol = volume_or_scene
         tf = default_transfer(vol, "composite")
-        scene = Scene(volume=vol, volume_ref=vol.name, transfer=tf)
+        scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=tf)
         if preset is not None:
             from ._controls import preset_transfer
 
@@ -59,6 +63,18 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
     if scene.volume is None:
         raise ValueError("the scene has no volume attached (Scene(volume=...))")
     return Viewer(scene, camera or Camera.orbit(scene.volume), size, slices=slices, **how)
+
+
+def phantom_ref(volume) -> str:
+    """``phantom:NAME?size=N&param=value`` for a volume made by ``volumen.data.phantom`` (as the command line
+    reads it), else ``""``."""
+    from urllib.parse import urlencode
+
+    made = volume.meta.get("phantom")
+    if not made:
+        return ""
+    query = {k: v for k, v in {"size": made.get("size"), **made.get("params", {})}.items() if v is not None}
+    return f"phantom:{made['name']}" + (f"?{urlencode(query)}" if query else "")
 
 
 def export_html(frame) -> str:

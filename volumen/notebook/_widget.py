@@ -9,11 +9,12 @@ are what ``volumen render --scene ... --camera ...`` reads.
 from __future__ import annotations
 
 import asyncio
+import base64
 
 import ipywidgets as widgets
 from jupyter_rfb import RemoteFrameBuffer
 
-from ..core import Camera, Scene
+from ..core import Camera, Scene, display
 from ._view import View
 
 __all__ = ["Canvas", "Viewer"]
@@ -101,6 +102,17 @@ class Viewer(widgets.VBox):
     def wait(self, timeout: float = 60.0) -> bool:
         """Block until the final frame of the current scene and camera is rendered."""
         return self.view.wait(timeout)
+
+    def _repr_mimebundle_(self, **kwargs):
+        """The widget, plus its newest frame as ``image/png`` for pages without a widget manager (nbviewer,
+        a saved notebook)."""
+        data = super()._repr_mimebundle_(**kwargs)
+        if isinstance(data, tuple):
+            data = data[0]
+        data = dict(data or {"text/plain": repr(self)})
+        if self.frame is not None:
+            data["image/png"] = base64.b64encode(display.png_bytes(self.frame)).decode()
+        return data
 
     def snapshot_html(self) -> str:
         """A standalone HTML page with this widget's canvas showing the current frame (:func:`export_html`)."""

@@ -19,8 +19,9 @@ def test_the_docs_notebook_executes_and_shows_pictures(output_dir):
     from PIL import Image as PILImage
 
     nb = nbformat.read(NOTEBOOK, as_version=4)
-    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOK.parent)}}
-                            ).execute()  # raises CellExecutionError on any error
+    client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                                     resources={"metadata": {"path": str(NOTEBOOK.parent)}})
+    client.execute()  # raises CellExecutionError on any error
     nbformat.write(nb, output_dir / "notebook_executed.ipynb")
     pictures = []
     for cell in nb.cells:

@@ -23,6 +23,12 @@ def scene(head32) -> Scene:
     return Scene(volume=head32, volume_ref="phantom:head", transfer=default_transfer(head32, "composite"))
 
 
+@pytest.fixture(scope="session")
+def view_size() -> tuple[int, int]:
+    """(width, height) of the viewers under test."""
+    return SIZE
+
+
 @pytest.fixture()
 def viewer(scene):
     from volumen.notebook._widget import Viewer

@@ -7,7 +7,6 @@ import io
 
 import numpy as np
 import pytest
-from conftest import SIZE
 from PIL import Image as PILImage
 
 from volumen.core import Camera, TransferFunction, gestures
@@ -50,23 +49,23 @@ def test_drag_turns_the_camera_as_the_desktop_app_does(viewer):
     assert REDUCED_FRACTION in fractions or len(fractions) == 1  # drag frames were reduced (unless all skipped)
 
 
-def test_shift_drag_pans_and_wheel_zooms_as_in_the_app(viewer):
+def test_shift_drag_pans_and_wheel_zooms_as_in_the_app(viewer, view_size):
     cam0 = viewer.camera
     _drag(viewer.canvas, [(10, 10), (30, 20)], modifiers=("Shift",))
-    assert viewer.camera == gestures.pan(cam0, 20, 10, SIZE)
+    assert viewer.camera == gestures.pan(cam0, 20, 10, view_size)
     cam1 = viewer.camera
     viewer.canvas.handle_event({"type": "wheel", "x": 5, "y": 5, "dx": 0, "dy": -100, "modifiers": ()})
     assert viewer.camera == gestures.zoom(cam1, 1.1)  # one notch toward the scene, as the app's wheel
 
 
-def test_a_preset_change_renders_the_new_transfer_function(viewer, head32):
+def test_a_preset_change_renders_the_new_transfer_function(viewer, head32, view_size):
     before = viewer.frame.copy()
     viewer.controls.preset.value = "ct-skin-bone"
     assert viewer.wait(60)
     tf = TransferFunction.preset("ct-skin-bone", value_range=head32.value_range())
     assert viewer.scene.transfer == tf
     assert viewer.view.frame_state.scene.transfer == tf
-    expected = render(viewer.scene, viewer.camera, SIZE).to_uint8()
+    expected = render(viewer.scene, viewer.camera, view_size).to_uint8()
     assert np.abs(viewer.frame.astype(int) - expected).max() <= 1
     assert np.abs(before.astype(int) - expected).mean() > 1.0  # it really changed the picture
 
@@ -99,13 +98,13 @@ def test_scene_and_camera_are_settable_from_python(viewer, head32):
         viewer.camera = "left"
 
 
-def test_the_frame_sent_equals_volumen_render_of_the_scene_and_camera(scene):
+def test_the_frame_sent_equals_volumen_render_of_the_scene_and_camera(scene, view_size):
     """In a running event loop (as in a kernel) the canvas sends the background thread's frame; decoded
     (lossless PNG at quality 100) it equals volumen.render of the viewer's scene and camera within 1/255."""
     from volumen.notebook._widget import Viewer
 
     async def run():
-        w = Viewer(scene, Camera.orbit(scene.volume, azimuth=30), SIZE, slices=False)
+        w = Viewer(scene, Camera.orbit(scene.volume, azimuth=30), view_size, slices=False)
         w.canvas.quality = 100
         sent = []
         w.canvas.send = lambda msg, buffers=None: sent.append((msg, buffers))
@@ -121,7 +120,7 @@ def test_the_frame_sent_equals_volumen_render_of_the_scene_and_camera(scene):
     msg, buffers = sent[-1]
     assert msg["type"] == "framebufferdata" and msg["mimetype"] == "image/png"
     got = np.asarray(PILImage.open(io.BytesIO(bytes(buffers[0]))).convert("RGB"))
-    expected = render(w.scene, w.camera, SIZE).to_uint8()
+    expected = render(w.scene, w.camera, view_size).to_uint8()
     assert got.shape == expected.shape
     assert np.abs(got.astype(int) - expected).max() <= 1
     assert (expected.max(axis=2) > 0).mean() > 0.1  # a picture, not an empty frame

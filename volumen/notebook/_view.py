@@ -10,7 +10,7 @@ pans, right drag zooms by ``exp(-dy / 100)``, a wheel notch (100 units) zooms by
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -100,8 +100,6 @@ class View:
         return self._state.size
 
     def _set(self, fraction: float = 1.0, **changes) -> None:
-        from dataclasses import replace
-
         self._state = replace(self._state, **changes)
         self.redraw(fraction)
 

@@ -55,7 +55,11 @@ def test_shift_drag_pans_and_wheel_zooms_as_in_the_app(viewer, view_size):
     assert viewer.camera == gestures.pan(cam0, 20, 10, view_size)
     cam1 = viewer.camera
     viewer.canvas.handle_event({"type": "wheel", "x": 5, "y": 5, "dx": 0, "dy": -100, "modifiers": ()})
-    assert viewer.camera == gestures.zoom(cam1, 1.1)  # one notch toward the scene, as the app's wheel
+    assert viewer.camera == gestures.wheel_zoom(cam1, 1)  # one notch toward the scene, as the app's wheel
+    cam2 = viewer.camera
+    _drag(viewer.canvas, [(10, 40), (10, 20)], button=2)  # right drag up: closer, as in the app
+    assert viewer.camera == gestures.drag_zoom(cam2, -20)
+    assert viewer.camera.distance == pytest.approx(cam2.distance / np.exp(0.2), rel=1e-9)
 
 
 def test_a_preset_change_renders_the_new_transfer_function(viewer, head32, view_size):

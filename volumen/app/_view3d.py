@@ -189,7 +189,7 @@ class View3D(QWidget):
         elif kind == "pan":
             self.state.set_camera(gestures.pan(cam, dx, dy, self.view_size))
         elif kind == "zoom":
-            self.state.set_camera(gestures.zoom(cam, float(np.exp(-dy * 0.01))))
+            self.state.set_camera(gestures.drag_zoom(cam, dy))
         elif kind in ("light", "aim"):
             n = self._drag[2]
             light = self.state.scene.lights[n]
@@ -207,5 +207,5 @@ class View3D(QWidget):
         cam = self.state.camera
         steps = event.angleDelta().y() / 120
         if cam is not None and steps and not self.flying:
-            self.state.set_camera(gestures.zoom(cam, 1.1 ** steps))
+            self.state.set_camera(gestures.wheel_zoom(cam, steps))
         event.accept()

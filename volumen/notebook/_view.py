@@ -4,7 +4,8 @@ Events are the dicts jupyter-rfb delivers (``type`` ``pointer_down`` / ``pointer
 ``pointer_up`` / ``wheel`` / ``resize``, with ``x``, ``y`` in CSS pixels, ``button`` 1 left, 2 right,
 3 middle, ``modifiers`` such as ``("Shift",)``, ``dx``, ``dy`` for the wheel). The gestures are the
 desktop application's (:mod:`volumen.core.gestures`): left drag orbits, Shift+left or middle drag
-pans, right drag zooms by ``exp(-dy / 100)``, a wheel notch (100 units) zooms by 1.1.
+pans, right drag zooms (:func:`~volumen.core.gestures.drag_zoom`), a wheel notch (100 units in browsers)
+zooms as a notch does in the app (:func:`~volumen.core.gestures.wheel_zoom`).
 """
 
 from __future__ import annotations
@@ -141,11 +142,11 @@ class View:
         elif kind == "wheel":
             steps = -float(event.get("dy", 0.0)) / WHEEL_NOTCH
             if steps:
-                self._set(REDUCED_FRACTION, camera=gestures.zoom(self.camera, 1.1 ** steps))
+                self._set(REDUCED_FRACTION, camera=gestures.wheel_zoom(self.camera, steps))
 
     def _dragged(self, drag: str, dx: float, dy: float) -> Camera:
         if drag == "orbit":
             return gestures.orbit(self.camera, dx, dy)
         if drag == "pan":
             return gestures.pan(self.camera, dx, dy, self.size)
-        return gestures.zoom(self.camera, float(np.exp(-dy * 0.01)))
+        return gestures.drag_zoom(self.camera, dy)

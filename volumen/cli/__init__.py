@@ -21,6 +21,7 @@ COMMANDS = {
     "slices": "_slices",
     "render": "_render",
     "fly": "_fly",
+    "cpr": "_cpr",
     "mesh": "_mesh",
     "view": "_view",
     "bench": "_bench",

@@ -11,13 +11,17 @@
   :class:`KeyframePath` -- manual, guided and automatic navigation (no GUI);
 * :class:`Endoscope`, :class:`FrameLog`, :class:`VideoWriter` -- rendering and writing flythroughs;
 * :class:`Flight` -- keyframes, endoscope settings and centerline saved together, reproducing every frame;
-* :func:`unfold` -> :class:`Unfolded` -- the wall cut open along the centerline.
+* :func:`unfold` -> :class:`Unfolded` -- the wall cut open along the centerline;
+* :func:`curved_reformation` -> :class:`CPR`, :func:`cross_section`, :func:`cpr_figure` -- straightened and
+  stretched curved planar reformations along the centerline, with cross-sections.
 
 Numba kernels compile (or load from Numba's cache) on first use, not at import.
 """
 
 from ._centerline import Centerline, compute_centerline
 from ._collision import Collider, MoveResult
+from ._cpr import CPR, cross_section, curved_reformation
+from ._cpr_figure import cpr_figure
 from ._flight import Flight
 from ._flythrough import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
 from ._keyframes import Keyframe, KeyframePath, catmull_rom
@@ -61,4 +65,8 @@ __all__ = [
     "VideoWriter",
     "Unfolded",
     "unfold",
+    "CPR",
+    "curved_reformation",
+    "cross_section",
+    "cpr_figure",
 ]

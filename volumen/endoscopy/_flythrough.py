@@ -115,10 +115,12 @@ class Endoscope:
         Near plane ahead of the eye.
     samples_per_voxel : float
         Sampling density of the rays.
-    jitter : bool
+    jitter : bool or None
         Offset each ray's first sample by a hash of its pixel (the same in every
         frame): breaks the concentric "wood-grain" rings of a camera looking down
         a tube into fine noise fixed on the screen, which does not crawl in motion.
+        None (default): on in composite mode, off in isosurface mode (whose
+        refined hits show no rings).
     """
 
     volume: object = field(repr=False)
@@ -132,7 +134,7 @@ class Endoscope:
     fov: float = 100.0
     near: float = 0.5
     samples_per_voxel: float = 2.0
-    jitter: bool = True
+    jitter: bool | None = None
 
     def __post_init__(self):
         if self.mode not in ("isosurface", "composite"):
@@ -148,6 +150,8 @@ class Endoscope:
         if self.transfer is None:
             object.__setattr__(self, "transfer", endoscopy_transfer("endo-air"))
         object.__setattr__(self, "lights", tuple(self.lights))
+        if self.jitter is None:
+            object.__setattr__(self, "jitter", self.mode == "composite")
 
     def with_(self, **changes) -> Endoscope:
         return replace(self, **changes)

@@ -18,15 +18,24 @@ START = (222.1, 175.9, 21.7)  # in the aorta, VMTK's centerlines' common start
 ENDS = {"right iliac": (234.4, 101.3, 29.0), "left iliac": (210.2, 103.0, 31.7)}
 
 
-def aorta_folder() -> Path:
-    """The data folder, or a pytest skip naming where it was looked for."""
+def _candidates() -> list[Path]:
     env = os.environ.get("VOLUMEN_SHARED_DATA")
-    cands = [Path(env)] if env else []
-    cands += [ROOT.parent / "shared" / "data", ROOT.parents[1] / "shared" / "data", Path("/work/shared/data")]
-    for c in cands:
-        if (c / "vmtk-aorta" / "aorta.mha").exists():
-            return c / "vmtk-aorta"
-    pytest.skip(f"VMTK aorta data not found (set VOLUMEN_SHARED_DATA; looked in {', '.join(map(str, cands))})")
+    return ([Path(env)] if env else []) + [ROOT.parent / "shared" / "data", ROOT.parents[1] / "shared" / "data",
+                                           Path("/work/shared/data")]
+
+
+def shared_data() -> Path | None:
+    """The shared data folder (``VOLUMEN_SHARED_DATA``, or ``shared/data`` beside the repository), or None."""
+    return next((c for c in _candidates() if (c / "vmtk-aorta" / "aorta.mha").exists()), None)
+
+
+def aorta_folder() -> Path:
+    """The aorta's folder, or a pytest skip naming where it was looked for."""
+    found = shared_data()
+    if found is None:
+        pytest.skip(f"VMTK aorta data not found (set VOLUMEN_SHARED_DATA; looked in "
+                    f"{', '.join(map(str, _candidates()))})")
+    return found / "vmtk-aorta"
 
 
 def reference_lines(folder: Path) -> list[np.ndarray]:

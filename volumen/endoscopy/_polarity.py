@@ -71,12 +71,12 @@ class LumenEstimate:
     def transfer(self):
         """Endoscopy transfer function: the lumen transparent, the wall opaque from the threshold on.
 
-        Opacity ramps over ``0.1 * spread`` either side of the threshold; the wall's
+        Opacity ramps over ``0.15 * spread`` either side of the threshold; the wall's
         colour goes from dark red at the threshold to pale pink deeper in the wall.
         """
         from ..core import TransferFunction
 
-        t, w = self.threshold, max(0.1 * self.spread, 1e-3)
+        t, w = self.threshold, max(0.15 * self.spread, 1e-3)
         sign = 1.0 if self.kind == "air" else -1.0  # direction from the lumen into the wall
         wall = [t + sign * w, t + sign * 4 * w, t + sign * 10 * w]
         lumen = t - sign * w

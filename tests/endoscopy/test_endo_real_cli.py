@@ -71,6 +71,13 @@ def test_saved_flight_reproduces_every_frame_bit_for_bit(tmp_path, torso):
             a, b = flight.endoscope.render(pose_a, (24, 24)), again.endoscope.render(pose_b, (24, 24))
             assert np.array_equal(a.rgba, b.rgba) and np.array_equal(a.depth, b.depth), mode
             assert a.alpha.mean() > 0.5
+    # a replayed flight keeps its settings; flags given override them
+    replay, _ = _fly._flight(_args(["phantom:torso", "--path", str(tmp_path / "isosurface.json"), "-o", "y.mp4"]),
+                             torso)
+    assert replay.endoscope.to_dict() == Flight.load(tmp_path / "isosurface.json", torso).endoscope.to_dict()
+    changed, _ = _fly._flight(_args(["phantom:torso", "--path", str(tmp_path / "isosurface.json"), "-o", "y.mp4",
+                                     "--mode", "composite", "--fov", "80"]), torso)
+    assert changed.endoscope.mode == "composite" and changed.endoscope.jitter and changed.endoscope.fov == 80
 
 
 def _fails(argv, tmp_path, capsys, match):

@@ -43,13 +43,13 @@ def register(sub):
     p.add_argument("--speed", type=float, help="flight speed in mm/s along the path (default 20, or the saved one)")
     p.add_argument("--frames", type=int, help="number of frames (default: path duration x fps + 1)")
     p.add_argument("--size", default="256x256", help="frame size WxH in pixels (default 256x256)")
-    p.add_argument("--fov", type=float, default=100.0, help="vertical field of view, 30..140 degrees (default 100)")
+    p.add_argument("--fov", type=float, help="vertical field of view, 30..140 degrees (default 100, or the saved one)")
     from volumen.core import SHADINGS
     from volumen.endoscopy import LUMEN_KINDS
 
-    p.add_argument("--shading", choices=SHADINGS, default="phong",
+    p.add_argument("--shading", choices=SHADINGS,
                    help="every lit model (phong, the default; shadows, scattering, pathtrace) puts a flashlight on "
-                        "the camera; headlight; none")
+                        "the camera; headlight; none (default phong, or the saved one)")
     p.add_argument("--mode", choices=["isosurface", "composite"],
                    help="wall as a surface at the wall threshold, or volume rendering with a transfer function made "
                         "from the lumen's values or --preset (default: composite when --preset is given, else "
@@ -118,27 +118,35 @@ def _centerline(args, volume):
     return compute_centerline(volume, lumen, start, end), est
 
 
+def _overrides(args) -> dict:
+    """The endoscope settings given on the command line (they override a saved flight's)."""
+    from volumen.endoscopy import endoscopy_transfer
+
+    out = {k: getattr(args, k) for k in ("mode", "threshold", "shading", "fov") if getattr(args, k) is not None}
+    if args.preset:
+        out["transfer"] = endoscopy_transfer(args.preset)
+        out.setdefault("mode", "composite")
+    return out
+
+
 def _flight(args, volume):
-    """The Flight to render: loaded from ``--path``, or made from the centerline and the lumen's estimate."""
-    from volumen.endoscopy import Endoscope, Flight, KeyframePath, endoscopy_transfer
+    """The Flight to render: loaded from ``--path`` (flags given override its settings), or made from the
+    centerline and the lumen's estimate."""
+    from volumen.endoscopy import Endoscope, Flight, KeyframePath
 
     if args.path:
         flight = Flight.load(args.path, volume)
-        if args.speed:
-            flight = Flight(KeyframePath(flight.path.keyframes, speed=args.speed), flight.endoscope,
-                            flight.centerline)
-        return flight, None
+        speed = args.speed or flight.path.speed
+        return Flight(KeyframePath(flight.path.keyframes, speed=speed), flight.endoscope.with_(**_overrides(args)),
+                      flight.centerline), None
     if args.end and not args.start:
         raise ValueError("--end needs --start")
     cl, est = _centerline(args, volume)
     print(f"centerline: {cl.length:.1f} mm, {len(cl.points)} points, radius "
           f"{cl.radius.min():.1f}..{cl.radius.max():.1f} mm")
     path = KeyframePath.from_centerline(cl, every=args.every, speed=args.speed or 20.0)
-    endo = Endoscope(volume=volume, mode=args.mode or ("composite" if args.preset else "isosurface"),
-                     threshold=est.threshold if args.threshold is None else args.threshold,
-                     transfer=endoscopy_transfer(args.preset) if args.preset else est.transfer(),
-                     shading=args.shading, fov=args.fov)
-    return Flight(path, endo, cl), est
+    settings = {"mode": "isosurface", "threshold": est.threshold, "transfer": est.transfer(), **_overrides(args)}
+    return Flight(path, Endoscope(volume=volume, **settings), cl), est
 
 
 def _legs(args, flight):

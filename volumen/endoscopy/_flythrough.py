@@ -154,6 +154,9 @@ class Endoscope:
             object.__setattr__(self, "jitter", self.mode == "composite")
 
     def with_(self, **changes) -> Endoscope:
+        """A copy with ``changes``; a new ``mode`` without ``jitter`` takes that mode's default jitter."""
+        if "mode" in changes and "jitter" not in changes:
+            changes["jitter"] = None
         return replace(self, **changes)
 
     def to_dict(self) -> dict:

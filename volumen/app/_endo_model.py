@@ -65,12 +65,20 @@ class Endoscopy:
         :class:`~volumen.errors.LumenError` naming the point) when a point is missing, outside the scan, in
         no lumen, or the two are not connected.
         """
-        from ..endoscopy import compute_centerline, estimate_lumen, find_lumen, load_lumen_mask, nearest_voxel
+        from ..endoscopy import (
+            check_points_in_mask,
+            compute_centerline,
+            estimate_lumen,
+            find_lumen,
+            load_lumen_mask,
+            nearest_voxel,
+        )
 
         if self.start is None or self.end is None:
             raise ValueError("pick a start and an end point in the slice views first")
         if self.mask_file:
             mask = load_lumen_mask(self.mask_file, self.volume, self.label)
+            check_points_in_mask(self.volume, mask, {"start": self.start, "end": self.end}, self.mask_file)
             est = estimate_lumen(self.volume, nearest_voxel(self.volume, mask, self.start), self.lumen)
         else:
             mask, est = find_lumen(self.volume, self.start, self.end, kind=self.lumen)

@@ -90,7 +90,7 @@ def default_seed(volume):
 
 def _lumen(args, volume):
     """``(mask, estimate)``: grown from the seed, or read from ``--lumen-mask`` (the estimate then gives the wall)."""
-    from volumen.endoscopy import estimate_lumen, find_lumen, load_lumen_mask, lumen_voxel, nearest_voxel
+    from volumen.endoscopy import check_points_in_mask, estimate_lumen, find_lumen, load_lumen_mask, nearest_voxel
 
     start, end = parse_point(args.start), parse_point(args.end)
     seed = parse_point(args.seed) or start or default_seed(volume)
@@ -99,10 +99,9 @@ def _lumen(args, volume):
     rng = tuple(_floats(args.value_range, 2, "--range")) if args.value_range else None
     if not args.lumen_mask:
         return find_lumen(volume, seed, end, kind=args.lumen, value_range=rng)
-    for name, point in (("start", seed), ("end", end)):
-        if point is not None:
-            lumen_voxel(volume, point, name)
+    points = {"start": seed} if end is None else {"start": seed, "end": end}
     mask = load_lumen_mask(args.lumen_mask, volume, args.label)
+    check_points_in_mask(volume, mask, points, args.lumen_mask)
     est = estimate_lumen(volume, nearest_voxel(volume, mask, seed), args.lumen)
     return mask, est if rng is None else est.with_range(rng)
 

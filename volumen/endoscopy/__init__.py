@@ -26,7 +26,7 @@ from ._flight import Flight
 from ._flythrough import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
 from ._keyframes import Keyframe, KeyframePath, catmull_rom
 from ._lumen import AIR_RANGE, CONTRAST_RANGE, find_lumen, lumen_mask, lumen_voxel, nearest_voxel
-from ._lumen_file import load_lumen_mask
+from ._lumen_file import check_points_in_mask, load_lumen_mask
 from ._navigation import GuidedNavigator, ManualNavigator
 from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from ._pose import Pose, slerp
@@ -40,6 +40,7 @@ __all__ = [
     "lumen_voxel",
     "nearest_voxel",
     "load_lumen_mask",
+    "check_points_in_mask",
     "estimate_lumen",
     "LumenEstimate",
     "LUMEN_KINDS",

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import LumenError
 
-__all__ = ["load_lumen_mask", "resample_mask"]
+__all__ = ["load_lumen_mask", "resample_mask", "check_points_in_mask"]
 
 _SUFFIXES = (".nii.gz", ".nii", ".nrrd", ".seg.nrrd", ".mha", ".mhd")
 
@@ -100,3 +100,26 @@ def load_lumen_mask(file, volume, label=None) -> np.ndarray:
         raise LumenError(f"{file}: the mask does not overlap the scan (its grid {seg.shape} (z, y, x) lies "
                          f"elsewhere in space): is it the scan's segmentation?")
     return out
+
+
+def check_points_in_mask(volume, mask: np.ndarray, points: dict, file) -> None:
+    """Each named world point (``{"start": (x, y, z), ...}``, mm) must lie within 3 voxels of ``mask``, and all
+    in one connected part of it; otherwise a :class:`LumenError` naming the point and ``file``."""
+    from scipy import ndimage
+
+    from ._lumen import _fmt, lumen_voxel, nearest_voxel
+
+    labels, _ = ndimage.label(mask)
+    parts = {}
+    for name, p in points.items():
+        lumen_voxel(volume, p, name)
+        near = nearest_voxel(volume, mask, p)
+        gap = float(np.linalg.norm(volume.index_to_world(np.asarray(near[::-1], float)) - np.asarray(p, float)))
+        if gap > 3.0 * max(volume.spacing):
+            raise LumenError(f"{file}: the {name} point {_fmt(p)} is not in the lumen mask (its nearest voxel is "
+                             f"{gap:.1f} mm away)")
+        parts[name] = int(labels[near])
+    if len(set(parts.values())) > 1:
+        first, *others = parts
+        raise LumenError(f"{file}: the {others[0]} point {_fmt(points[others[0]])} lies in a part of the mask that "
+                         f"does not connect to the {first} point's {_fmt(points[first])}")

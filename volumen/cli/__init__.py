@@ -21,6 +21,7 @@ COMMANDS = {
     "slices": "_slices",
     "render": "_render",
     "fly": "_fly",
+    "cpr": "_cpr",
     "mesh": "_mesh",
     "view": "_view",
     "bench": "_bench",
@@ -47,8 +48,10 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (also used by ``python -m volumen``)."""
     from volumen.errors import VolumenError
 
+    from ._common import join_negative_values
+
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else list(argv)))
     try:
         result = args._run(args)
     except VolumenError as exc:

@@ -22,6 +22,7 @@ __all__ = [
     "NonFiniteValuesError",
     "VolumeWriteError",
     "SampleDataMissingError",
+    "UnexpectedReadError",
 ]
 
 
@@ -102,3 +103,11 @@ class VolumeWriteError(VolumenError):
 
 class SampleDataMissingError(VolumeReadError):
     """Sample data that volumen looks for on the machine is not installed."""
+
+
+class UnexpectedReadError(CorruptDataError):
+    """A reader met a failure no check anticipated (the load path's last-resort net).
+
+    The message names the file and the original exception; ``__cause__`` holds it.
+    The fuzzer counts these as untyped: each one is a missing check to add.
+    """

@@ -23,6 +23,7 @@ __all__ = [
     "VolumeWriteError",
     "SampleDataMissingError",
     "UnexpectedReadError",
+    "OutsideFolderError",
 ]
 
 
@@ -111,3 +112,8 @@ class UnexpectedReadError(CorruptDataError):
     The message names the file and the original exception; ``__cause__`` holds it.
     The fuzzer counts these as untyped: each one is a missing check to add.
     """
+
+
+class OutsideFolderError(VolumeReadError):
+    """A header names a data file outside its own folder and the caller did not allow it
+    (``volumen.load(..., allow_outside=True)``)."""

@@ -168,13 +168,20 @@ _DICOM_VALUES = {
 
 
 def dicom_field(rng: random.Random, data: bytes, ctx, *, others: tuple[bytes, ...] = ()):
+    import logging
     import warnings
 
     import pydicom
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return _dicom_edit(pydicom, rng, data, ctx, others)
+    log = logging.getLogger("pydicom")
+    was = log.disabled
+    log.disabled = True  # pydicom logs every odd value the mutation writes
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return _dicom_edit(pydicom, rng, data, ctx, others)
+    finally:
+        log.disabled = was
 
 
 def _dicom_edit(pydicom, rng, data, ctx, others):

@@ -187,3 +187,21 @@ def test_the_load_net_types_what_no_check_anticipated(tmp_path, monkeypatch):
         volumen.load(path)
     assert "n.vtk" in str(info.value) and "KeyError" in str(info.value)
     assert isinstance(info.value, CorruptDataError)
+
+
+def test_open_bounded_never_asks_for_more_than_the_file_holds(tmp_path):
+    """A damaged DICOM length field made pydicom call read(~4 GB): MemoryError under a 4 GiB limit."""
+    import pydicom
+    from pydicom.data import get_testdata_file
+
+    from volumen.io._limits import open_bounded
+
+    path = tmp_path / "f.bin"
+    path.write_bytes(b"0123456789")
+    with open_bounded(path) as f:
+        f.seek(4)
+        assert f.read(1 << 62) == b"456789" and f.read(5) == b"" and f.tell() == 10
+    src = get_testdata_file("CT_small.dcm")
+    with open_bounded(src) as f:
+        ds = pydicom.dcmread(f)
+    assert np.array_equal(ds.pixel_array, pydicom.dcmread(src).pixel_array)

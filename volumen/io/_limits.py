@@ -9,6 +9,9 @@
 * **Data files.** A file named by a header (MetaImage ``ElementDataFile``, NRRD
   ``data file``, their list and pattern forms) must lie in the header's folder
   (:func:`data_file`) unless the caller passed ``allow_outside=True``.
+* **Libraries that trust lengths.** :func:`open_bounded` opens a file whose
+  ``read(n)`` never asks for more than the bytes left, so a library reading an element
+  length from the file (pydicom) cannot allocate gigabytes for a damaged length field.
 * **Numbers and patterns.** :func:`to_int` / :func:`to_floats` turn header text into
   bounded numbers; :func:`expand_pattern` expands a ``%d`` file-name pattern without
   Python's ``%`` operator, after checking how many names it would produce.
@@ -17,6 +20,7 @@
 from __future__ import annotations
 
 import bz2
+import io
 import math
 import os
 import re
@@ -25,12 +29,34 @@ from pathlib import Path
 
 from ..errors import CorruptDataError, DataSizeError, MissingPathError, OutsideFolderError
 
-__all__ = ["MAX_DATA_BYTES", "MAX_FILES", "need_bytes", "check_available", "data_file", "inflate", "to_int",
-           "to_floats", "expand_pattern"]
+__all__ = ["MAX_DATA_BYTES", "MAX_FILES", "open_bounded", "need_bytes", "check_available", "data_file", "inflate",
+           "to_int", "to_floats", "expand_pattern"]
 
 MAX_DATA_BYTES = 1 << 36  # 64 GiB: no header may ask for more decoded data than this
 MAX_FILES = 1 << 16  # data files one header may list
 _CHUNK = 1 << 22
+
+
+class _BoundedReader(io.BufferedReader):
+    """A binary file whose ``read(n)`` is clamped to the bytes left in the file."""
+
+    def __init__(self, path):
+        super().__init__(io.FileIO(os.fspath(path)))
+        self._size = os.fstat(self.fileno()).st_size
+
+    def read(self, n: int | None = -1) -> bytes:
+        if n is not None and n > 0:
+            n = max(0, min(n, self._size - self.tell()))
+        return super().read(n)
+
+
+def open_bounded(path) -> io.BufferedReader:
+    """Open ``path`` for reading such that ``read(n)`` allocates at most what the file still holds.
+
+    For readers that take a length from the file and call ``read(length)``:
+    ``with open_bounded(path) as f: ds = pydicom.dcmread(f)``.
+    """
+    return _BoundedReader(path)
 
 
 def need_bytes(path, sizes, itemsize: int, what: str = "the header") -> int:

@@ -205,3 +205,19 @@ def test_open_bounded_never_asks_for_more_than_the_file_holds(tmp_path):
     with open_bounded(src) as f:
         ds = pydicom.dcmread(f)
     assert np.array_equal(ds.pixel_array, pydicom.dcmread(src).pixel_array)
+
+
+def test_the_load_net_also_catches_native_panics(tmp_path, monkeypatch):
+    """pylibjpeg-rle's Rust decoder panics on a bit-flipped RLE stream: pyo3 raises a BaseException."""
+    from volumen.io import _vtk
+
+    class PanicException(BaseException):  # what pyo3 raises; not an Exception
+        pass
+
+    def panics(path):
+        raise PanicException("index out of bounds: the len is 400 but the index is 402")
+
+    monkeypatch.setattr(_vtk, "read", panics)
+    path = write(tmp_path, "p.vtk", "# vtk DataFile Version 3.0\n")
+    with pytest.raises(UnexpectedReadError, match="PanicException"):
+        volumen.load(path)

@@ -142,7 +142,10 @@ def _read(mod, path, options: dict) -> Volume:
                                   "has)") from exc
     except (PermissionError, IsADirectoryError) as exc:
         raise VolumeReadError(path, f"could not be read ({exc.strerror}: {exc.filename})") from exc
-    except Exception as exc:  # noqa: BLE001  (the net: no bare exception escapes a load)
+    except (KeyboardInterrupt, SystemExit, GeneratorExit):
+        raise
+    except BaseException as exc:  # noqa: BLE001  (the net; BaseException: Rust decoders panic with pyo3's
+        # PanicException, which is not an Exception)
         text = str(exc).splitlines()[0][:300] if str(exc) else ""
         raise UnexpectedReadError(path, f"could not be read ({type(exc).__name__}: {text})") from exc
 

@@ -85,7 +85,9 @@ def _run(task: dict, roots: tuple[str, ...]) -> dict:
         outcome, detail = "ok", ""
     except RecursionError as exc:  # before BaseException handling: the stack is unwound by now
         outcome, detail = "untyped", f"RecursionError: {str(exc)[:200]}"
-    except Exception as exc:  # noqa: BLE001  (classifying every exception is the point)
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except BaseException as exc:  # noqa: BLE001  (classifying every exception is the point)
         outcome, detail = classify(exc)
     finally:
         where = _outside(task["folder"], roots)

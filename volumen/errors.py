@@ -23,6 +23,8 @@ __all__ = [
     "VolumeWriteError",
     "SampleDataMissingError",
     "LumenError",
+    "UnexpectedReadError",
+    "OutsideFolderError",
 ]
 
 
@@ -108,3 +110,16 @@ class SampleDataMissingError(VolumeReadError):
 class LumenError(VolumenError, ValueError):
     """No usable lumen: a point outside the scan or in no lumen, two points in lumens that do not
     connect, a lumen mask that does not fit the scan. The message names the point or the file."""
+
+
+class UnexpectedReadError(CorruptDataError):
+    """A reader met a failure no check anticipated (the load path's last-resort net).
+
+    The message names the file and the original exception; ``__cause__`` holds it.
+    The fuzzer counts these as untyped: each one is a missing check to add.
+    """
+
+
+class OutsideFolderError(VolumeReadError):
+    """A header names a data file outside its own folder and the caller did not allow it
+    (``volumen.load(..., allow_outside=True)``)."""

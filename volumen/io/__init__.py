@@ -1,7 +1,9 @@
 """Reading and writing volume files (one module per family of formats).
 
-Libraries used: pydicom (DICOM), nibabel (NIfTI), pynrrd (NRRD), SimpleITK
-(MetaImage), numpy (.npy/.npz, raw); VTK legacy structured points are parsed here.
+Libraries used: pydicom (DICOM), nibabel (NIfTI), pynrrd (NRRD headers), SimpleITK
+(MetaImage writing); MetaImage, NRRD data, .npy/.npz containers and VTK legacy
+structured points are parsed here, every header value checked first (``_limits``).
+``python -m volumen.io.fuzz`` fuzzes every reader (``make fuzz``).
 """
 
 from ._api import READ_FORMATS, WRITE_FORMATS, detect_format, load, save

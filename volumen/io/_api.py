@@ -9,6 +9,7 @@ the non-finite value policy, ``resample=True`` and the ``source`` entry in meta.
 from __future__ import annotations
 
 import importlib
+import inspect
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -17,7 +18,16 @@ from typing import Literal
 import numpy as np
 
 from ..core import Volume
-from ..errors import MissingPathError, NonFiniteValuesError, UnknownFormatError, VolumeWriteError
+from ..errors import (
+    DataSizeError,
+    MissingPathError,
+    NonFiniteValuesError,
+    UnexpectedReadError,
+    UnknownFormatError,
+    VolumenError,
+    VolumeReadError,
+    VolumeWriteError,
+)
 
 __all__ = ["load", "save", "detect_format", "READ_FORMATS", "WRITE_FORMATS"]
 
@@ -105,8 +115,6 @@ def _apply_nonfinite(vol: Volume, policy: NonFinitePolicy, path) -> Volume:
 
 def _check_options(func, fmt: str, path, options: dict) -> None:
     """Unknown reader options are a clear VolumeReadError, not a bare TypeError."""
-    import inspect
-
     params = inspect.signature(func).parameters
     if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
         return
@@ -114,14 +122,37 @@ def _check_options(func, fmt: str, path, options: dict) -> None:
                 or (p.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD and n != "path")]
     unknown = sorted(set(options) - set(accepted))
     if unknown:
-        from ..errors import VolumeReadError
-
         raise VolumeReadError(path, f"the {fmt} reader does not take option(s) {', '.join(unknown)}; "
                                     f"it takes: {', '.join(accepted) or 'none'}")
 
 
+def _read(mod, path, options: dict) -> Volume:
+    """``mod.read`` with the last-resort net: whatever a reader did not anticipate becomes a typed error.
+
+    The readers check their input and raise typed errors themselves; an exception
+    that reaches this net is a missing check, reported as :class:`UnexpectedReadError`
+    (the fuzzer counts those as untyped).
+    """
+    try:
+        return mod.read(path, **options)
+    except VolumenError:
+        raise
+    except MemoryError as exc:
+        raise DataSizeError(path, "ran out of memory reading it (the header asks for more than this machine "
+                                  "has)") from exc
+    except (PermissionError, IsADirectoryError) as exc:
+        raise VolumeReadError(path, f"could not be read ({exc.strerror}: {exc.filename})") from exc
+    except (KeyboardInterrupt, SystemExit, GeneratorExit):
+        raise
+    except BaseException as exc:  # noqa: BLE001  (the net; BaseException: Rust decoders panic with pyo3's
+        # PanicException, which is not an Exception)
+        text = str(exc).splitlines()[0][:300] if str(exc) else ""
+        raise UnexpectedReadError(path, f"could not be read ({type(exc).__name__}: {text})") from exc
+
+
 def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str | None = None,
-         nonfinite: NonFinitePolicy = "zero", resample: bool = False, **options) -> Volume:
+         nonfinite: NonFinitePolicy = "zero", resample: bool = False, allow_outside: bool = False,
+         **options) -> Volume:
     """Read a volume from a file, a DICOM folder, or a list of DICOM files.
 
     Parameters
@@ -140,6 +171,9 @@ def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str |
         Make non-uniform slice spacing uniform (DICOM) by resampling onto the
         smallest spacing found. Without it such a series loads as it is, with a
         warning in ``meta["warnings"]`` and the positions in ``meta["slice_positions"]``.
+    allow_outside : bool
+        Let a header (MetaImage ``ElementDataFile``, NRRD ``data file``) name data files
+        outside its own folder. Without it such a file raises :class:`OutsideFolderError`.
     **options
         Passed to the format's reader: ``series=UID`` for DICOM; ``shape``,
         ``dtype``, ``spacing``, ``byte_order``, ``offset`` for raw files; ``key`` for npz.
@@ -167,8 +201,10 @@ def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str |
     mod = _module(fmt)
     if fmt == "dicom":
         options["resample"] = resample
+    if allow_outside and "allow_outside" in inspect.signature(mod.read).parameters:
+        options["allow_outside"] = True
     _check_options(mod.read, fmt, path, options)
-    vol = mod.read(path, **options)
+    vol = _read(mod, path, options)
     vol.meta.setdefault("source", [os.fspath(p) for p in path] if isinstance(path, (list, tuple)) else os.fspath(path))
     vol.meta.setdefault("format", fmt)
     return _apply_nonfinite(vol, nonfinite, path)

@@ -100,13 +100,13 @@ def _rescale(raw: np.ndarray, slopes: np.ndarray, intercepts: np.ndarray) -> tup
             return raw, info
         if raw.dtype.kind in "iu" and s.is_integer() and b.is_integer():
             lo, hi = sorted((float(raw.min()) * s + b, float(raw.max()) * s + b))
-            for dt in (raw.dtype, np.dtype(np.int16), np.dtype(np.int32), np.dtype(np.int64)):
-                if np.iinfo(dt).min <= lo and hi <= np.iinfo(dt).max:
-                    break
-            out = np.empty(raw.shape, dt)
-            for k in range(raw.shape[0]):  # per slice: int64 temporaries stay small
-                out[k] = raw[k].astype(np.int64) * int(s) + int(b)
-            return out, info
+            fits = [dt for dt in (raw.dtype, np.dtype(np.int16), np.dtype(np.int32), np.dtype(np.int64))
+                    if np.iinfo(dt).min <= lo and hi <= np.iinfo(dt).max]
+            if fits:  # else (a huge slope or intercept): float below
+                out = np.empty(raw.shape, fits[0])
+                for k in range(raw.shape[0]):  # per slice: int64 temporaries stay small
+                    out[k] = raw[k].astype(np.int64) * int(s) + int(b)
+                return out, info
     else:
         info = {"per_slice": True, "slope_range": [float(slopes.min()), float(slopes.max())],
                 "intercept_range": [float(intercepts.min()), float(intercepts.max())]}
@@ -214,8 +214,11 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     modality = info["modality"]
     rtype = info["rescale_type"]
     units = "" if data.ndim == 4 else (rtype if rtype and rtype.upper() != "US" else ("HU" if modality == "CT" else ""))
-    return Volume(data, spacing=spacing, affine=affine, modality=modality, units=units,
-                  name=chosen.description or "DICOM series", meta=meta)
+    try:
+        return Volume(data, spacing=spacing, affine=affine, modality=modality, units=units,
+                      name=chosen.description or "DICOM series", meta=meta)
+    except ValueError as exc:  # e.g. parallel row/column directions, overflowing spacing
+        raise CorruptDataError(path, f"has unusable geometry: {exc}") from exc
 
 
 def _display_facts(meta: dict, info: dict) -> None:

@@ -17,12 +17,11 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import pydicom
 from pydicom.errors import InvalidDicomError
 from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
 
 from ..errors import CorruptDataError, MissingDependencyError, SeriesError
-from ._dicom_series import PIXEL_TAGS
+from ._dicom_series import PIXEL_TAGS, _dcmread
 
 __all__ = ["decode"]
 
@@ -40,9 +39,9 @@ def _open(path: str):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                ds = pydicom.dcmread(path)
+                ds = _dcmread(path)
             except InvalidDicomError:  # no preamble: accepted by the header pass for its DICOM suffix
-                ds = pydicom.dcmread(path, force=True)
+                ds = _dcmread(path, force=True)
                 if "TransferSyntaxUID" not in ds.file_meta:
                     ds.file_meta.TransferSyntaxUID = (ImplicitVRLittleEndian if ds.original_encoding[0]
                                                       else ExplicitVRLittleEndian)
@@ -57,6 +56,8 @@ def _transfer_syntax(ds, path: str) -> str:
     """The transfer syntax's name for messages; raises when compressed data has no installed decoder."""
     ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
     ts_name = f"{ts.name} ({ts})" if ts else "an unknown transfer syntax"
+    if ts and not ts.is_transfer_syntax:
+        raise CorruptDataError(path, f"TransferSyntaxUID {str(ts)[:64]!r} is not a transfer syntax")
     if ts and ts.is_compressed and "PixelData" in ds:
         from pydicom.pixels import get_decoder
 
@@ -106,18 +107,45 @@ _GDCM_TYPES = {"UINT8": np.uint8, "INT8": np.int8, "UINT16": np.uint16, "INT16":
                "UINT32": np.uint32, "INT32": np.int32, "FLOAT32": np.float32, "FLOAT64": np.float64}
 
 
+def _pixel_array(ds) -> np.ndarray:
+    """``ds.pixel_array`` through pydicom's plugins other than GDCM's: GDCM aborts the whole process (an
+    uncaught C++ exception) on some corrupt streams, where the other plugins raise Python errors. GDCM
+    stays the explicit fallback of :func:`_decoded`, after plausibility checks."""
+    ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
+    if not (ts and ts.is_compressed and "PixelData" in ds):
+        return ds.pixel_array
+    from pydicom.pixels import get_decoder
+
+    plugins = [name for name in get_decoder(ts).available_plugins if name != "gdcm"]
+    error: Exception = RuntimeError(f"no installed decoder other than GDCM reads {ts.name}")
+    for name in plugins:
+        try:
+            ds.pixel_array_options(decoding_plugin=name)
+            return ds.pixel_array
+        except Exception as exc:  # noqa: BLE001 - the next plugin may read it
+            error = exc
+    raise error
+
+
 def _decoded(ds, path: str) -> np.ndarray:
     """pydicom's decoded pixels; GDCM directly for compressed greyscale that pydicom's plugins refuse."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return ds.pixel_array
+            return _pixel_array(ds)
     except Exception:
         ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
         arr = None
         if ts and ts.is_compressed and "PixelData" in ds:
+            # GDCM aborts the process (uncaught C++ exceptions) on SamplesPerPixel outside 1, 3, 4,
+            # PlanarConfiguration outside 0, 1 and, in its RLE codec, BitsAllocated outside 8, 16, 32
+            # and on a missing PhotometricInterpretation: it is asked only for 12-bit JPEG Extended, which
+            # no other decoder reads, and only with a plausible header
+            plausible = (ts == "1.2.840.10008.1.2.4.51" and ds.get("SamplesPerPixel", 1) in (1, 3)
+                         and ds.get("BitsAllocated", 16) in (8, 16, 32) and ds.get("PlanarConfiguration", 0) in (0, 1)
+                         and "PhotometricInterpretation" in ds)
             try:
-                arr = _gdcm_pixels(path)
+                arr = _gdcm_pixels(path) if plausible else None
             except Exception:  # noqa: BLE001 - GDCM failing too: pydicom's error is the one to report
                 arr = None
         if arr is None:

@@ -20,6 +20,7 @@ from pydicom.errors import InvalidDicomError
 from pydicom.multival import MultiValue
 
 from ..errors import CorruptDataError, VolumeReadError
+from ._limits import open_bounded
 
 __all__ = ["SliceHeader", "SeriesHeaders", "read_headers", "DICOM_SUFFIXES", "PIXEL_TAGS"]
 
@@ -164,6 +165,8 @@ def _slices_of(ds, path: str) -> list[SliceHeader]:
         n_frames = int(ds.get("NumberOfFrames", 1) or 1)
     except (TypeError, ValueError):
         raise CorruptDataError(path, "Rows, Columns or NumberOfFrames is not a whole number") from None
+    if n_frames > max(Path(path).stat().st_size, 1):  # every frame takes at least a byte
+        raise CorruptDataError(path, f"NumberOfFrames {n_frames} is more than the file has bytes")
     if rows < 1 or cols < 1 or n_frames < 1:
         raise CorruptDataError(path, f"image size {cols} x {rows} x {n_frames} frames (columns x rows) is empty")
     per_frame = ds.get("PerFrameFunctionalGroupsSequence")
@@ -252,18 +255,24 @@ def _info(ds) -> dict:
     }
 
 
+def _dcmread(path: str, **kw):
+    """pydicom.dcmread with reads clamped to the file's size (a damaged length cannot over-allocate)."""
+    with open_bounded(path) as f:
+        return pydicom.dcmread(f, **kw)
+
+
 def _read_header(p: Path):
     """The dataset of ``p`` without pixels; ``None`` for a file that is not DICOM (no preamble, no suffix)."""
     path = str(p)
     with warnings.catch_warnings():  # pydicom warnings may quote element values
         warnings.simplefilter("ignore")
         try:
-            return pydicom.dcmread(path, stop_before_pixels=True)
+            return _dcmread(path, stop_before_pixels=True)
         except InvalidDicomError:
             if p.suffix.lower() not in DICOM_SUFFIXES and p.name.upper() != "DICOMDIR":
                 return None
             try:
-                ds = pydicom.dcmread(path, stop_before_pixels=True, force=True)
+                ds = _dcmread(path, stop_before_pixels=True, force=True)
             except Exception:  # noqa: BLE001 - anything pydicom raises means "unreadable"
                 ds = None
             if ds is None or ("Rows" not in ds and "SOPClassUID" not in ds):

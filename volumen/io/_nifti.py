@@ -112,25 +112,8 @@ def _values(img, warnings: list[str]) -> np.ndarray:
     return arr
 
 
-def read(path) -> Volume:
-    """Read a NIfTI file (or an Analyze/NIfTI ``.hdr``/``.img`` pair).
-
-    Returns
-    -------
-    Volume
-        Data ``[z, y, x]`` with scaling applied; affine voxel (i, j, k) -> RAS+ mm.
-        ``meta["nifti_xform"]`` names the transform used.
-    """
-    path = Path(path)
-    img = _load(path)
-    warnings: list[str] = []
-    _check_size(path, img)
-    try:
-        xyz = _values(img, warnings)
-    except DataSizeError:
-        raise
-    except Exception as exc:
-        raise CorruptDataError(path, f"image data could not be read ({type(exc).__name__}: {exc})") from exc
+def _geometry(img, warnings: list[str]):
+    """RAS+ affine, the transform's name, spacing and the geometry record's extras."""
     affine, xform = _xform(img)
     hdr = img.header
     if hasattr(hdr, "get_xyzt_units"):
@@ -150,6 +133,33 @@ def read(path) -> Volume:
         rec = None
     affine, spacing, extras = apply_record(rec, affine, spacing_of(affine), rtol=_F32, what="sform",
                                            warnings=warnings)
+    return affine, xform, spacing, extras
+
+
+def read(path) -> Volume:
+    """Read a NIfTI file (or an Analyze/NIfTI ``.hdr``/``.img`` pair).
+
+    Returns
+    -------
+    Volume
+        Data ``[z, y, x]`` with scaling applied; affine voxel (i, j, k) -> RAS+ mm.
+        ``meta["nifti_xform"]`` names the transform used.
+    """
+    path = Path(path)
+    img = _load(path)
+    warnings: list[str] = []
+    _check_size(path, img)
+    try:
+        xyz = _values(img, warnings)
+    except DataSizeError:
+        raise
+    except Exception as exc:
+        raise CorruptDataError(path, f"image data could not be read ({type(exc).__name__}: {exc})") from exc
+    try:
+        affine, xform, spacing, extras = _geometry(img, warnings)
+    except (ValueError, KeyError, IndexError, TypeError, OverflowError, np.linalg.LinAlgError) as exc:
+        raise CorruptDataError(path, f"has an unusable header transform ({type(exc).__name__}: {exc})") from exc
+    hdr = img.header
     data = native(np.ascontiguousarray(xyz.transpose(2, 1, 0)))
     meta = {"warnings": warnings, "nifti_xform": xform, "nifti_dtype": str(hdr.get_data_dtype())}
     try:

@@ -31,16 +31,16 @@ exact too.
 
 from __future__ import annotations
 
-import bz2
+import math
 import os
 import re
-import zlib
 from pathlib import Path
 
 import numpy as np
 
 from ..core import Volume
-from ..errors import CorruptDataError, DataSizeError, MissingPathError, VolumeWriteError
+from ..errors import CorruptDataError, DataSizeError, VolumeWriteError
+from . import _limits as lim
 from ._numpy import apply_record, geometry_record, native, parse_record, spacing_of
 
 __all__ = ["read", "write"]
@@ -50,6 +50,7 @@ _SPACES = {"right-anterior-superior": "RAS", "ras": "RAS", "left-posterior-super
            "left-anterior-superior": "LAS", "las": "LAS", "scanner-xyz": None, "3d-right-handed": None,
            "3d-left-handed": None}
 _RECORD_KEY = "volumen"
+_CODECS = {"gzip": "gzip", "gz": "gzip", "bzip2": "bzip2", "bz2": "bzip2"}
 
 
 def _read_header(path: Path) -> tuple[list[str], int, list[str] | None]:
@@ -100,110 +101,96 @@ def _parse(path: Path, lines: list[str]) -> dict:
     return header
 
 
-def _data_files(path: Path, header: dict, names: list[str] | None) -> tuple[list[Path], int] | None:
-    """Detached list-form files and their subdim, or None for a single (or attached) data file."""
-    dim = int(header["dimension"])
-    if names is not None:
-        sub = header.pop("volumen list subdim", "")
-        files = names
-    else:
-        value = header.get("data file", header.get("datafile"))
-        parts = value.split() if value else []
-        if len(parts) < 4 or "%" not in parts[0]:
-            return None
-        try:
-            lo, hi, step = (int(v) for v in parts[1:4])
-        except ValueError as exc:
-            raise CorruptDataError(path, f"bad 'data file' list form {value!r} ({exc})") from exc
-        if step == 0 or (hi - lo) * step < 0:
-            raise CorruptDataError(path, f"bad 'data file' list form {value!r}: step {step} never reaches {hi}")
-        files = [parts[0] % i for i in range(lo, hi + (1 if step > 0 else -1), step)]
-        sub = parts[4] if len(parts) > 4 else ""
-    subdim = int(sub) if str(sub).strip() else dim - 1
-    if not 1 <= subdim <= dim:
-        raise CorruptDataError(path, f"'data file' subdim {subdim} is outside 1..{dim}")
-    return [Path(f) if os.path.isabs(f) else path.parent / f for f in files], subdim
-
-
-def _decode(path: Path, fname: Path, header: dict, count: int | None) -> np.ndarray:
-    """The samples of one data file of a list form (``count`` of them, or all)."""
-    dtype, enc = header["_dtype"], header["encoding"].lower()
-    if not fname.exists():
-        raise MissingPathError(path, f"the data file {fname.name!r} named by the header does not exist")
-    with open(fname, "rb") as f:
-        for _ in range(int(header.get("line skip", header.get("lineskip", 0)))):
-            f.readline()
-        skip = int(header.get("byte skip", header.get("byteskip", 0)))
-        if skip > 0 and enc in ("raw",):
-            f.seek(skip, os.SEEK_CUR)
-        body = f.read()
-    try:
-        if enc in ("gzip", "gz"):
-            body = zlib.decompressobj(zlib.MAX_WBITS | 16).decompress(body)
-        elif enc in ("bzip2", "bz2"):
-            body = bz2.decompress(body)
-    except (zlib.error, OSError, ValueError) as exc:
-        raise CorruptDataError(path, f"data file {fname.name} is not valid {enc} ({exc})") from exc
-    if enc in ("ascii", "text", "txt"):
-        values = body.decode("latin-1").split()
-        out = np.array(values, dtype=np.float64 if dtype.kind == "f" else np.int64).astype(dtype)
-    else:
-        if enc not in ("raw", "gzip", "gz", "bzip2", "bz2"):
-            raise CorruptDataError(path, f"unsupported NRRD encoding {enc!r}")
-        if skip == -1 and count is not None:
-            body = body[len(body) - count * dtype.itemsize:]
-        elif skip > 0 and enc != "raw":
-            body = body[skip:]
-        usable = len(body) - len(body) % dtype.itemsize
-        out = np.frombuffer(body[:usable], dtype=dtype)
-    if count is not None and out.size != count:
-        raise DataSizeError(path, f"data file {fname.name} holds {out.size} samples, the header needs {count}")
-    return out
-
-
-def _read_data(path: Path, header: dict, offset: int, names: list[str] | None) -> np.ndarray:
-    import nrrd
-
+def _sources(path: Path, header: dict, names: list[str] | None, offset: int,
+             allow_outside: bool) -> tuple[list[tuple[Path, int]], int | None]:
+    """(file, first byte) of each data file, and the samples each holds (None: slabs of any thickness)."""
     sizes = [int(n) for n in header["sizes"]]
-    total = int(np.prod(sizes))
-    listing = _data_files(path, header, names)
-    if listing is not None:
-        files, subdim = listing
-        per = int(np.prod(sizes[:subdim]))
-        parts = [_decode(path, f, header, per if subdim < len(sizes) else None) for f in files]
-        flat = np.concatenate(parts) if parts else np.zeros(0, header["_dtype"])
-        if flat.size != total:
-            raise DataSizeError(path, f"the {len(files)} data files hold {flat.size} samples, the header "
-                                      f"needs {total} (sizes {sizes})")
-        return flat.reshape(sizes[::-1])
-    datafile = header.get("data file", header.get("datafile"))
-    if datafile is not None:
-        target = Path(datafile) if os.path.isabs(datafile) else path.parent / datafile
-        if not target.exists():
-            raise MissingPathError(path, f"the data file {datafile!r} named by the header does not exist")
-        start = 0
+    dim, total = len(sizes), math.prod(sizes)
+    value = header.get("data file", header.get("datafile"))
+    if names is None and value is None:
+        return [(path, offset)], total
+    parts = str(value).split() if names is None else []
+    if names is None and (len(parts) < 4 or "%" not in parts[0]):
+        return [(lim.data_file(path, str(value), allow_outside), 0)], total
+    sub = header.pop("volumen list subdim", "") if names is not None else (parts[4] if len(parts) > 4 else "")
+    subdim = lim.to_int(path, "data file subdim", sub if str(sub).strip() else dim - 1, 1, dim)
+    count = math.prod(sizes[subdim:])
+    if count > lim.MAX_FILES:
+        raise CorruptDataError(path, f"'data file' would need {count} files (more than {lim.MAX_FILES})")
+    if names is not None:
+        if len(names) != count and subdim < dim or len(names) > lim.MAX_FILES:
+            raise DataSizeError(path, f"'data file: LIST' names {len(names)} files, sizes {sizes} with subdim "
+                                      f"{subdim} need {count}")
     else:
-        target, start = path, offset
-    skip = int(header.get("byte skip", header.get("byteskip", 0)))
-    lskip = int(header.get("line skip", header.get("lineskip", 0)))
-    if header["encoding"].lower() == "raw" and skip >= 0 and lskip == 0:
-        need = total * header["_dtype"].itemsize
-        have = os.path.getsize(target) - start - skip
-        if have != need:
-            raise DataSizeError(path, f"raw data too {'short' if have < need else 'long'}: sizes {sizes} of "
-                                      f"{header['type']} need {need} bytes, {target.name} has {max(have, 0)}")
+        lo, hi, step = (lim.to_int(path, "data file", t, -(1 << 62)) for t in parts[1:4])
+        names = lim.expand_pattern(path, parts[0], lo, hi, step, count)
+    return [(lim.data_file(path, n, allow_outside), 0) for n in names], (total // count if subdim < dim else None)
+
+
+def _skip_lines(path: Path, f, target: Path, n: int) -> None:
+    for _ in range(n):
+        if not f.readline(1 << 20):
+            raise DataSizeError(path, f"line skip {n} passes the end of {target.name}")
+
+
+def _decode(path: Path, target: Path, start: int, count: int, header: dict, single: bool,
+            exact: bool = True) -> np.ndarray:
+    """``count`` samples (at most ``count`` unless ``exact``) from ``target`` at ``start``, after the
+    header's line and byte skips."""
+    dtype, enc = header["_dtype"], str(header["encoding"]).lower()
+    lskip = lim.to_int(path, "line skip", header.get("line skip", header.get("lineskip", 0)), 0, 1 << 40)
+    bskip = lim.to_int(path, "byte skip", header.get("byte skip", header.get("byteskip", 0)), -1, 1 << 40)
+    nbytes = count * dtype.itemsize
+    with open(target, "rb") as f:
+        f.seek(start)
+        _skip_lines(path, f, target, lskip)
+        pos = f.tell()
+        if enc == "raw":
+            pos = os.path.getsize(target) - nbytes if bskip == -1 else pos + bskip
+            if not exact:
+                have = os.path.getsize(target) - pos
+                if have > nbytes:
+                    raise DataSizeError(path, f"the data files hold more than the {count} samples of sizes "
+                                              f"{header['sizes']} ({target.name} alone has {have} bytes)")
+                count, nbytes = max(have, 0) // dtype.itemsize, max(have, 0) - max(have, 0) % dtype.itemsize
+            have = lim.check_available(path, target, pos, nbytes)
+            if have > nbytes and single and bskip >= 0 and lskip == 0:
+                raise DataSizeError(path, f"raw data too long: sizes {header['sizes']} of {header['type']} need "
+                                          f"{nbytes} bytes, {target.name} has {have}")
+            return np.fromfile(target, dtype=dtype, count=count, offset=pos)
+        blob = f.read()
+    if enc in _CODECS:
+        if bskip < 0:
+            raise CorruptDataError(path, f"byte skip {bskip} is only allowed with raw encoding")
+        body = lim.inflate(path, blob, bskip + nbytes, _CODECS[enc], target.name, exact=exact)[bskip:]
+        body = body[:len(body) - len(body) % dtype.itemsize]
+        return np.frombuffer(body, dtype=dtype)
+    if enc not in ("ascii", "text", "txt"):
+        raise CorruptDataError(path, f"unsupported NRRD encoding {enc!r}; volumen reads raw, gzip, bzip2 and ascii")
+    tokens = blob.split(maxsplit=count)[:count + 1] if count <= len(blob) or not exact else []
+    if len(tokens) > count:
+        raise DataSizeError(path, f"ASCII data in {target.name} holds more than the {count} values needed")
+    if len(tokens) < count and exact:
+        raise DataSizeError(path, f"ASCII data in {target.name} holds fewer than the {count} values needed")
     try:
-        with open(path, "rb") as fh:
-            fh.seek(offset)
-            return nrrd.read_data(header, fh, os.fspath(path), index_order="C")
-    except (zlib.error, EOFError, OSError) as exc:
-        raise CorruptDataError(path, f"compressed data is broken ({exc})") from exc
-    except Exception as exc:  # NRRDError and numpy's ValueError
-        m = re.search(r"dimensions: (-?\d+)-(-?\d+)=", str(exc))
-        if m:
-            raise DataSizeError(path, f"data holds {m.group(2)} samples, the header needs {m.group(1)} "
-                                      f"(sizes {sizes})") from exc
-        raise CorruptDataError(path, f"data could not be decoded ({exc})") from exc
+        return np.array(tokens, dtype=np.float64 if dtype.kind == "f" else np.int64).astype(dtype)
+    except (ValueError, OverflowError) as exc:
+        raise CorruptDataError(path, f"ASCII data in {target.name} holds a bad number ({exc})") from exc
+
+
+def _read_data(path: Path, header: dict, offset: int, names: list[str] | None, allow_outside: bool) -> np.ndarray:
+    sizes = [int(n) for n in header["sizes"]]
+    lim.need_bytes(path, sizes, header["_dtype"].itemsize, "sizes")
+    sources, per = _sources(path, header, names, offset, allow_outside)
+    total, parts = math.prod(sizes), []
+    for f, s in sources:
+        left = total - sum(p.size for p in parts)
+        parts.append(_decode(path, f, s, left if per is None else per, header, len(sources) == 1, per is not None))
+    flat = np.concatenate(parts)
+    if flat.size != total:
+        raise DataSizeError(path, f"the {len(sources)} data files hold {flat.size} samples, the header needs "
+                                  f"{total} (sizes {sizes})")
+    return flat.reshape(sizes[::-1])
 
 
 def _geometry(header: dict, warnings: list[str]) -> tuple[np.ndarray, list[int]]:
@@ -247,8 +234,11 @@ def _geometry(header: dict, warnings: list[str]) -> tuple[np.ndarray, list[int]]
     return affine, [dim - 1 - a for a in spatial]
 
 
-def read(path) -> Volume:
+def read(path, *, allow_outside: bool = False) -> Volume:
     """Read a NRRD file (attached data, or a ``.nhdr`` with detached data in any form).
+
+    ``allow_outside``: read data files the header names outside its own folder
+    (refused by default).
 
     Returns
     -------
@@ -262,9 +252,9 @@ def read(path) -> Volume:
     warnings: list[str] = []
     try:
         affine, axes = _geometry(header, warnings)
-    except ValueError as exc:
+    except (ValueError, IndexError, TypeError) as exc:
         raise CorruptDataError(path, f"has geometry volumen cannot use: {exc}") from exc
-    data = _read_data(path, header, offset, names)
+    data = _read_data(path, header, offset, names, allow_outside)
     if data.ndim > 3:
         other = [a for a in range(data.ndim) if a not in axes]
         warnings.append(f"{data.ndim}-D data: non-spatial axis reduced to its first sample")

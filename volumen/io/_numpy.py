@@ -23,13 +23,13 @@ another program keeps the geometry that program wrote.
 from __future__ import annotations
 
 import json
-import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from ..core import Volume
 from ..errors import CorruptDataError, VolumeReadError
+from ._npy_format import read_npy, read_npz
 
 __all__ = ["read", "write", "geometry_record", "parse_record", "apply_record", "native", "spacing_of"]
 
@@ -153,32 +153,47 @@ def read(path, *, key: str | None = None) -> Volume:
     """
     path = Path(path)
     warnings: list[str] = []
-    try:
-        loaded = np.load(path, allow_pickle=False)
-    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
-        raise CorruptDataError(path, f"is not a readable NumPy file ({exc})") from exc
-    if isinstance(loaded, np.ndarray):
-        return _from_npy(path, loaded, warnings)
-    with loaded as npz:
-        names = list(npz.files)
+    if path.suffix.lower() != ".npz":
+        return _from_npy(path, read_npy(path), warnings)
+
+    def wanted(names):
+        nonlocal key
         if key is None:
             key = "data" if "data" in names or len(names) != 1 else names[0]
         if key not in names:
             raise VolumeReadError(path, f"has no array {key!r}; its arrays are {names} (choose one with key=)")
-        try:
-            arrays = {n: npz[n] for n in names if n in (key, "spacing", "affine", "modality", "units", "name")}
-        except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
-            raise CorruptDataError(path, f"has a broken array ({exc})") from exc
+        return [n for n in names if n in (key, "spacing", "affine", "modality", "units", "name")]
+
+    _names, arrays = read_npz(path, wanted)
     data = _as_3d(path, arrays[key], warnings)
-    spacing = arrays.get("spacing")
-    affine = arrays.get("affine")
+    spacing = _numbers(path, arrays.get("spacing"), (3,), "spacing")
+    affine = _numbers(path, arrays.get("affine"), (4, 4), "affine")
     if spacing is None and affine is None:
         warnings.append("no spacing or affine stored: geometry unknown, 1 mm axis-aligned RAS assumed")
     if affine is not None and spacing is None:
         spacing = spacing_of(affine)
-    text = {k: str(arrays[k][()]) for k in ("modality", "units", "name") if k in arrays}
+    text = {k: _text(arrays[k]) for k in ("modality", "units", "name") if k in arrays}
     return _volume(path, native(data), (1.0, 1.0, 1.0) if spacing is None else spacing, affine,
                    text, warnings, "npz")
+
+
+def _text(a: np.ndarray) -> str:
+    """A 0-d string array as text ("" for anything else, or characters that are not Unicode)."""
+    if a.shape != () or a.dtype.kind not in "US":
+        return ""
+    raw = a.tobytes()
+    if a.dtype.kind == "S":
+        return raw.rstrip(b"\x00").decode("latin-1")
+    return raw.decode("utf-32-be" if a.dtype.byteorder == ">" else "utf-32-le", "replace").rstrip("\x00")
+
+
+def _numbers(path, a, shape, what):
+    """``a`` as finite float64 of ``shape`` (None stays None)."""
+    if a is None:
+        return None
+    if a.shape != shape or a.dtype.kind not in "biuf" or not np.all(np.isfinite(a)):
+        raise CorruptDataError(path, f"its {what} array must be {shape} finite numbers, got {a.dtype} {a.shape}")
+    return a.astype(np.float64)
 
 
 def _from_npy(path: Path, data: np.ndarray, warnings: list[str]) -> Volume:

@@ -29,6 +29,7 @@ so the RAS+ affine is ``diag(-sx, -sy, sz)`` with origin ``(-ox, -oy, oz)``.
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -36,6 +37,7 @@ import numpy as np
 
 from ..core import Volume
 from ..errors import CorruptDataError, DataSizeError, UnknownFormatError
+from . import _limits as lim
 from ._numpy import native
 
 __all__ = ["read"]
@@ -71,7 +73,10 @@ def _numbers(path: Path, line: str, n: int, kind=float) -> list:
     try:
         if len(parts) != n:
             raise ValueError(f"expected {n} numbers")
-        return [kind(p) for p in parts]
+        values = [kind(p) for p in parts]
+        if not all(math.isfinite(v) for v in values):
+            raise ValueError("not finite")
+        return values
     except ValueError as exc:
         raise CorruptDataError(path, f"bad VTK header line {line!r} ({exc})") from exc
 
@@ -124,17 +129,19 @@ def read(path) -> Volume:
         raise CorruptDataError(path, f"missing or bad DIMENSIONS {dims}")
     nx, ny, nz = dims
     count = nx * ny * nz
+    lim.need_bytes(path, dims, 1, "DIMENSIONS")
     if n_points is None or n_points != count:
         raise CorruptDataError(path, f"POINT_DATA {n_points} does not match DIMENSIONS {nx}x{ny}x{nz} = {count}")
     parts = line.split()
     if len(parts) < 3 or parts[2].lower() not in _TYPES:
         raise CorruptDataError(path, f"bad SCALARS line {line!r}; types are {', '.join(list(_TYPES)[:8])}")
-    ncomp = int(parts[3]) if len(parts) > 3 and parts[3].isdigit() else 1
+    ncomp = lim.to_int(path, "SCALARS components", parts[3], 1, 4) if len(parts) > 3 else 1
     dtype = np.dtype(_TYPES[parts[2].lower()])
     look = lines.next("LOOKUP_TABLE")
     if not look.upper().startswith("LOOKUP_TABLE"):
         raise CorruptDataError(path, f"expected LOOKUP_TABLE after SCALARS, got {look[:60]!r}")
     n_values = count * ncomp
+    lim.need_bytes(path, [n_values], dtype.itemsize, "DIMENSIONS and SCALARS")
     if mode == "BINARY":
         nbytes = n_values * dtype.itemsize
         have = len(buf) - lines.pos
@@ -143,22 +150,26 @@ def read(path) -> Volume:
                                       f"{nbytes} bytes, the file has {have} after the header")
         values = np.frombuffer(buf, dtype=dtype.newbyteorder(">"), count=n_values, offset=lines.pos)
     else:
-        tokens = buf[lines.pos:].split(maxsplit=n_values)[:n_values]
+        text = buf[lines.pos:]
+        tokens = text.split(maxsplit=n_values)[:n_values] if n_values <= len(text) else []
         if len(tokens) < n_values:
             raise DataSizeError(path, f"ASCII data too short: {nx}x{ny}x{nz}x{ncomp} needs {n_values} "
                                       f"values, the file has {len(tokens)}")
         try:
             values = np.array(tokens, dtype=np.float64 if dtype.kind == "f" else np.int64).astype(dtype)
-        except ValueError as exc:
-            raise CorruptDataError(path, f"ASCII data holds a non-number ({exc})") from exc
+        except (ValueError, OverflowError) as exc:
+            raise CorruptDataError(path, f"ASCII data holds a bad number ({exc})") from exc
     data = values.reshape(nz, ny, nx, ncomp)[..., 0]
     warnings = [f"{ncomp} components per point: read the first only"] if ncomp > 1 else []
     step = np.array(spacing if spacing is not None else [1.0, 1.0, 1.0], dtype=float)
-    if np.any(step <= 0):
-        raise CorruptDataError(path, f"SPACING must be positive, got {step.tolist()}")
+    if not np.all((step > 0) & np.isfinite(step)):
+        raise CorruptDataError(path, f"SPACING must be positive and finite, got {step.tolist()}")
     affine = np.eye(4)
     affine[:3, :3] = np.diag(_FLIP * step)
     affine[:3, 3] = _FLIP * np.array(origin if origin is not None else [0.0, 0.0, 0.0], dtype=float)
     meta = {"warnings": warnings, "vtk_frame": "LPS", "vtk_scalars": parts[1], "vtk_encoding": mode.lower()}
-    return Volume(native(data), spacing=(step[2], step[1], step[0]), affine=affine,
-                  name=path.name.split(".")[0], meta=meta)
+    try:
+        return Volume(native(data), spacing=(step[2], step[1], step[0]), affine=affine,
+                      name=path.name.split(".")[0], meta=meta)
+    except ValueError as exc:  # a non-finite ORIGIN, or spacings whose product overflows
+        raise CorruptDataError(path, f"has unusable geometry: {exc}") from exc

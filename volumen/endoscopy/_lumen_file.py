@@ -74,12 +74,12 @@ def load_lumen_mask(file, volume, label=None) -> np.ndarray:
     LumenError
         No such label or structure, or the mask does not overlap the scan.
     """
-    import volumen
+    from ..io import load
 
     file = Path(file)
     if file.is_dir():
         file, label = _structure_file(file, label), None
-    seg = volumen.load(file)
+    seg = load(file)
     data = np.asarray(seg.data)
     if label is None:
         m = data != 0

@@ -9,6 +9,9 @@ from ._mesh import Mesh
 
 __all__ = ["marching_cubes"]
 
+#: dtypes the kernel reads as they are (each sample as its float32 value); others are converted to float32
+NATIVE_DTYPES = tuple(np.dtype(t) for t in ("int16", "uint16", "uint8", "float32"))
+
 
 def _geometry(volume, spacing) -> tuple[np.ndarray, np.ndarray]:
     """Data array ``[z, y, x]`` and the 4x4 voxel (i, j, k) -> world mm affine."""
@@ -21,6 +24,16 @@ def _geometry(volume, spacing) -> tuple[np.ndarray, np.ndarray]:
     if len(sp) != 3 or not all(np.isfinite(sp)) or min(sp) <= 0:
         raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {spacing}")
     return data, np.diag([sp[2], sp[1], sp[0], 1.0])
+
+
+def _kernel_array(data: np.ndarray) -> np.ndarray:
+    """The samples as the kernel reads them: the array itself (C order) when its dtype is one the kernel is
+    compiled for, booleans as uint8 (a view), anything else as a float32 copy."""
+    if data.dtype == np.bool_:
+        data = data.view(np.uint8)
+    if data.dtype not in NATIVE_DTYPES:
+        return np.ascontiguousarray(data, dtype=np.float32)
+    return np.ascontiguousarray(data)
 
 
 def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=None, step: int = 1,
@@ -73,6 +86,7 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     isocontouring algorithm", IEEE LDAV 2015.
     """
     from . import _mc_kernel as K
+    from ._mc_rows import row_signs, run_pass
 
     data, affine = _geometry(volume, spacing)
     if data.ndim != 3:
@@ -85,12 +99,12 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
         data = data[::step, ::step, ::step]
     if min(data.shape) < 2:
         raise ValueError(f"marching_cubes needs at least 2 samples per axis, got shape {data.shape}")
-    vol = np.ascontiguousarray(data, dtype=np.float32)
+    vol = _kernel_array(data)
     nz, ny, nx = vol.shape
     nrows = nz * ny
     nxc = np.empty(nrows, np.int64)
-    vmin = np.empty(nrows, np.float32)
-    vmax = np.empty(nrows, np.float32)
+    trim = np.empty((nrows, 3), np.int64)
+    ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
     padded = 8 * ((nx + 7) // 8)  # flag rows in whole 64-bit words
     sgn = np.empty((nz, ny, padded), np.uint8)
@@ -101,12 +115,14 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
         level = 0.5 if is_mask else 0.5 * (lo_v + hi_v)
     level = float(level)
     lvl = np.float32(level)
-    K.row_signs(vol, vol.view(np.uint32), lvl, sgn, words, nxc, vmin, vmax, nbad)
-    lo_v, hi_v = float(vmin.min()), float(vmax.max())
+    bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)
+    row_signs(vol, lvl, sgn, words, bits, nxc, trim, ninside, nbad)
     if nbad.any():
         raise ValueError("marching_cubes: the volume holds NaN or infinite values")
-    if not lo_v <= level <= hi_v:
-        raise ValueError(f"level {level:g} is outside the data range [{lo_v:g}, {hi_v:g}]")
+    if ninside.sum() in (0, vol.size):  # no sample above the level, or none at or below: is it in range?
+        lo_v, hi_v = float(vol.min()), float(vol.max())
+        if not lo_v <= level <= hi_v:
+            raise ValueError(f"level {level:g} is outside the data range [{lo_v:g}, {hi_v:g}]")
 
     use_mask = mask is not None
     if use_mask:
@@ -121,11 +137,12 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     nmat = np.linalg.inv(aff[:3, :3]).T.copy()
     flip = bool(np.linalg.det(aff[:3, :3]) < 0)
 
+    span = np.maximum(trim[:, 1] - trim[:, 0], 0)
     nyc = np.empty(nrows, np.int64)
     nzc = np.empty(nrows, np.int64)
-    ntri = np.empty((nz - 1) * (ny - 1), np.int64)
-    ncen = np.empty((nz - 1) * (ny - 1), np.int64)
-    K.count(vol, lvl, sgn, words, nyc, nzc, ntri, ncen, m, use_mask)
+    ntri = np.zeros((nz - 1) * (ny - 1), np.int64)
+    ncen = np.zeros((nz - 1) * (ny - 1), np.int64)
+    run_pass(K.count_rows, K.count, 4 + 2 * span + nxc, (vol, lvl, sgn, words, trim), (nyc, nzc, ntri, ncen, m, use_mask))
 
     per_row = nxc + nyc + nzc
     vbase = np.zeros(nrows, np.int64)
@@ -143,8 +160,10 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     xyz = np.empty((n_vert, 3), np.float32)
     nrm = np.empty((n_vert, 3), np.float32)
     faces = np.empty((n_tri, 3), np.int32)
-    K.emit(vol, lvl, sgn, words, nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip,
-           ijk, xyz, nrm, faces)
+    cost = 4 + span + 4 * per_row
+    cost.reshape(nz, ny)[:-1, :-1] += 2 * ntri.reshape(nz - 1, ny - 1)
+    run_pass(K.emit_rows, K.emit, cost, (vol, lvl, sgn, words, trim),
+             (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces))
     if step > 1:
         ijk *= step
     if use_mask:

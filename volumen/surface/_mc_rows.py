@@ -1,0 +1,160 @@
+"""Marching cubes, pass 1 and the row bookkeeping the later passes share (kernel in ``_mc_kernel.py``).
+
+Inside flags are one byte per sample (``value > level``) in grid rows padded with zeros
+to whole 64-bit words, read eight at a time as ``uint64``. Pass 1 reads the volume in
+its own dtype (no converted copy) and keeps per row, as flying edges does, the *trim*:
+the word range ``[lo, hi)`` holding the row's crossed x edges (``lo = nw, hi = 0`` when
+there are none) and its end flags (bit 0: first sample inside, bit 1: last sample
+inside). Two rows can differ only inside the union of their trims, unless their end
+flags differ, which widens the range to that end. Later passes visit only those words,
+so rows far from the surface cost a few comparisons.
+
+Work is split into one contiguous run of rows per thread, cut where the estimated cost
+(busy words, crossed edges, triangles) is balanced: bone levels put the surface in a few
+slices, and equal row counts per thread would leave one thread idle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+U0 = np.uint64(0)
+U1 = np.uint64(1)
+U8 = np.uint64(8)
+U56 = np.uint64(56)
+ONES = np.uint64(0x0101010101010101)  # byte sums by multiplication
+BYTE_INDEX = np.uint64(0x0001020304050607)  # (1 << 8k) * BYTE_INDEX >> 56 == k
+
+
+@njit(inline="always")
+def low_byte(d):
+    """Index of the lowest non-zero byte of a word whose bytes are 0 or 1 (d != 0)."""
+    return np.int64(((d & (~d + U1)) * BYTE_INDEX) >> U56)
+
+
+@njit(inline="always")
+def count_bytes(d):
+    """Number of bytes set in a word whose bytes are 0 or 1."""
+    return np.int64((d * ONES) >> U56)
+
+
+@njit(inline="always")
+def valid(w, n):
+    """Word mask of the bytes 8 w + k < n."""
+    lim = n - 8 * w
+    if lim >= 8:
+        return ~U0
+    if lim <= 0:
+        return U0
+    return (U1 << np.uint64(8 * lim)) - U1
+
+
+@njit(inline="always")
+def next_shift(words, r, w, nw):
+    """The row's word w shifted down one byte, with the next word's first byte on top: flags at x + 1."""
+    nxt = words[r, w + 1] if w + 1 < nw else U0
+    return (words[r, w] >> U8) | (nxt << U56)
+
+
+@njit(inline="always")
+def x_cross(words, r, w, nw, nx):
+    """Crossed x edges (x, x + 1) of row r in word w."""
+    return (words[r, w] ^ next_shift(words, r, w, nw)) & valid(w, nx - 1)
+
+
+@njit(inline="always")
+def words2(trim, a, b, nw):
+    """Word range ``[lo, hi)`` outside which rows a and b hold equal flags and no crossed x edge."""
+    lo = min(trim[a, 0], trim[b, 0])
+    hi = max(trim[a, 1], trim[b, 1])
+    e = trim[a, 2] ^ trim[b, 2]
+    return (0 if e & 1 else lo), (nw if e & 2 else hi)
+
+
+@njit(inline="always")
+def words4(trim, a, b, c, d, nw):
+    """:func:`words2` for the four rows of a cube row."""
+    lo = min(min(trim[a, 0], trim[b, 0]), min(trim[c, 0], trim[d, 0]))
+    hi = max(max(trim[a, 1], trim[b, 1]), max(trim[c, 1], trim[d, 1]))
+    e = (trim[a, 2] ^ trim[b, 2]) | (trim[a, 2] ^ trim[c, 2]) | (trim[a, 2] ^ trim[d, 2])
+    return (0 if e & 1 else lo), (nw if e & 2 else hi)
+
+
+@njit(inline="always")
+def _row_crossings(words, r, nw, nx):
+    """Crossed x edges of row r and the word range ``[lo, hi)`` holding them (``(nw, 0)`` when none)."""
+    n = 0
+    lo = nw
+    hi = 0
+    for w in range(nw):
+        c = count_bytes(x_cross(words, r, w, nw, nx))
+        if c:
+            n += c
+            lo = min(lo, w)
+            hi = w + 1
+    return n, lo, hi
+
+
+@njit(parallel=True, cache=True)
+def row_signs(vol, level, sgn, words, bits, nxc, trim, ninside, nbad):
+    """Pass 1: flags ``sgn = vol > level`` (zero padding), and per row the crossed x edges, the trim,
+    the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else
+    pass an empty array), the NaN and infinite values, found from their exponent bits.
+
+    ``vol`` is read in its own dtype; comparisons are made on its float32 values, as a
+    float32 copy would. The sample loops are plain sweeps the compiler vectorises; rows
+    all inside or all outside (most of them, at a bone level) skip the search for crossings.
+    """
+    nz, ny, nx = vol.shape
+    nw = words.shape[1]
+    check = bits.size > 0
+    for r in prange(nz * ny):
+        z = r // ny
+        y = r - z * ny
+        row = sgn[z, y]
+        src = vol[z, y]
+        inside = 0
+        for x in range(nx):
+            f = np.float32(src[x]) > level
+            row[x] = f
+            inside += f
+        for x in range(nx, row.shape[0]):
+            row[x] = 0
+        bad = 0
+        if check:
+            b = bits[z, y]
+            for x in range(nx):
+                bad += (b[x] & 0x7F800000) == 0x7F800000
+        nbad[r] = bad
+        ninside[r] = inside
+        if inside == 0 or inside == nx:
+            nxc[r], trim[r, 0], trim[r, 1] = 0, nw, 0
+        else:
+            nxc[r], trim[r, 0], trim[r, 1] = _row_crossings(words, r, nw, nx)
+        trim[r, 2] = np.int64(row[0]) | (np.int64(row[nx - 1]) << 1)
+
+
+#: estimated cost (about 2.5 ns each on one core) below which a pass runs on the calling thread: a parallel
+#: region costs tens of microseconds on an idle machine and milliseconds when the other cores are busy
+SERIAL_COST = 400_000
+
+
+def balanced_runs(cost: np.ndarray, parts: int) -> np.ndarray:
+    """Bounds ``b`` (``parts + 1``, int64) cutting ``range(len(cost))`` into contiguous runs of about equal
+    total cost; run p is ``range(b[p], b[p + 1])``."""
+    total = np.cumsum(cost, dtype=np.float64)
+    cuts = np.searchsorted(total, total[-1] * np.arange(1, parts) / parts, side="right")
+    return np.concatenate([[0], cuts, [len(cost)]]).astype(np.int64)
+
+
+def run_pass(rows_fn, parallel_fn, cost: np.ndarray, head: tuple, tail: tuple) -> None:
+    """Run a pass over all rows: ``rows_fn(*head, 0, nrows, *tail)`` on this thread when the work is small,
+    else ``parallel_fn(*head, runs, *tail)`` with one run of balanced cost per Numba thread."""
+    from numba import get_num_threads
+
+    threads = get_num_threads()
+    if threads == 1 or cost.sum() < SERIAL_COST:
+        rows_fn(*head, 0, len(cost), *tail)
+    else:
+        parallel_fn(*head, balanced_runs(cost, threads), *tail)

@@ -86,7 +86,7 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     isocontouring algorithm", IEEE LDAV 2015.
     """
     from . import _mc_kernel as K
-    from ._mc_rows import row_signs, run_pass
+    from ._mc_rows import row_signs, run_pass, sign_rows
 
     data, affine = _geometry(volume, spacing)
     if data.ndim != 3:
@@ -116,7 +116,7 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     level = float(level)
     lvl = np.float32(level)
     bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)
-    row_signs(vol, lvl, sgn, words, bits, nxc, trim, ninside, nbad)
+    run_pass(sign_rows, row_signs, np.full(nrows, nx), (vol, lvl, sgn, words, bits), (nxc, trim, ninside, nbad))
     if nbad.any():
         raise ValueError("marching_cubes: the volume holds NaN or infinite values")
     if ninside.sum() in (0, vol.size):  # no sample above the level, or none at or below: is it in range?
@@ -163,7 +163,7 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     cost = 4 + span + 4 * per_row
     cost.reshape(nz, ny)[:-1, :-1] += 2 * ntri.reshape(nz - 1, ny - 1)
     run_pass(K.emit_rows, K.emit, cost, (vol, lvl, sgn, words, trim),
-             (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces))
+             (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces), scratch=13)
     if step > 1:
         ijk *= step
     if use_mask:

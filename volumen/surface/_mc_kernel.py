@@ -42,6 +42,10 @@ VAR_TRIS = T.VAR_TRIS.astype(np.int64)
 VAR_NCENTRE = T.VAR_NCENTRE.astype(np.int64)
 VAR_CENTRE_EDGES = T.VAR_CENTRE_EDGES[:, 0].astype(np.int64)
 
+#: the serial kernels allocate nothing, so they run without Numba's reference counting: it would count every
+#: array handed to an inlined helper, per vertex, and that cost 2.7 times the work of the edge vertices
+row_kernel = njit(fastmath=True, cache=True, _nrt=False)
+
 
 @njit(inline="always")
 def _f(vol, z, y, x):
@@ -117,7 +121,7 @@ def _pair_count(words, a, b, lo, hi):
     return n
 
 
-@njit(fastmath=True, cache=True)
+@row_kernel
 def count_rows(vol, level, sgn, words, trim, r0, r1, nyc, nzc, ntri, ncen, mask, use_mask):
     """Pass 2 on grid rows [r0, r1): crossed y/z edges per grid row; triangles and centre vertices per cube row."""
     nz, ny, nx = vol.shape
@@ -228,14 +232,13 @@ def _emit_edges(vol, level, words, z, y, r, other, axis, lo, hi, n, aff, nmat, i
     return n
 
 
-@njit(fastmath=True, cache=True)
+@row_kernel
 def emit_rows(vol, level, sgn, words, trim, r0, r1, nxc, nyc, vbase, tbase, cbase, mask, use_mask, aff, nmat, flip,
-              ijk, xyz, nrm, faces):
+              ijk, xyz, nrm, faces, eid):
     """Pass 3 on grid rows [r0, r1): the vertices of each grid row's crossed edges and the triangles of each
-    cube row."""
+    cube row; ``eid`` (13,) int64 is scratch space."""
     nz, ny, nx = vol.shape
     nw = words.shape[1]
-    eid = np.empty(13, np.int64)  # vertex of each cube edge (and the centre), reused by every cube
     for r in range(r0, r1):
         z = r // ny
         y = r - z * ny
@@ -257,14 +260,14 @@ def emit_rows(vol, level, sgn, words, trim, r0, r1, nxc, nyc, vbase, tbase, cbas
 
 @njit(parallel=True, cache=True)
 def emit(vol, level, sgn, words, trim, runs, nxc, nyc, vbase, tbase, cbase, mask, use_mask, aff, nmat, flip,
-         ijk, xyz, nrm, faces):
-    """Pass 3, one run of rows per thread (``runs``: their bounds)."""
+         ijk, xyz, nrm, faces, eid):
+    """Pass 3, one run of rows per thread (``runs``: their bounds; ``eid``: one scratch row per run)."""
     for p in prange(len(runs) - 1):
         emit_rows(vol, level, sgn, words, trim, runs[p], runs[p + 1], nxc, nyc, vbase, tbase, cbase, mask, use_mask,
-                  aff, nmat, flip, ijk, xyz, nrm, faces)
+                  aff, nmat, flip, ijk, xyz, nrm, faces, eid[p])
 
 
-@njit(cache=True)
+@row_kernel
 def _centre(vol, level, z, y, x, edges, n, aff, nmat, ijk, xyz, nrm):
     """Write vertex n at the mean of the crossings on the cube edges in bit set ``edges``."""
     px = py = pz = gx = gy = gz = 0.0
@@ -284,7 +287,7 @@ def _centre(vol, level, z, y, x, edges, n, aff, nmat, ijk, xyz, nrm):
     _store(n, px / m, py / m, pz / m, gx / m, gy / m, gz / m, aff, nmat, ijk, xyz, nrm)
 
 
-@njit(cache=True)
+@row_kernel
 def _cube_row(vol, level, sgn, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
               aff, nmat, flip, ijk, xyz, nrm, faces, eid):
     """Triangles of cube row (z, y); r is its grid row; [lo, hi) the words of its four rows' trim.

@@ -96,20 +96,21 @@ def _row_crossings(words, r, nw, nx):
     return n, lo, hi
 
 
-@njit(parallel=True, cache=True)
-def row_signs(vol, level, sgn, words, bits, nxc, trim, ninside, nbad):
-    """Pass 1: flags ``sgn = vol > level`` (zero padding), and per row the crossed x edges, the trim,
-    the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else
+@njit(cache=True, _nrt=False)
+def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
+    """Pass 1 on grid rows [r0, r1): flags ``sgn = vol > level`` (zero padding), and per row the crossed x
+    edges, the trim, the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else
     pass an empty array), the NaN and infinite values, found from their exponent bits.
 
     ``vol`` is read in its own dtype; comparisons are made on its float32 values, as a
     float32 copy would. The sample loops are plain sweeps the compiler vectorises; rows
     all inside or all outside (most of them, at a bone level) skip the search for crossings.
+    Like the kernels of the other passes it runs without Numba's reference counting.
     """
     nz, ny, nx = vol.shape
     nw = words.shape[1]
     check = bits.size > 0
-    for r in prange(nz * ny):
+    for r in range(r0, r1):
         z = r // ny
         y = r - z * ny
         row = sgn[z, y]
@@ -135,6 +136,13 @@ def row_signs(vol, level, sgn, words, bits, nxc, trim, ninside, nbad):
         trim[r, 2] = np.int64(row[0]) | (np.int64(row[nx - 1]) << 1)
 
 
+@njit(parallel=True, cache=True)
+def row_signs(vol, level, sgn, words, bits, runs, nxc, trim, ninside, nbad):
+    """Pass 1, one run of rows per thread (``runs``: their bounds)."""
+    for p in prange(len(runs) - 1):
+        sign_rows(vol, level, sgn, words, bits, runs[p], runs[p + 1], nxc, trim, ninside, nbad)
+
+
 #: estimated cost (about 2.5 ns each on one core) below which a pass runs on the calling thread: a parallel
 #: region costs tens of microseconds on an idle machine and milliseconds when the other cores are busy
 SERIAL_COST = 400_000
@@ -148,13 +156,17 @@ def balanced_runs(cost: np.ndarray, parts: int) -> np.ndarray:
     return np.concatenate([[0], cuts, [len(cost)]]).astype(np.int64)
 
 
-def run_pass(rows_fn, parallel_fn, cost: np.ndarray, head: tuple, tail: tuple) -> None:
+def run_pass(rows_fn, parallel_fn, cost: np.ndarray, head: tuple, tail: tuple, scratch: int = 0) -> None:
     """Run a pass over all rows: ``rows_fn(*head, 0, nrows, *tail)`` on this thread when the work is small,
-    else ``parallel_fn(*head, runs, *tail)`` with one run of balanced cost per Numba thread."""
+    else ``parallel_fn(*head, runs, *tail)`` with one run of balanced cost per Numba thread. With ``scratch``
+    both get one more argument: an int64 scratch row of that length (one per run for ``parallel_fn``)."""
     from numba import get_num_threads
 
     threads = get_num_threads()
-    if threads == 1 or cost.sum() < SERIAL_COST:
-        rows_fn(*head, 0, len(cost), *tail)
+    serial = threads == 1 or cost.sum() < SERIAL_COST
+    parts = 1 if serial else threads
+    extra = (np.empty((parts, scratch), np.int64),) if scratch else ()
+    if serial:
+        rows_fn(*head, 0, len(cost), *tail, *(e[0] for e in extra))
     else:
-        parallel_fn(*head, balanced_runs(cost, threads), *tail)
+        parallel_fn(*head, balanced_runs(cost, parts), *tail, *extra)

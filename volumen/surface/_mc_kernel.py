@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit, prange
 
 from . import _mc_tables as T
-from ._mc_rows import U0, U1, U8, U56, count_bytes, low_byte, valid, words2, words4, x_cross
+from ._mc_rows import U1, count_bytes, low_byte, next_shift, valid, words2, words4, x_cross
 
 EDGE_CORNERS = T.EDGE_CORNERS.astype(np.int64)
 FACE_CORNERS = T.FACE_CORNERS.astype(np.int64)
@@ -41,6 +41,8 @@ VAR_NTRI = T.VAR_NTRI.astype(np.int64)
 VAR_TRIS = T.VAR_TRIS.astype(np.int64)
 VAR_NCENTRE = T.VAR_NCENTRE.astype(np.int64)
 VAR_CENTRE_EDGES = T.VAR_CENTRE_EDGES[:, 0].astype(np.int64)
+
+U2, U3, U4, U5, U6, U7 = (np.uint64(i) for i in range(2, 8))
 
 #: the serial kernels allocate nothing, so they run without Numba's reference counting: it would count every
 #: array handed to an inlined helper, per vertex, and that cost 2.7 times the work of the edge vertices
@@ -54,18 +56,30 @@ def _f(vol, z, y, x):
 
 
 @njit(inline="always")
-def _busy_cubes(words, r, ny, w, nw, nx):
-    """Cubes of cube row r (grid rows r, r + 1, r + ny, r + ny + 1) in word w that have a crossed edge."""
+def _cube_words(words, r, ny, w, nw, nx):
+    """Cubes of cube row r (grid rows r, r + 1, r + ny, r + ny + 1) in word w: ``(busy, cases)``.
+
+    Byte k of ``cases`` is the case number of cube 8 w + k (bit c = dx + 2 dy + 4 dz set when
+    that corner is inside): the eight flag words, shifted by their corner's bit, ORed. Byte k
+    of ``busy`` is 1 where the cube has a crossed edge (its case is neither 0 nor 255).
+    """
     a = words[r, w]
-    col = (a ^ words[r + 1, w]) | (a ^ words[r + ny, w]) | (a ^ words[r + ny + 1, w])
-    nxt = words[r, w + 1] if w + 1 < nw else U0
-    nb = words[r + 1, w + 1] if w + 1 < nw else U0
-    nc = words[r + ny, w + 1] if w + 1 < nw else U0
-    nd = words[r + ny + 1, w + 1] if w + 1 < nw else U0
-    col_next = (col >> U8) | (((nxt ^ nb) | (nxt ^ nc) | (nxt ^ nd)) << U56)
-    xs = (x_cross(words, r, w, nw, nx) | x_cross(words, r + 1, w, nw, nx)
-          | x_cross(words, r + ny, w, nw, nx) | x_cross(words, r + ny + 1, w, nw, nx))
-    return (xs | col | col_next) & valid(w, nx - 1)
+    b = words[r + 1, w]
+    c = words[r + ny, w]
+    d = words[r + ny + 1, w]
+    a1 = next_shift(words, r, w, nw)
+    b1 = next_shift(words, r + 1, w, nw)
+    c1 = next_shift(words, r + ny, w, nw)
+    d1 = next_shift(words, r + ny + 1, w, nw)
+    cases = a | (a1 << U1) | (b << U2) | (b1 << U3) | (c << U4) | (c1 << U5) | (d << U6) | (d1 << U7)
+    busy = (a ^ a1) | (a ^ b) | (a ^ b1) | (a ^ c) | (a ^ c1) | (a ^ d) | (a ^ d1)
+    return busy & valid(w, nx - 1), cases
+
+
+@njit(inline="always")
+def _case_at(cases, k):
+    """Case number of the cube at byte k of a ``cases`` word."""
+    return np.int64((cases >> np.uint64(8 * k)) & np.uint64(0xFF))
 
 
 @njit(cache=True)
@@ -104,15 +118,6 @@ def _cube_variant(vol, level, z, y, x, case):
 
 
 @njit(inline="always")
-def _case(sgn, z, y, x):
-    """Case number of cube (z, y, x): bit c = dx + 2 dy + 4 dz set when that corner is inside."""
-    return (np.int64(sgn[z, y, x]) | (np.int64(sgn[z, y, x + 1]) << 1) | (np.int64(sgn[z, y + 1, x]) << 2)
-            | (np.int64(sgn[z, y + 1, x + 1]) << 3) | (np.int64(sgn[z + 1, y, x]) << 4)
-            | (np.int64(sgn[z + 1, y, x + 1]) << 5) | (np.int64(sgn[z + 1, y + 1, x]) << 6)
-            | (np.int64(sgn[z + 1, y + 1, x + 1]) << 7))
-
-
-@njit(inline="always")
 def _pair_count(words, a, b, lo, hi):
     """Crossed edges between the flags of rows a and b in words [lo, hi)."""
     n = 0
@@ -143,13 +148,14 @@ def count_rows(vol, level, sgn, words, trim, r0, r1, nyc, nzc, ntri, ncen, mask,
         c = 0
         lo, hi = words4(trim, r, r + 1, r + ny, r + ny + 1, nw)
         for w in range(lo, hi):
-            busy = _busy_cubes(words, r, ny, w, nw, nx)
+            busy, cases = _cube_words(words, r, ny, w, nw, nx)
             while busy:
-                x = 8 * w + low_byte(busy)
+                k = low_byte(busy)
+                x = 8 * w + k
                 busy &= busy - U1
                 if use_mask and not mask[z, y, x]:
                     continue
-                var = _cube_variant(vol, level, z, y, x, _case(sgn, z, y, x))
+                var = _cube_variant(vol, level, z, y, x, _case_at(cases, k))
                 t += VAR_NTRI[var]
                 c += VAR_NCENTRE[var]
         ntri[z * (ny - 1) + y] = t
@@ -303,11 +309,12 @@ def _cube_row(vol, level, sgn, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, c
     # rows dz = 0, 1; z edges of rows dy = 0, 1
     cx0 = cx1 = cx2 = cx3 = cy0 = cy1 = cz0 = cz1 = np.int64(0)
     for w in range(lo, hi):
-        busy = _busy_cubes(words, r, ny, w, nw, nx)
+        busy, cases = _cube_words(words, r, ny, w, nw, nx)
         while busy:
-            x = 8 * w + low_byte(busy)
+            k = low_byte(busy)
+            x = 8 * w + k
             busy &= busy - U1
-            case = _case(sgn, z, y, x)
+            case = _case_at(cases, k)
             em = EDGE_MASK[case]
             if not (use_mask and not mask[z, y, x]):
                 var = _cube_variant(vol, level, z, y, x, case)

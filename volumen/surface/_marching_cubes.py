@@ -141,7 +141,7 @@ def _mask_array(mask, volume, step: int) -> np.ndarray:
 
 def _sign_pass(vol: np.ndarray, level: float) -> dict:
     """Pass 1 (see ``_mc_rows``): the flag rows and per-row counts; ValueError on NaN or a level out of range."""
-    from ._mc_rows import row_signs, run_pass, sign_rows
+    from ._mc_rows import run_pass, sign_rows
 
     nz, ny, nx = vol.shape
     nrows = nz * ny
@@ -152,7 +152,7 @@ def _sign_pass(vol: np.ndarray, level: float) -> dict:
     ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
     bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)
-    run_pass(sign_rows, row_signs, np.full(nrows, nx), (vol, lvl, sgn, rows["words"], bits),
+    run_pass(sign_rows, np.full(nrows, nx), (vol, lvl, sgn, rows["words"], bits),
              (rows["nxc"], rows["trim"], ninside, nbad))
     if nbad.any():
         raise ValueError("marching_cubes: the volume holds NaN or infinite values")
@@ -183,7 +183,7 @@ def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     ncen = np.zeros_like(ntri)
     use_mask = m.size > 1
     span = np.maximum(trim[:, 1] - trim[:, 0], 0)
-    run_pass(K.count_rows, K.count, 4 + 2 * span + nxc, (vol, lvl, sgn, words, trim),
+    run_pass(K.count_rows, 4 + 2 * span + nxc, (vol, lvl, sgn, words, trim),
              (nyc, nzc, ntri, ncen, m, use_mask))
     per_row = nxc + nyc + nzc
     n_edge = int(per_row.sum())
@@ -196,7 +196,7 @@ def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     cost = 4 + span + 4 * per_row
     cost.reshape(nz, ny)[:-1, :-1] += 2 * ntri.reshape(nz - 1, ny - 1)
     nmat = np.linalg.inv(aff[:3, :3]).T.copy()
-    run_pass(K.emit_rows, K.emit, cost, (vol, lvl, sgn, words, trim),
+    run_pass(K.emit_rows, cost, (vol, lvl, sgn, words, trim),
              (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces), scratch=13)
     return xyz, nrm, ijk, faces
 

@@ -9,15 +9,18 @@ inside). Two rows can differ only inside the union of their trims, unless their 
 flags differ, which widens the range to that end. Later passes visit only those words,
 so rows far from the surface cost a few comparisons.
 
-Work is split into one contiguous run of rows per thread, cut where the estimated cost
-(busy words, crossed edges, triangles) is balanced: bone levels put the surface in a few
-slices, and equal row counts per thread would leave one thread idle.
+Work is split into contiguous runs of rows cut where the estimated cost (busy words,
+crossed edges, triangles) is balanced -- bone levels put the surface in a few slices --
+four runs per thread, handed out one at a time by a pool of as many threads as Numba
+uses (the kernels release the GIL). A thread that the system holds back delays only the
+run it holds; the others take the rest (Numba's parallel loops give each thread a fixed
+share and wait for the slowest, which on a busy machine cost up to twice the time).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 U0 = np.uint64(0)
 U1 = np.uint64(1)
@@ -96,7 +99,7 @@ def _row_crossings(words, r, nw, nx):
     return n, lo, hi
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, nogil=True)
 def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
     """Pass 1 on grid rows [r0, r1): flags ``sgn = vol > level`` (zero padding), and per row the crossed x
     edges, the trim, the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else
@@ -136,16 +139,11 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
         trim[r, 2] = np.int64(row[0]) | (np.int64(row[nx - 1]) << 1)
 
 
-@njit(parallel=True, cache=True)
-def row_signs(vol, level, sgn, words, bits, runs, nxc, trim, ninside, nbad):
-    """Pass 1, one run of rows per thread (``runs``: their bounds)."""
-    for p in prange(len(runs) - 1):
-        sign_rows(vol, level, sgn, words, bits, runs[p], runs[p + 1], nxc, trim, ninside, nbad)
-
-
-#: estimated cost (about 2.5 ns each on one core) below which a pass runs on the calling thread: a parallel
-#: region costs tens of microseconds on an idle machine and milliseconds when the other cores are busy
+#: estimated cost (about 2.5 ns each on one core) below which a pass runs on the calling thread
 SERIAL_COST = 400_000
+#: runs per thread: enough for a late thread's share to be taken by the others, few enough to cost nothing
+RUNS_PER_THREAD = 4
+_POOLS: dict = {}
 
 
 def balanced_runs(cost: np.ndarray, parts: int) -> np.ndarray:
@@ -156,17 +154,31 @@ def balanced_runs(cost: np.ndarray, parts: int) -> np.ndarray:
     return np.concatenate([[0], cuts, [len(cost)]]).astype(np.int64)
 
 
-def run_pass(rows_fn, parallel_fn, cost: np.ndarray, head: tuple, tail: tuple, scratch: int = 0) -> None:
-    """Run a pass over all rows: ``rows_fn(*head, 0, nrows, *tail)`` on this thread when the work is small,
-    else ``parallel_fn(*head, runs, *tail)`` with one run of balanced cost per Numba thread. With ``scratch``
-    both get one more argument: an int64 scratch row of that length (one per run for ``parallel_fn``)."""
+def _pool(threads: int):
+    """The worker threads of this process (a forked child makes its own)."""
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+
+    key = (os.getpid(), threads)
+    if key not in _POOLS:
+        _POOLS[key] = ThreadPoolExecutor(threads, thread_name_prefix="volumen-mc")
+    return _POOLS[key]
+
+
+def run_pass(rows_fn, cost: np.ndarray, head: tuple, tail: tuple, scratch: int = 0) -> None:
+    """Run ``rows_fn(*head, r0, r1, *tail)`` over all rows: on this thread when the work is small, else over
+    runs of balanced cost on the worker threads (``numba.get_num_threads()`` of them). With ``scratch``,
+    ``rows_fn`` gets one more argument: an int64 scratch row of that length, its own for each run."""
     from numba import get_num_threads
 
     threads = get_num_threads()
-    serial = threads == 1 or cost.sum() < SERIAL_COST
-    parts = 1 if serial else threads
-    extra = (np.empty((parts, scratch), np.int64),) if scratch else ()
-    if serial:
+    parts = 1 if threads == 1 or cost.sum() < SERIAL_COST else threads * RUNS_PER_THREAD
+    extra = [np.empty((parts, scratch), np.int64)] if scratch else []
+    if parts == 1:
         rows_fn(*head, 0, len(cost), *tail, *(e[0] for e in extra))
-    else:
-        parallel_fn(*head, balanced_runs(cost, parts), *tail, *extra)
+        return
+    runs = balanced_runs(cost, parts)
+    jobs = [_pool(threads).submit(rows_fn, *head, runs[p], runs[p + 1], *tail, *(e[p] for e in extra))
+            for p in range(parts)]
+    for job in jobs:
+        job.result()

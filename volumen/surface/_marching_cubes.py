@@ -147,7 +147,7 @@ def _sign_pass(vol: np.ndarray, level: float) -> dict:
     nrows = nz * ny
     lvl = np.float32(level)
     sgn = np.empty((nz, ny, 8 * ((nx + 7) // 8)), np.uint8)  # flag rows in whole 64-bit words
-    rows = dict(sgn=sgn, words=sgn.reshape(nrows, -1).view(np.uint64), nxc=np.empty(nrows, np.int64),
+    rows = dict(words=sgn.reshape(nrows, -1).view(np.uint64), nxc=np.empty(nrows, np.int64),
                 trim=np.empty((nrows, 3), np.int64))
     ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
@@ -177,13 +177,13 @@ def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     from ._mc_rows import run_pass
 
     nz, ny, nx = vol.shape
-    sgn, words, nxc, trim = rows["sgn"], rows["words"], rows["nxc"], rows["trim"]
+    words, nxc, trim = rows["words"], rows["nxc"], rows["trim"]
     nyc, nzc = np.empty_like(nxc), np.empty_like(nxc)
     ntri = np.zeros((nz - 1) * (ny - 1), np.int64)
     ncen = np.zeros_like(ntri)
     use_mask = m.size > 1
     span = np.maximum(trim[:, 1] - trim[:, 0], 0)
-    run_pass(K.count_rows, 4 + 2 * span + nxc, (vol, lvl, sgn, words, trim),
+    run_pass(K.count_rows, 4 + 2 * span + nxc, (vol, lvl, words, trim),
              (nyc, nzc, ntri, ncen, m, use_mask))
     per_row = nxc + nyc + nzc
     n_edge = int(per_row.sum())
@@ -196,7 +196,7 @@ def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     cost = 4 + span + 4 * per_row
     cost.reshape(nz, ny)[:-1, :-1] += 2 * ntri.reshape(nz - 1, ny - 1)
     nmat = np.linalg.inv(aff[:3, :3]).T.copy()
-    run_pass(K.emit_rows, cost, (vol, lvl, sgn, words, trim),
+    run_pass(K.emit_rows, cost, (vol, lvl, words, trim),
              (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces), scratch=13)
     return xyz, nrm, ijk, faces
 

@@ -128,7 +128,7 @@ def _pair_count(words, a, b, lo, hi):
 
 
 @row_kernel
-def count_rows(vol, level, sgn, words, trim, r0, r1, nyc, nzc, ntri, ncen, mask, use_mask):
+def count_rows(vol, level, words, trim, r0, r1, nyc, nzc, ntri, ncen, mask, use_mask):
     """Pass 2 on grid rows [r0, r1): crossed y/z edges per grid row; triangles and centre vertices per cube row."""
     nz, ny, nx = vol.shape
     nw = words.shape[1]
@@ -233,7 +233,7 @@ def _emit_edges(vol, level, words, z, y, r, other, axis, lo, hi, n, aff, nmat, i
 
 
 @row_kernel
-def emit_rows(vol, level, sgn, words, trim, r0, r1, nxc, nyc, vbase, tbase, cbase, mask, use_mask, aff, nmat, flip,
+def emit_rows(vol, level, words, trim, r0, r1, nxc, nyc, vbase, tbase, cbase, mask, use_mask, aff, nmat, flip,
               ijk, xyz, nrm, faces, eid):
     """Pass 3 on grid rows [r0, r1): the vertices of each grid row's crossed edges and the triangles of each
     cube row; ``eid`` (13,) int64 is scratch space."""
@@ -254,7 +254,7 @@ def emit_rows(vol, level, sgn, words, trim, r0, r1, nxc, nyc, vbase, tbase, cbas
             continue
         lo, hi = words4(trim, r, r + 1, r + ny, r + ny + 1, nw)
         if lo < hi:
-            _cube_row(vol, level, sgn, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
+            _cube_row(vol, level, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
                       aff, nmat, flip, ijk, xyz, nrm, faces, eid)
 
 
@@ -279,7 +279,7 @@ def _centre(vol, level, z, y, x, edges, n, aff, nmat, ijk, xyz, nrm):
 
 
 @row_kernel
-def _cube_row(vol, level, sgn, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
+def _cube_row(vol, level, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
               aff, nmat, flip, ijk, xyz, nrm, faces, eid):
     """Triangles of cube row (z, y); r is its grid row; [lo, hi) the words of its four rows' trim.
 
@@ -290,9 +290,11 @@ def _cube_row(vol, level, sgn, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, c
     rc_ = z * (ny - 1) + y
     t = tbase[rc_]
     cen = cbase[rc_]
-    # crossed edges passed so far: x edges of rows (dy, dz) = (k & 1, k >> 1); y edges of
-    # rows dz = 0, 1; z edges of rows dy = 0, 1
-    cx0 = cx1 = cx2 = cx3 = cy0 = cy1 = cz0 = cz1 = np.int64(0)
+    # vertex of the next crossed edge: x edges of rows (dy, dz) = (k & 1, k >> 1); y edges of rows dz = 0, 1;
+    # z edges of rows dy = 0, 1 (each row's vertices: x edges, then y edges, then z edges)
+    cx0, cx1, cx2, cx3 = vbase[r], vbase[r + 1], vbase[r + ny], vbase[r + ny + 1]
+    cy0, cy1 = cx0 + nxc[r], cx2 + nxc[r + ny]
+    cz0, cz1 = cy0 + nyc[r], cx1 + nxc[r + 1] + nyc[r + 1]
     for w in range(lo, hi):
         busy, cases = _cube_words(words, r, ny, w, nw, nx)
         while busy:
@@ -303,18 +305,18 @@ def _cube_row(vol, level, sgn, words, lo, hi, z, y, r, nxc, nyc, vbase, tbase, c
             em = EDGE_MASK[case]
             if not (use_mask and not mask[z, y, x]):
                 var = _cube_variant(vol, level, z, y, x, case)
-                eid[0] = vbase[r] + cx0
-                eid[1] = vbase[r + 1] + cx1
-                eid[2] = vbase[r + ny] + cx2
-                eid[3] = vbase[r + ny + 1] + cx3
-                eid[4] = vbase[r] + nxc[r] + cy0
-                eid[5] = eid[4] + ((em >> 4) & 1)
-                eid[6] = vbase[r + ny] + nxc[r + ny] + cy1
-                eid[7] = eid[6] + ((em >> 6) & 1)
-                eid[8] = vbase[r] + nxc[r] + nyc[r] + cz0
-                eid[9] = eid[8] + ((em >> 8) & 1)
-                eid[10] = vbase[r + 1] + nxc[r + 1] + nyc[r + 1] + cz1
-                eid[11] = eid[10] + ((em >> 10) & 1)
+                eid[0] = cx0
+                eid[1] = cx1
+                eid[2] = cx2
+                eid[3] = cx3
+                eid[4] = cy0
+                eid[5] = cy0 + ((em >> 4) & 1)
+                eid[6] = cy1
+                eid[7] = cy1 + ((em >> 6) & 1)
+                eid[8] = cz0
+                eid[9] = cz0 + ((em >> 8) & 1)
+                eid[10] = cz1
+                eid[11] = cz1 + ((em >> 10) & 1)
                 if VAR_NCENTRE[var] > 0:
                     _centre(vol, level, z, y, x, VAR_CENTRE_EDGES[var], cen, aff, nmat, ijk, xyz, nrm)
                     eid[12] = cen

@@ -192,7 +192,7 @@ def bench_mesh(*, quick: bool = False, rounds: int | None = None, with_vtk: bool
                  + f", scikit-image {row['skimage_ms']:.1f} ms")
     table.notes.append(f"median of {rounds} alternating rounds (ours, VTK, scikit-image) after a warm-up each; "
                        "min-max: the fastest and slowest round; ratios < 1: ours faster")
-    table.notes.append(f"ours: Numba {numba.threading_layer()} layer, {threads} threads; vtkFlyingEdges3D: "
+    table.notes.append(f"ours: {threads} worker threads (numba.get_num_threads()); vtkFlyingEdges3D: "
                        f"vtkSMPTools {_vtk_backend()} backend, {threads} threads, normals on; "
                        "scikit-image: Lewiner, 1 thread")
     table.notes.append("counts: ours and VTK one vertex per crossed edge (ours adds one inside the few cubes whose "

@@ -141,26 +141,32 @@ def _mask_array(mask, volume, step: int) -> np.ndarray:
 
 def _sign_pass(vol: np.ndarray, level: float) -> dict:
     """Pass 1 (see ``_mc_rows``): the flag rows and per-row counts; ValueError on NaN or a level out of range."""
-    from ._mc_rows import run_pass, sign_rows
+    from ._mc_rows import run_pass, sign_rows, threshold
 
     nz, ny, nx = vol.shape
     nrows = nz * ny
-    lvl = np.float32(level)
+    thr = threshold(vol.dtype, level)
+    if thr is None:  # beyond the dtype's range, so beyond the data's
+        _check_range(vol, level)
     sgn = np.empty((nz, ny, 8 * ((nx + 7) // 8)), np.uint8)  # flag rows in whole 64-bit words
     rows = dict(words=sgn.reshape(nrows, -1).view(np.uint64), nxc=np.empty(nrows, np.int64),
                 trim=np.empty((nrows, 3), np.int64))
     ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
     bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)
-    run_pass(sign_rows, np.full(nrows, nx), (vol, lvl, sgn, rows["words"], bits),
+    run_pass(sign_rows, np.full(nrows, nx), (vol, thr, sgn, rows["words"], bits),
              (rows["nxc"], rows["trim"], ninside, nbad))
     if nbad.any():
         raise ValueError("marching_cubes: the volume holds NaN or infinite values")
     if ninside.sum() in (0, vol.size):  # no sample above the level, or none at or below: is it in range?
-        lo_v, hi_v = float(vol.min()), float(vol.max())
-        if not lo_v <= level <= hi_v:
-            raise ValueError(f"level {level:g} is outside the data range [{lo_v:g}, {hi_v:g}]")
+        _check_range(vol, level)
     return rows
+
+
+def _check_range(vol: np.ndarray, level: float) -> None:
+    lo_v, hi_v = float(vol.min()), float(vol.max())
+    if not lo_v <= level <= hi_v:
+        raise ValueError(f"level {level:g} is outside the data range [{lo_v:g}, {hi_v:g}]")
 
 
 def _exclusive_cumsum(a: np.ndarray, start: int = 0) -> np.ndarray:

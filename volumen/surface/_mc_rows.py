@@ -105,9 +105,10 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
     edges, the trim, the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else
     pass an empty array), the NaN and infinite values, found from their exponent bits.
 
-    ``vol`` is read in its own dtype; comparisons are made on its float32 values, as a
-    float32 copy would. The sample loops are plain sweeps the compiler vectorises; rows
-    all inside or all outside (most of them, at a bone level) skip the search for crossings.
+    ``vol`` is read in its own dtype and compared with ``level`` in that dtype (see
+    :func:`threshold`: the flags a float32 copy would give). The sample loops are plain
+    sweeps the compiler vectorises; rows all inside or all outside (most of them, at a bone
+    level) skip the search for crossings.
     Like the kernels of the other passes it runs without Numba's reference counting.
     """
     nz, ny, nx = vol.shape
@@ -120,7 +121,7 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
         src = vol[z, y]
         inside = 0
         for x in range(nx):
-            f = np.float32(src[x]) > level
+            f = src[x] > level
             row[x] = f
             inside += f
         for x in range(nx, row.shape[0]):
@@ -137,6 +138,17 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
         else:
             nxc[r], trim[r, 0], trim[r, 1] = _row_crossings(words, r, nw, nx)
         trim[r, 2] = np.int64(row[0]) | (np.int64(row[nx - 1]) << 1)
+
+
+def threshold(dtype: np.dtype, level: float):
+    """``level`` as :func:`sign_rows` compares it with samples of ``dtype``, so that ``v > t`` is
+    ``float32(v) > float32(level)``: the float32 level for float32 data; for integers (exact in float32)
+    the largest integer not above it. None when that falls outside the dtype's range."""
+    lvl = np.float32(level)
+    if dtype.kind == "f":
+        return lvl
+    t, info = np.floor(lvl), np.iinfo(dtype)
+    return dtype.type(t) if info.min <= t <= info.max else None
 
 
 #: estimated cost (about 2.5 ns each on one core) below which a pass runs on the calling thread

@@ -148,9 +148,10 @@ def _sign_pass(vol: np.ndarray, level: float) -> dict:
     thr = threshold(vol.dtype, level)
     if thr is None:  # beyond the dtype's range, so beyond the data's
         _check_range(vol, level)
-    sgn = np.empty((nz, ny, 8 * ((nx + 7) // 8)), np.uint8)  # flag rows in whole 64-bit words
-    rows = dict(words=sgn.reshape(nrows, -1).view(np.uint64), nxc=np.empty(nrows, np.int64),
-                trim=np.empty((nrows, 3), np.int64))
+    sgn = np.empty((nrows + 2, 8 * ((nx + 7) // 8)), np.uint8)  # flag rows in whole 64-bit words
+    sgn[nrows:] = 0  # the shared rows all outside and all inside
+    sgn[nrows + 1, :nx] = 1
+    rows = dict(words=sgn.view(np.uint64), nxc=np.empty(nrows, np.int64), trim=np.empty((nrows, 4), np.int64))
     ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
     bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)

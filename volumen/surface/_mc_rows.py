@@ -1,11 +1,12 @@
 """Marching cubes, pass 1 and the row bookkeeping the later passes share (kernel in ``_mc_kernel.py``).
 
 Inside flags are one byte per sample (``value > level``) in grid rows padded with zeros
-to whole 64-bit words, read eight at a time as ``uint64``. Pass 1 reads the volume in
-its own dtype (no converted copy) and keeps per row, as flying edges does, the *trim*:
+to whole 64-bit words, read eight at a time as ``uint64``; rows all outside or all inside
+share one stored row each. Pass 1 reads the volume in its own dtype (no converted copy)
+and keeps per row, as flying edges does, the *trim* ``trim[r] = (lo, hi, ends, flag row)``:
 the word range ``[lo, hi)`` holding the row's crossed x edges (``lo = nw, hi = 0`` when
-there are none) and its end flags (bit 0: first sample inside, bit 1: last sample
-inside). Two rows can differ only inside the union of their trims, unless their end
+there are none), its end flags (bit 0: first sample inside, bit 1: last sample inside)
+and the row of flags to read. Two rows can differ only inside the union of their trims, unless their end
 flags differ, which widens the range to that end. Later passes visit only those words,
 so rows far from the surface cost a few comparisons.
 
@@ -101,15 +102,19 @@ def _row_crossings(words, r, nw, nx):
 
 @njit(cache=True, _nrt=False, nogil=True)
 def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
-    """Pass 1 on grid rows [r0, r1): flags ``sgn = vol > level`` (zero padding), and per row the crossed x
-    edges, the trim, the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else
-    pass an empty array), the NaN and infinite values, found from their exponent bits.
+    """Pass 1 on grid rows [r0, r1): flags ``sgn = vol > level`` (zero padding) of the rows that have both
+    inside and outside samples, and per row the crossed x edges, the trim, the flag row to read (``trim[r,
+    3]``), the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else pass an
+    empty array), the NaN and infinite values, found from their exponent bits.
+
+    ``sgn`` has two rows more than the grid, filled by the caller: all outside (row ``nz * ny``) and all
+    inside (the last); a row all outside or all inside (most rows, at a bone level) writes no flags and
+    reads that shared row instead, and skips the search for crossings.
 
     ``vol`` is read in its own dtype and compared with ``level`` in that dtype (see
     :func:`threshold`: the flags a float32 copy would give). The sample loops are plain
-    sweeps the compiler vectorises; rows all inside or all outside (most of them, at a bone
-    level) skip the search for crossings.
-    Like the kernels of the other passes it runs without Numba's reference counting.
+    sweeps the compiler vectorises. Like the kernels of the other passes it runs without
+    Numba's reference counting.
     """
     nz, ny, nx = vol.shape
     nw = words.shape[1]
@@ -117,15 +122,10 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
     for r in range(r0, r1):
         z = r // ny
         y = r - z * ny
-        row = sgn[z, y]
         src = vol[z, y]
         inside = 0
         for x in range(nx):
-            f = src[x] > level
-            row[x] = f
-            inside += f
-        for x in range(nx, row.shape[0]):
-            row[x] = 0
+            inside += src[x] > level
         bad = 0
         if check:
             b = bits[z, y]
@@ -135,9 +135,17 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
         ninside[r] = inside
         if inside == 0 or inside == nx:
             nxc[r], trim[r, 0], trim[r, 1] = 0, nw, 0
-        else:
-            nxc[r], trim[r, 0], trim[r, 1] = _row_crossings(words, r, nw, nx)
+            trim[r, 2] = 0 if inside == 0 else 3
+            trim[r, 3] = nz * ny + (inside == nx)
+            continue
+        row = sgn[r]
+        for x in range(nx):
+            row[x] = src[x] > level
+        for x in range(nx, row.shape[0]):
+            row[x] = 0
+        nxc[r], trim[r, 0], trim[r, 1] = _row_crossings(words, r, nw, nx)
         trim[r, 2] = np.int64(row[0]) | (np.int64(row[nx - 1]) << 1)
+        trim[r, 3] = r
 
 
 def threshold(dtype: np.dtype, level: float):

@@ -29,8 +29,10 @@ def _median_ms(fn, repeats: int) -> float:
     return 1e3 * float(np.median(times))
 
 
-def _vtk_flying_edges(vol: np.ndarray, level: float, threads: int):
-    """A callable running vtkFlyingEdges3D (normals on, STDThread SMP backend), or None without VTK."""
+def _vtk_flying_edges(vol: np.ndarray, level: float, threads: int, spacing=(1.0, 1.0, 1.0)):
+    """A callable running vtkFlyingEdges3D (normals on, STDThread SMP backend with ``threads`` workers) on
+    ``vol`` [z, y, x] with ``spacing`` (dz, dy, dx) and returning the triangle count, or None without VTK.
+    Its ``output()`` gives the last output (``vtkPolyData``)."""
     try:
         import vtk
         from vtk.util import numpy_support
@@ -41,6 +43,7 @@ def _vtk_flying_edges(vol: np.ndarray, level: float, threads: int):
     smp.Initialize(threads)
     img = vtk.vtkImageData()
     img.SetDimensions(vol.shape[2], vol.shape[1], vol.shape[0])
+    img.SetSpacing(spacing[2], spacing[1], spacing[0])
     img.GetPointData().SetScalars(numpy_support.numpy_to_vtk(vol.ravel(), deep=True))
     fe = vtk.vtkFlyingEdges3D()
     fe.SetInputData(img)
@@ -53,6 +56,7 @@ def _vtk_flying_edges(vol: np.ndarray, level: float, threads: int):
         fe.Update()
         return fe.GetOutput().GetNumberOfCells()
 
+    run.output = fe.GetOutput
     return run
 
 
@@ -79,9 +83,9 @@ def bench_marching_cubes(sizes=(128, 256), repeats: int = 5, level: float = 0.0)
     for n in sizes:
         vol = bench_volume(int(n))
         ours_tris = marching_cubes(vol, level, voxel_coordinates=False).n_faces
-        ours = _median_ms(lambda: marching_cubes(vol, level, voxel_coordinates=False), repeats)
+        ours = _median_ms(lambda vol=vol: marching_cubes(vol, level, voxel_coordinates=False), repeats)
         sk_tris = len(sk_marching_cubes(vol, level)[1])
-        sk = _median_ms(lambda: sk_marching_cubes(vol, level), repeats)
+        sk = _median_ms(lambda vol=vol: sk_marching_cubes(vol, level), repeats)
         row = dict(size=int(n), threads=threads, ours_ms=round(ours, 2), ours_triangles=ours_tris,
                    skimage_ms=round(sk, 2), skimage_triangles=sk_tris, skimage_over_ours=round(sk / ours, 2),
                    vtk_ms=None, vtk_triangles=None, vtk_over_ours=None)

@@ -1,4 +1,4 @@
-"""Marching cubes: the public function (checks, one conversion, geometry). Kernel in ``_mc_kernel.py``."""
+"""Marching cubes: the public function (checks, allocation, geometry); kernels in ``_mc_rows``, ``_mc_kernel``."""
 
 from __future__ import annotations
 
@@ -8,6 +8,9 @@ from ..core import Volume
 from ._mesh import Mesh
 
 __all__ = ["marching_cubes"]
+
+#: dtypes the kernel reads as they are (each sample as its float32 value); others are converted to float32
+NATIVE_DTYPES = tuple(np.dtype(t) for t in ("int16", "uint16", "uint8", "float32"))
 
 
 def _geometry(volume, spacing) -> tuple[np.ndarray, np.ndarray]:
@@ -21,6 +24,16 @@ def _geometry(volume, spacing) -> tuple[np.ndarray, np.ndarray]:
     if len(sp) != 3 or not all(np.isfinite(sp)) or min(sp) <= 0:
         raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {spacing}")
     return data, np.diag([sp[2], sp[1], sp[0], 1.0])
+
+
+def _kernel_array(data: np.ndarray) -> np.ndarray:
+    """The samples as the kernel reads them: the array itself (C order) when its dtype is one the kernel is
+    compiled for, booleans as uint8 (a view), anything else as a float32 copy."""
+    if data.dtype == np.bool_:
+        data = data.view(np.uint8)
+    if data.dtype not in NATIVE_DTYPES:
+        return np.ascontiguousarray(data, dtype=np.float32)
+    return np.ascontiguousarray(data)
 
 
 def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=None, step: int = 1,
@@ -63,17 +76,45 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
     Ambiguous cube faces are decided by the asymptotic decider on the face's four values,
     identically from both cubes sharing it, with tables that keep every mesh edge shared by
     exactly two triangles wherever the surface is closed (see ``_mc_tablegen.py``). The
-    passes follow VTK's flying edges: per-row edge counts, prefix sums, then parallel
-    generation of shared vertices and triangles; inside flags are scanned eight samples
-    at a time, so stretches without a crossing cost almost nothing.
+    passes follow VTK's flying edges: per-row edge counts and trims (the stretch of a row
+    holding its crossings), prefix sums, then parallel generation of shared vertices and
+    triangles, each thread taking a run of rows of balanced work; inside flags are scanned
+    eight samples at a time and only inside the trims. int16, uint16, uint8 (and bool) and
+    float32 data are read as they are, each sample as its float32 value; other dtypes are
+    converted to float32 first.
 
     References
     ----------
     Schroeder, W., Maynard, R. and Geveci, B. "Flying edges: a high-performance scalable
     isocontouring algorithm", IEEE LDAV 2015.
     """
-    from . import _mc_kernel as K
+    data, affine, is_mask, step = _checked(volume, spacing, step)
+    vol = _kernel_array(data)
+    if level is None:  # the default needs the range before the pass: one more reduction
+        lo_v, hi_v = float(vol.min()), float(vol.max())
+        is_mask = is_mask or (lo_v >= 0 and hi_v <= 1 and data.dtype.kind in "biu")
+        level = 0.5 if is_mask else 0.5 * (lo_v + hi_v)
+    level = float(level)
+    rows = _sign_pass(vol, level)
+    m = _mask_array(mask, volume, step)
+    aff = affine @ np.diag([step, step, step, 1.0])
+    flip = bool(np.linalg.det(aff[:3, :3]) < 0)
+    xyz, nrm, ijk, faces = _mesh_passes(vol, np.float32(level), rows, m, aff, flip, voxel_coordinates)
+    if step > 1:
+        ijk *= step
+    if mask is not None:
+        xyz, faces, nrm, *rest = _drop_unused(xyz, faces, nrm, *([ijk] if voxel_coordinates else []))
+        ijk = rest[0] if voxel_coordinates else ijk
+    mesh = Mesh.__new__(Mesh)  # the kernel's output is valid by construction: skip re-checks
+    mesh.vertices, mesh.faces, mesh.normals = xyz, faces, nrm
+    mesh.voxel_vertices = ijk if voxel_coordinates else None
+    mesh.meta = {"level": level, "step": step}
+    return mesh
 
+
+def _checked(volume, spacing, step):
+    """``(data, affine, is_mask, step)``: the samples every ``step``-th voxel, their affine, whether they are
+    boolean, and ``step`` as an int; ValueError on a bad shape or step."""
     data, affine = _geometry(volume, spacing)
     if data.ndim != 3:
         raise ValueError(f"marching_cubes needs a 3-D [z, y, x] array, got shape {data.shape}")
@@ -85,76 +126,86 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
         data = data[::step, ::step, ::step]
     if min(data.shape) < 2:
         raise ValueError(f"marching_cubes needs at least 2 samples per axis, got shape {data.shape}")
-    vol = np.ascontiguousarray(data, dtype=np.float32)
+    return data, affine, is_mask, step
+
+
+def _mask_array(mask, volume, step: int) -> np.ndarray:
+    """The cube mask as the kernel takes it (a 1-voxel dummy when there is none)."""
+    if mask is None:
+        return np.zeros((1, 1, 1), np.bool_)
+    m = mask.data if isinstance(mask, Volume) else np.asarray(mask)
+    if m.shape != np.asarray(volume.data if isinstance(volume, Volume) else volume).shape:
+        raise ValueError(f"mask shape {m.shape} differs from the volume's")
+    return np.ascontiguousarray(m[::step, ::step, ::step], dtype=np.bool_)
+
+
+def _sign_pass(vol: np.ndarray, level: float) -> dict:
+    """Pass 1 (see ``_mc_rows``): the flag rows and per-row counts; ValueError on NaN or a level out of range."""
+    from ._mc_rows import run_pass, sign_rows, threshold
+
     nz, ny, nx = vol.shape
     nrows = nz * ny
-    nxc = np.empty(nrows, np.int64)
-    vmin = np.empty(nrows, np.float32)
-    vmax = np.empty(nrows, np.float32)
+    thr = threshold(vol.dtype, level)
+    if thr is None:  # beyond the dtype's range, so beyond the data's
+        _check_range(vol, level)
+    sgn = np.empty((nrows + 2, 8 * ((nx + 7) // 8)), np.uint8)  # flag rows in whole 64-bit words
+    sgn[nrows:] = 0  # the shared rows all outside and all inside
+    sgn[nrows + 1, :nx] = 1
+    rows = dict(words=sgn.view(np.uint64), nxc=np.empty(nrows, np.int64), trim=np.empty((nrows, 4), np.int64))
+    ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
-    padded = 8 * ((nx + 7) // 8)  # flag rows in whole 64-bit words
-    sgn = np.empty((nz, ny, padded), np.uint8)
-    words = sgn.reshape(nrows, padded).view(np.uint64)
-    if level is None:  # the default needs the range before the pass: one more reduction
-        lo_v, hi_v = float(vol.min()), float(vol.max())
-        is_mask = is_mask or (lo_v >= 0 and hi_v <= 1 and data.dtype.kind in "biu")
-        level = 0.5 if is_mask else 0.5 * (lo_v + hi_v)
-    level = float(level)
-    lvl = np.float32(level)
-    K.row_signs(vol, vol.view(np.uint32), lvl, sgn, words, nxc, vmin, vmax, nbad)
-    lo_v, hi_v = float(vmin.min()), float(vmax.max())
+    bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)
+    run_pass(sign_rows, np.full(nrows, nx), (vol, thr, sgn, rows["words"], bits),
+             (rows["nxc"], rows["trim"], ninside, nbad))
     if nbad.any():
         raise ValueError("marching_cubes: the volume holds NaN or infinite values")
+    if ninside.sum() in (0, vol.size):  # no sample above the level, or none at or below: is it in range?
+        _check_range(vol, level)
+    return rows
+
+
+def _check_range(vol: np.ndarray, level: float) -> None:
+    lo_v, hi_v = float(vol.min()), float(vol.max())
     if not lo_v <= level <= hi_v:
         raise ValueError(f"level {level:g} is outside the data range [{lo_v:g}, {hi_v:g}]")
 
-    use_mask = mask is not None
-    if use_mask:
-        m = mask.data if isinstance(mask, Volume) else np.asarray(mask)
-        if m.shape != np.asarray(volume.data if isinstance(volume, Volume) else volume).shape:
-            raise ValueError(f"mask shape {m.shape} differs from the volume's")
-        m = np.ascontiguousarray(m[::step, ::step, ::step], dtype=np.bool_)
-    else:
-        m = np.zeros((1, 1, 1), np.bool_)
 
-    aff = affine @ np.diag([step, step, step, 1.0])
-    nmat = np.linalg.inv(aff[:3, :3]).T.copy()
-    flip = bool(np.linalg.det(aff[:3, :3]) < 0)
+def _exclusive_cumsum(a: np.ndarray, start: int = 0) -> np.ndarray:
+    out = np.empty(len(a), np.int64)
+    out[0] = start
+    np.cumsum(a[:-1], out=out[1:])
+    out[1:] += start
+    return out
 
-    nyc = np.empty(nrows, np.int64)
-    nzc = np.empty(nrows, np.int64)
-    ntri = np.empty((nz - 1) * (ny - 1), np.int64)
-    ncen = np.empty((nz - 1) * (ny - 1), np.int64)
-    K.count(vol, lvl, sgn, words, nyc, nzc, ntri, ncen, m, use_mask)
 
+def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
+    """Passes 2 and 3 (counts, prefix sums, vertices and triangles): ``(xyz, nrm, ijk, faces)``."""
+    from . import _mc_kernel as K
+    from ._mc_rows import run_pass
+
+    nz, ny, nx = vol.shape
+    words, nxc, trim = rows["words"], rows["nxc"], rows["trim"]
+    nyc, nzc = np.empty_like(nxc), np.empty_like(nxc)
+    ntri = np.zeros((nz - 1) * (ny - 1), np.int64)
+    ncen = np.zeros_like(ntri)
+    use_mask = m.size > 1
+    span = np.maximum(trim[:, 1] - trim[:, 0], 0)
+    run_pass(K.count_rows, 4 + 2 * span + nxc, (vol, lvl, words, trim),
+             (nyc, nzc, ntri, ncen, m, use_mask))
     per_row = nxc + nyc + nzc
-    vbase = np.zeros(nrows, np.int64)
-    np.cumsum(per_row[:-1], out=vbase[1:])
-    n_edge = int(vbase[-1] + per_row[-1])
-    cbase = np.full(len(ncen), n_edge, np.int64)
-    np.cumsum(ncen[:-1], out=cbase[1:])
-    cbase[1:] += n_edge
-    tbase = np.zeros(len(ntri), np.int64)
-    np.cumsum(ntri[:-1], out=tbase[1:])
+    n_edge = int(per_row.sum())
+    vbase, cbase, tbase = _exclusive_cumsum(per_row), _exclusive_cumsum(ncen, n_edge), _exclusive_cumsum(ntri)
     n_vert = n_edge + int(ncen.sum())
-    n_tri = int(ntri.sum())
-
     ijk = np.empty((n_vert if voxel_coordinates else 0, 3), np.float32)
     xyz = np.empty((n_vert, 3), np.float32)
     nrm = np.empty((n_vert, 3), np.float32)
-    faces = np.empty((n_tri, 3), np.int32)
-    K.emit(vol, lvl, sgn, words, nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip,
-           ijk, xyz, nrm, faces)
-    if step > 1:
-        ijk *= step
-    if use_mask:
-        xyz, faces, nrm, *rest = _drop_unused(xyz, faces, nrm, *([ijk] if voxel_coordinates else []))
-        ijk = rest[0] if voxel_coordinates else ijk
-    ijk = ijk if voxel_coordinates else None
-    mesh = Mesh.__new__(Mesh)  # the kernel's output is valid by construction: skip re-checks
-    mesh.vertices, mesh.faces, mesh.normals, mesh.voxel_vertices = xyz, faces, nrm, ijk
-    mesh.meta = {"level": level, "step": step}
-    return mesh
+    faces = np.empty((int(ntri.sum()), 3), np.int32)
+    cost = 4 + span + 4 * per_row
+    cost.reshape(nz, ny)[:-1, :-1] += 2 * ntri.reshape(nz - 1, ny - 1)
+    nmat = np.linalg.inv(aff[:3, :3]).T.copy()
+    run_pass(K.emit_rows, cost, (vol, lvl, words, trim),
+             (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces), scratch=13)
+    return xyz, nrm, ijk, faces
 
 
 def _drop_unused(xyz, faces, *per_vertex):

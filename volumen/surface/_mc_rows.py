@@ -1,0 +1,204 @@
+"""Marching cubes, pass 1 and the row bookkeeping the later passes share (kernel in ``_mc_kernel.py``).
+
+Inside flags are one byte per sample (``value > level``) in grid rows padded with zeros
+to whole 64-bit words, read eight at a time as ``uint64``; rows all outside or all inside
+share one stored row each. Pass 1 reads the volume in its own dtype (no converted copy)
+and keeps per row, as flying edges does, the *trim* ``trim[r] = (lo, hi, ends, flag row)``:
+the word range ``[lo, hi)`` holding the row's crossed x edges (``lo = nw, hi = 0`` when
+there are none), its end flags (bit 0: first sample inside, bit 1: last sample inside)
+and the row of flags to read. Two rows can differ only inside the union of their trims, unless their end
+flags differ, which widens the range to that end. Later passes visit only those words,
+so rows far from the surface cost a few comparisons.
+
+Work is split into contiguous runs of rows cut where the estimated cost (busy words,
+crossed edges, triangles) is balanced -- bone levels put the surface in a few slices --
+four runs per thread, handed out one at a time by a pool of as many threads as Numba
+uses (the kernels release the GIL). A thread that the system holds back delays only the
+run it holds; the others take the rest (Numba's parallel loops give each thread a fixed
+share and wait for the slowest, which on a busy machine cost up to twice the time).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+U0 = np.uint64(0)
+U1 = np.uint64(1)
+U8 = np.uint64(8)
+U56 = np.uint64(56)
+ONES = np.uint64(0x0101010101010101)  # byte sums by multiplication
+BYTE_INDEX = np.uint64(0x0001020304050607)  # (1 << 8k) * BYTE_INDEX >> 56 == k
+
+
+@njit(inline="always")
+def low_byte(d):
+    """Index of the lowest non-zero byte of a word whose bytes are 0 or 1 (d != 0)."""
+    return np.int64(((d & (~d + U1)) * BYTE_INDEX) >> U56)
+
+
+@njit(inline="always")
+def count_bytes(d):
+    """Number of bytes set in a word whose bytes are 0 or 1."""
+    return np.int64((d * ONES) >> U56)
+
+
+@njit(inline="always")
+def valid(w, n):
+    """Word mask of the bytes 8 w + k < n."""
+    lim = n - 8 * w
+    if lim >= 8:
+        return ~U0
+    if lim <= 0:
+        return U0
+    return (U1 << np.uint64(8 * lim)) - U1
+
+
+@njit(inline="always")
+def next_shift(words, r, w, nw):
+    """The row's word w shifted down one byte, with the next word's first byte on top: flags at x + 1."""
+    nxt = words[r, w + 1] if w + 1 < nw else U0
+    return (words[r, w] >> U8) | (nxt << U56)
+
+
+@njit(inline="always")
+def x_cross(words, r, w, nw, nx):
+    """Crossed x edges (x, x + 1) of row r in word w."""
+    return (words[r, w] ^ next_shift(words, r, w, nw)) & valid(w, nx - 1)
+
+
+@njit(inline="always")
+def words2(trim, a, b, nw):
+    """Word range ``[lo, hi)`` outside which rows a and b hold equal flags and no crossed x edge."""
+    lo = min(trim[a, 0], trim[b, 0])
+    hi = max(trim[a, 1], trim[b, 1])
+    e = trim[a, 2] ^ trim[b, 2]
+    return (0 if e & 1 else lo), (nw if e & 2 else hi)
+
+
+@njit(inline="always")
+def words4(trim, a, b, c, d, nw):
+    """:func:`words2` for the four rows of a cube row."""
+    lo = min(min(trim[a, 0], trim[b, 0]), min(trim[c, 0], trim[d, 0]))
+    hi = max(max(trim[a, 1], trim[b, 1]), max(trim[c, 1], trim[d, 1]))
+    e = (trim[a, 2] ^ trim[b, 2]) | (trim[a, 2] ^ trim[c, 2]) | (trim[a, 2] ^ trim[d, 2])
+    return (0 if e & 1 else lo), (nw if e & 2 else hi)
+
+
+@njit(inline="always")
+def _row_crossings(words, r, nw, nx):
+    """Crossed x edges of row r and the word range ``[lo, hi)`` holding them (``(nw, 0)`` when none)."""
+    n = 0
+    lo = nw
+    hi = 0
+    for w in range(nw):
+        c = count_bytes(x_cross(words, r, w, nw, nx))
+        if c:
+            n += c
+            lo = min(lo, w)
+            hi = w + 1
+    return n, lo, hi
+
+
+@njit(cache=True, _nrt=False, nogil=True)
+def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
+    """Pass 1 on grid rows [r0, r1): flags ``sgn = vol > level`` (zero padding) of the rows that have both
+    inside and outside samples, and per row the crossed x edges, the trim, the flag row to read (``trim[r,
+    3]``), the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else pass an
+    empty array), the NaN and infinite values, found from their exponent bits.
+
+    ``sgn`` has two rows more than the grid, filled by the caller: all outside (row ``nz * ny``) and all
+    inside (the last); a row all outside or all inside (most rows, at a bone level) writes no flags and
+    reads that shared row instead, and skips the search for crossings.
+
+    ``vol`` is read in its own dtype and compared with ``level`` in that dtype (see
+    :func:`threshold`: the flags a float32 copy would give). The sample loops are plain
+    sweeps the compiler vectorises. Like the kernels of the other passes it runs without
+    Numba's reference counting.
+    """
+    nz, ny, nx = vol.shape
+    nw = words.shape[1]
+    check = bits.size > 0
+    for r in range(r0, r1):
+        z = r // ny
+        y = r - z * ny
+        src = vol[z, y]
+        inside = 0
+        for x in range(nx):
+            inside += src[x] > level
+        bad = 0
+        if check:
+            b = bits[z, y]
+            for x in range(nx):
+                bad += (b[x] & 0x7F800000) == 0x7F800000
+        nbad[r] = bad
+        ninside[r] = inside
+        if inside == 0 or inside == nx:
+            nxc[r], trim[r, 0], trim[r, 1] = 0, nw, 0
+            trim[r, 2] = 0 if inside == 0 else 3
+            trim[r, 3] = nz * ny + (inside == nx)
+            continue
+        row = sgn[r]
+        for x in range(nx):
+            row[x] = src[x] > level
+        for x in range(nx, row.shape[0]):
+            row[x] = 0
+        nxc[r], trim[r, 0], trim[r, 1] = _row_crossings(words, r, nw, nx)
+        trim[r, 2] = np.int64(row[0]) | (np.int64(row[nx - 1]) << 1)
+        trim[r, 3] = r
+
+
+def threshold(dtype: np.dtype, level: float):
+    """``level`` as :func:`sign_rows` compares it with samples of ``dtype``, so that ``v > t`` is
+    ``float32(v) > float32(level)``: the float32 level for float32 data; for integers (exact in float32)
+    the largest integer not above it. None when that falls outside the dtype's range."""
+    lvl = np.float32(level)
+    if dtype.kind == "f":
+        return lvl
+    t, info = np.floor(lvl), np.iinfo(dtype)
+    return dtype.type(t) if info.min <= t <= info.max else None
+
+
+#: estimated cost (about 2.5 ns each on one core) below which a pass runs on the calling thread
+SERIAL_COST = 400_000
+#: runs per thread: enough for a late thread's share to be taken by the others, few enough to cost nothing
+RUNS_PER_THREAD = 4
+_POOLS: dict = {}
+
+
+def balanced_runs(cost: np.ndarray, parts: int) -> np.ndarray:
+    """Bounds ``b`` (``parts + 1``, int64) cutting ``range(len(cost))`` into contiguous runs of about equal
+    total cost; run p is ``range(b[p], b[p + 1])``."""
+    total = np.cumsum(cost, dtype=np.float64)
+    cuts = np.searchsorted(total, total[-1] * np.arange(1, parts) / parts, side="right")
+    return np.concatenate([[0], cuts, [len(cost)]]).astype(np.int64)
+
+
+def _pool(threads: int):
+    """The worker threads of this process (a forked child makes its own)."""
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+
+    key = (os.getpid(), threads)
+    if key not in _POOLS:
+        _POOLS[key] = ThreadPoolExecutor(threads, thread_name_prefix="volumen-mc")
+    return _POOLS[key]
+
+
+def run_pass(rows_fn, cost: np.ndarray, head: tuple, tail: tuple, scratch: int = 0) -> None:
+    """Run ``rows_fn(*head, r0, r1, *tail)`` over all rows: on this thread when the work is small, else over
+    runs of balanced cost on the worker threads (``numba.get_num_threads()`` of them). With ``scratch``,
+    ``rows_fn`` gets one more argument: an int64 scratch row of that length, its own for each run."""
+    from numba import get_num_threads
+
+    threads = get_num_threads()
+    parts = 1 if threads == 1 or cost.sum() < SERIAL_COST else threads * RUNS_PER_THREAD
+    extra = [np.empty((parts, scratch), np.int64)] if scratch else []
+    if parts == 1:
+        rows_fn(*head, 0, len(cost), *tail, *(e[0] for e in extra))
+        return
+    runs = balanced_runs(cost, parts)
+    jobs = [_pool(threads).submit(rows_fn, *head, runs[p], runs[p + 1], *tail, *(e[p] for e in extra))
+            for p in range(parts)]
+    for job in jobs:
+        job.result()

@@ -144,8 +144,8 @@ def _read(mod, path, options: dict) -> Volume:
         raise VolumeReadError(path, f"could not be read ({exc.strerror}: {exc.filename})") from exc
     except (KeyboardInterrupt, SystemExit, GeneratorExit):
         raise
-    except BaseException as exc:  # noqa: BLE001  (the net; BaseException: Rust decoders panic with pyo3's
-        # PanicException, which is not an Exception)
+    except BaseException as exc:  # the net; BaseException because Rust decoders panic with pyo3's
+        # PanicException, which is not an Exception
         text = str(exc).splitlines()[0][:300] if str(exc) else ""
         raise UnexpectedReadError(path, f"could not be read ({type(exc).__name__}: {text})") from exc
 

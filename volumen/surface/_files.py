@@ -71,7 +71,7 @@ def read_mesh(path) -> Mesh:
         raise MissingPathError(path, "no such mesh file")
     try:
         tm = trimesh.load(path, file_type=fmt, process=False, force="mesh")
-    except Exception as exc:  # noqa: BLE001 - trimesh raises many kinds
+    except Exception as exc:  # trimesh raises many kinds
         raise CorruptDataError(path, f"cannot read mesh: {exc}") from exc
     if not isinstance(tm, trimesh.Trimesh) or len(tm.faces) == 0:
         raise CorruptDataError(path, "holds no triangles")

@@ -98,12 +98,8 @@ def _outputs(argv: list[str]) -> list[str]:
     return outs
 
 
-def _id(n: int, line: str) -> str:
-    return f"{n:02d}-" + "-".join(shlex.split(line, comments=True)[1:3]).replace("/", "")
-
-
-@pytest.mark.parametrize("line", readme_commands(), ids=[_id(n, ln) for n, ln in enumerate(readme_commands())])
-def test_readme_command_runs(line, workdir, monkeypatch, capsys):
+def _run(line: str, workdir: Path, capsys) -> str | None:
+    """Run one README line; None when it worked, else what went wrong."""
     from volumen.cli import main
 
     sys.path.insert(0, str(ROOT / "tests" / "endoscopy"))
@@ -114,13 +110,26 @@ def test_readme_command_runs(line, workdir, monkeypatch, capsys):
     if any("../shared/data" in a for a in argv):
         shared = shared_data()
         if shared is None:
-            pytest.skip("the shared data folder (../shared/data) is missing: set VOLUMEN_SHARED_DATA")
+            print(f"skipped (the shared data folder ../shared/data is missing): {line}")
+            return None
         argv = [a.replace("../shared/data", str(shared)) for a in argv]
     argv = _shrink(argv)
-    monkeypatch.chdir(workdir)
     code = main(argv)
     captured = capsys.readouterr()
-    assert code == 0, f"{line}\n -> exit {code}: {captured.err}"
+    if code != 0:
+        return f"{line}\n -> exit {code}: {captured.err}"
     for out in _outputs(argv):
         p = workdir / out
-        assert p.exists() and (p.is_dir() or p.stat().st_size > 0), f"{line}: {out} not written"
+        if not (p.exists() and (p.is_dir() or p.stat().st_size > 0)):
+            return f"{line}: {out} not written"
+    return None
+
+
+def test_readme_commands_run_in_order(workdir, monkeypatch, capsys):
+    """All of them in one test, in the README's order, in one folder: a later command reads what an earlier
+    one wrote (settings, saved flights), so they cannot be spread over test workers."""
+    monkeypatch.chdir(workdir)
+    lines = readme_commands()
+    assert len(lines) >= 15
+    failures = [f for f in (_run(line, workdir, capsys) for line in lines) if f]
+    assert not failures, "\n".join(failures)

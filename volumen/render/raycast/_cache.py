@@ -15,7 +15,7 @@ import numpy as np
 
 from ._precompute import NLUT, build_blocks, build_normals, normalize
 
-__all__ = ["Prepared", "prepare", "clear_cache"]
+__all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes"]
 
 
 class Prepared:
@@ -96,3 +96,11 @@ def clear_cache(volume=None) -> None:
         _CACHE.clear()
     else:
         _CACHE.pop(volume, None)
+
+
+def prepared_volumes(volume=None) -> list:
+    """The cached :class:`Prepared` of ``volume`` (empty list when none), or of every volume."""
+    if volume is None:
+        return list(_CACHE.values())
+    p = _CACHE.get(volume)
+    return [] if p is None else [p]

@@ -9,6 +9,7 @@ kernel (one ray per thread) run the same code.
 from __future__ import annotations
 
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit, prange
@@ -168,22 +169,37 @@ def lattice_transmittance_of(acc, scale):
     return math.exp(-scale * acc) if acc > 0.0 else 1.0
 
 
+class Sweep(NamedTuple):
+    """What a lattice sweep reads (the CPU driver and the CUDA kernel take it whole)."""
+
+    volt: Any      #: normalized volume with its axes ordered (a, b, c)
+    sig: Any       #: optical depth per reference step of each table entry
+    aff: Any       #: voxel -> world affine rows (3, 4)
+    geo: Any       #: packed region (``_geometry``)
+    planes: Any    #: clip planes (n, 6)
+    meta: Any      #: the light's meta row (``_params``)
+    nplanes: int
+    ds0: float     #: reference step, mm
+    kext: float    #: extinction scale
+
+
 @njit(parallel=True, cache=True, fastmath=True)
-def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc, wsp, wlen, out):
+def _sweep(sw, work, out):
     """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u).
 
-    ``volt`` is the normalized volume with its axes ordered (a, b, c); the
-    work arrays (nv, nu) hold each ray's region interval in ``s``, its optical
-    depth so far, its last sample (-1 before the region, -2 after it) and its
-    length in mm per unit ``s``. Rows of rays (fixed v) run in parallel, each
-    swept slice by slice (the per-ray pieces are shared with the CUDA sweep).
+    The work arrays ``work[0..4]`` (nv, nu) hold each ray's region interval in
+    ``s``, its optical depth so far, its last sample (-1 before the region, -2
+    after it) and its length in mm per unit ``s``. Rows of rays (fixed v) run
+    in parallel, each swept slice by slice (the per-ray pieces are shared with
+    the CUDA sweep).
     """
     nk, nv, nu = out.shape
-    pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(meta)
-    scale = kext / ds0
+    pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(sw.meta)
+    scale = sw.kext / sw.ds0
+    wt0, wt1, wacc, wsp, wlen = work
     for v in prange(nv):
         for u in range(nu):
-            _, _, t0, t1, length = lattice_ray(aff, geo, planes, nplanes, meta, v, u)
+            _, _, t0, t1, length = lattice_ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
             wt0[v, u] = t0
             wt1[v, u] = t1
             wacc[v, u] = 0.0
@@ -192,8 +208,8 @@ def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc
         for st in range(nk):
             i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
             for u in range(nu):
-                db, dc = lattice_offsets(meta, v, u)
-                acc, sp = lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u],
+                db, dc = lattice_offsets(sw.meta, v, u)
+                acc, sp = lattice_step(sw.volt, sw.sig, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u],
                                        wlen[v, u], wacc[v, u], wsp[v, u])
                 wacc[v, u] = acc
                 wsp[v, u] = sp
@@ -213,7 +229,8 @@ def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: 
     volt = np.transpose(u, (a, b, c))
     if out is None:
         out = np.empty((nk, nv, nu), np.float32)
-    work = [np.empty((nv, nu), np.float64) for _ in range(5)]
-    _sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes, int(nplanes),
-           np.asarray(meta, np.float64), float(ds0), float(kext), *work, out)
+    work = tuple(np.empty((nv, nu), np.float64) for _ in range(5))
+    sw = Sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes,
+               np.asarray(meta, np.float64), int(nplanes), float(ds0), float(kext))
+    _sweep(sw, work, out)
     return out

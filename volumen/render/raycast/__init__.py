@@ -14,7 +14,11 @@ medium), ``_pathtrace`` (progressive path tracing), ``_precompute`` and
 The CUDA backend (:mod:`volumen.render.cuda`) uses the names below only.
 """
 
-from ._cache import clear_cache, prepare, prepared_volumes
+from ._stamp import install as _install_cache_stamp
+
+_install_cache_stamp()  # before any compiled function of the package is defined
+
+from ._cache import clear_cache, prepare, prepared_volumes  # noqa: E402 - after the cache stamp
 from ._cpu import frame_image, render_cpu
 from ._frame import FAR, PER_VOLUME, Arrays, Frame, Outputs, Settings
 from ._geometry import G_BOX, pack_geometry, to_index

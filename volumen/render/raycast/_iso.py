@@ -1,10 +1,18 @@
-"""The isosurface mode's pieces: the first place the value reaches the threshold along the ray.
+"""The isosurface mode's pieces: the first threshold crossing along the ray, seen from the eye's side.
 
-The crossing is found between the sample below and the sample at/above the
-threshold by 4 regula-falsi steps (:func:`iso_refine`); a ray whose entry is
-already inside shows the cut (cap) at ``t0``. The pixel is the surface colour
-lit by the light tag's model with the normal at the hit. State:
-``(depth, previous value, previous t)``.
+The side is the one the eye is on. A ray that enters the drawn region from
+outside starts below the threshold (the side of the background): the
+surface is where the value first rises to the threshold, and a ray whose
+entry is already above it shows the cut (cap) at ``t0``. When the eye is
+itself inside the drawn region (``t0`` is the camera's near distance), the
+side is that of the value at ``t0``: an eye inside a region above the
+threshold (an endoscope in a contrast-filled vessel, brighter than its wall)
+sees the surface where the value first falls below it. The crossing is found
+between the last sample on the eye's side and the first beyond it by 4
+regula-falsi steps (:func:`iso_refine`). The pixel is the surface colour lit
+by the light tag's model with the normal at the hit (two-sided: it faces the
+eye). State: ``(depth, previous value, previous t, side)``, side +1 when
+looking for a rise, -1 for a fall.
 """
 
 from __future__ import annotations
@@ -12,6 +20,7 @@ from __future__ import annotations
 from numba import njit
 
 from ._frame import FAR
+from ._geometry import C_NEAR
 from ._pieces import Isosurface, eager, finish, init, radius, shade, step
 from ._ray import sample_at
 from ._sample import sample_normal, sample_value
@@ -20,12 +29,15 @@ __all__ = ["iso_refine"]
 
 
 @njit(cache=True, fastmath=True)
-def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
-    """Threshold crossing between (ta, fa < iso) and (tb, fb >= iso): regula falsi, 4 steps."""
+def _crossing(vol, nearest, iso, side, ta, fa, tb, fb, o, d):
+    """Crossing between ``ta`` (on the eye's side) and ``tb`` (beyond): regula falsi on ``side * (v - iso)``,
+    4 steps. ``o``, ``d``: the ray in voxel indices."""
+    fa = side * (fa - iso)
+    fb = side * (fb - iso)
     for _ in range(4):
-        tm = ta + (iso - fa) / (fb - fa) * (tb - ta)
-        vm = sample_value(vol, oi + tm * di, oj + tm * dj, ok + tm * dk, nearest)
-        if vm >= iso:
+        tm = ta + (0.0 - fa) / (fb - fa) * (tb - ta)
+        vm = side * (sample_value(vol, o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2], nearest) - iso)
+        if vm >= 0.0:
             tb = tm
             fb = vm
         else:
@@ -33,31 +45,47 @@ def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
             fa = vm
     if fb - fa <= 0.0:
         return tb
-    return ta + (iso - fa) / (fb - fa) * (tb - ta)
+    return ta + (0.0 - fa) / (fb - fa) * (tb - ta)
+
+
+@njit(cache=True, fastmath=True)
+def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
+    """Threshold crossing between (ta, fa < iso) and (tb, fb >= iso): regula falsi, 4 steps."""
+    return _crossing(vol, nearest, iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
+
+
+@njit(cache=True, fastmath=True)
+def _beyond(v, iso, side):
+    """Whether value ``v`` lies beyond the threshold, seen from ``side``."""
+    return v >= iso if side > 0.0 else v < iso
 
 
 @init.register(Isosurface)
 @njit(cache=True, fastmath=True)
 def _init(light, r, a, s):
     v = sample_at(r, a, s, r.t0)
-    dep = r.t0 if v >= s.iso else FAR
-    return (dep, v, r.t0), 1, dep < FAR, True
+    eye_inside = r.t0 <= a.cam[C_NEAR]
+    side = -1.0 if (eye_inside and v >= s.iso) else 1.0
+    dep = r.t0 if _beyond(v, s.iso, side) else FAR
+    return (dep, v, r.t0, side), 1, dep < FAR, True
 
 
 @step.register(Isosurface)
 @njit(cache=True, fastmath=True)
 def _step(light, r, a, s, st, k, t, v, have):
-    if v < s.iso:
-        return (FAR, v, t), 0, False
+    side = st[3]
+    if not _beyond(v, s.iso, side):
+        return (FAR, v, t, side), 0, False
     vp, tp = st[1], st[2]
     extra = 0
     if not have:
         tp = max(t - s.ds, r.t0)
         vp = sample_at(r, a, s, tp)
         extra = 1
-    dep = t if vp >= s.iso else iso_refine(a.vol, s.nearest, s.iso, tp, vp, t, v, r.oi, r.oj, r.ok, r.di, r.dj,
-                                            r.dk)
-    return (dep, v, t), extra, True
+    dep = t
+    if not _beyond(vp, s.iso, side):
+        dep = _crossing(a.vol, s.nearest, s.iso, side, tp, vp, t, v, (r.oi, r.oj, r.ok), (r.di, r.dj, r.dk))
+    return (dep, v, t, side), extra, True
 
 
 @finish.register(Isosurface)
@@ -81,7 +109,9 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
 @radius.register(Isosurface)
 @njit(cache=True, fastmath=True)
 def _radius(a, st, bk, bj, bi):
-    return int(a.bflag[bk, bj, bi])
+    if st[3] > 0.0:  # skip distances of the blocks no value of which reaches the threshold
+        return int(a.bflag[bk, bj, bi])
+    return 0  # looking for a fall: no block grid of those (rare: eye inside the surface)
 
 
 @eager.register(Isosurface)

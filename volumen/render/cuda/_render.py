@@ -29,7 +29,7 @@ def render_cuda(scene, camera, size: tuple[int, int]):
 
     device = require_cuda()
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
-        return CudaPathTracer(scene, camera, size).step(scene.shading.pt_samples)
+        return CudaPathTracer(scene, camera, size).step(scene.shading.pathtrace.samples)
     t_start = time.perf_counter()
     dev = device_volume(prepare(scene.volume))
     dev.begin_frame()

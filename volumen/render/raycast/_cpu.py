@@ -49,7 +49,7 @@ def render_cpu(scene, camera, size: tuple[int, int]):
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
         from ._pathtrace import PathTracer
 
-        return PathTracer(scene, camera, size).step(scene.shading.pt_samples)
+        return PathTracer(scene, camera, size).step(scene.shading.pathtrace.samples)
     t_start = time.perf_counter()
     f = pack_frame(scene, camera, size)
     w, h = f.size

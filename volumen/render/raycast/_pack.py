@@ -44,7 +44,7 @@ MODELS = {"none": "unlit", "headlight": "phong", "phong": "phong", "shadows": "s
 def _light_keys(scene, lights, geo, planes, kext):
     tf = scene.transfer.to_json() if scene.mode != "isosurface" else f"iso:{scene.isosurface.value!r}"
     clip = geo.tobytes() + planes.tobytes()
-    scale = scene.shading.light_volume_scale
+    scale = scene.shading.shadows.light_volume_scale
     return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext) for i in range(len(lights))]
 
 
@@ -83,7 +83,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
     gradop = tf.gradient_opacity is not None and mode == "composite"
     if (model != "unlit" and not medium_model) or gradop:
-        nrm, gmax = prep.normals(sh.gradient == "sobel")
+        nrm, gmax = prep.normals(sh.phong.gradient == "sobel")
     else:
         nrm, gmax = np.zeros((1, 1, 1, 4), np.int16), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
@@ -116,21 +116,23 @@ def _light_volumes(scene, prep, t, lights, nlights, model, kext, build):
     inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
     pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
     keys = _light_keys(scene, lights[:nlights], geo, planes, kext)
-    method = "fast" if sh.mode == "pathtrace" else sh.shadow_method
+    method = "fast" if sh.mode == "pathtrace" else sh.shadows.method
     return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], t["sig"], geo, planes,
-                 len(scene.clipping.planes), float(min(scene.volume.spacing)), kext, sh.light_volume_scale, method)
+                 len(scene.clipping.planes), float(min(scene.volume.spacing)), kext,
+                 sh.shadows.light_volume_scale, method)
 
 
 def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
     sh, smp = scene.shading, scene.sampling
+    ph, shw = sh.phong, sh.shadows
     c = scene.isosurface.color
     return Settings(
-        ds=ds0 / smp.samples_per_voxel, ds0=ds0, et=smp.early_termination, ka=sh.ambient, kd=sh.diffuse,
-        ks=sh.specular, shine=sh.shininess, vmin=prep.vmin, vscale=prep.scale, iso=u_iso, iso_r=c[0], iso_g=c[1],
-        iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=sh.shadow_offset * ds0, sh_step=sh.shadow_step * ds0,
-        kext=kext, albedo=albedo, g=sh.phase_g, nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter),
-        seed=int(smp.seed), skip=t["skip"], block=int(smp.block_size), gradop=t["gradop"], nlights=nlights,
-        nplanes=len(scene.clipping.planes), bounces=int(sh.pt_bounces))
+        ds=ds0 / smp.samples_per_voxel, ds0=ds0, et=smp.early_termination, ka=ph.ambient, kd=ph.diffuse,
+        ks=ph.specular, shine=ph.shininess, vmin=prep.vmin, vscale=prep.scale, iso=u_iso, iso_r=c[0], iso_g=c[1],
+        iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0, sh_step=shw.step * ds0,
+        kext=kext, albedo=albedo, g=sh.scattering.phase_g, nearest=smp.interpolation == "nearest",
+        jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"], block=int(smp.block_size), gradop=t["gradop"], nlights=nlights,
+        nplanes=len(scene.clipping.planes), bounces=sh.pathtrace.bounces)
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:

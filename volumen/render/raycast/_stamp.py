@@ -17,7 +17,7 @@ from pathlib import Path
 
 from numba.core import caching
 
-__all__ = ["install"]
+__all__ = ["install", "installed"]
 
 _HERE = Path(__file__).resolve().parent
 _FILES = sorted(_HERE.glob("*.py")) + [_HERE.parent / "optics.py"]
@@ -56,3 +56,8 @@ def install() -> None:
     for cls in (_InTree, _UserProvided):
         if cls not in locators:
             locators.insert(0, cls)
+
+
+install()
+#: True once the package's locators are in place (importing this module installs them)
+installed = True

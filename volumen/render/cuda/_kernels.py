@@ -76,7 +76,8 @@ def sweep(sw, out):
         sp = -1.0
         for st in range(nk):
             i, k, s = _slice(st, nk, k0, pa, dsl, fwd)
-            acc, sp = _step(sw.volt, sw.sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp)
+            acc, sp = _step((sw.volt, sw.sig, sw.u0, sw.ufac), k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc,
+                            sp)
             out[i, v, u] = _transmittance(acc, scale)
 
 

@@ -95,7 +95,8 @@ def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, 
             continue
         volt = permuted(d_u, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
         blocks, threads = _kernels.grid_2d(shape[2], shape[1])
-        sw = Sweep(volt, d_sig, d_aff, d_geo, d_planes, cuda.to_device(m), int(nplanes), float(ds0), float(kext))
+        sw = Sweep(volt, d_sig, d_aff, d_geo, d_planes, cuda.to_device(m), int(nplanes), float(ds0), float(kext),
+                   prep.u0, prep.ufac)
         _kernels.sweep[blocks, threads](sw, lvd[o:o + size].reshape(shape))
         built += 1
     if built:

@@ -38,7 +38,7 @@ class Arrays(NamedTuple):
     cam: np.ndarray     #: packed camera, float64 (18,) (``_geometry.pack_camera``)
     geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
-    vol: np.ndarray     #: normalized samples [z, y, x] float32 in table units (``_precompute``)
+    vol: np.ndarray     #: samples [z, y, x]: the data itself (integer types) or a normalized float32 copy
     nrm: np.ndarray     #: packed normals [z, y, x, 4] int16 (``_precompute``), (1, 1, 1, 4) when unused
     lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
     pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
@@ -66,6 +66,8 @@ class Settings(NamedTuple):
     kd: float = 0.65         #: diffuse (scattering: light scale)
     ks: float = 0.2          #: specular
     shine: float = 20.0      #: specular exponent
+    u0: float = 0.0          #: stored sample -> table units: ``(v - u0) * ufac`` (``Arrays.vol`` may be raw data)
+    ufac: float = 1.0
     vmin: float = 0.0        #: data value of normalized 0
     vscale: float = 1.0      #: data units per normalized unit
     iso: float = 0.0         #: isosurface threshold (normalized)

@@ -23,20 +23,23 @@ from ._frame import FAR
 from ._geometry import C_NEAR
 from ._pieces import Isosurface, eager, finish, init, radius, shade, step
 from ._ray import sample_at
-from ._sample import sample_normal, sample_value
+from ._sample import sample_normal, sample_table
 
 __all__ = ["iso_refine"]
 
 
 @njit(cache=True, fastmath=True)
-def _crossing(vol, nearest, iso, side, ta, fa, tb, fb, o, d):
+def _crossing(vol, norm, iso, side, ta, fa, tb, fb, o, d):
     """Crossing between ``ta`` (on the eye's side) and ``tb`` (beyond): regula falsi on ``side * (v - iso)``,
-    4 steps. ``o``, ``d``: the ray in voxel indices."""
+    4 steps. ``norm = (u0, ufac, nearest)``: how ``vol`` is read (``_sample.sample_table``); ``o``, ``d``: the
+    ray in voxel indices."""
+    u0, ufac, nearest = norm
     fa = side * (fa - iso)
     fb = side * (fb - iso)
     for _ in range(4):
         tm = ta + (0.0 - fa) / (fb - fa) * (tb - ta)
-        vm = side * (sample_value(vol, o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2], nearest) - iso)
+        vm = side * (sample_table(vol, u0, ufac, o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2], nearest)
+                     - iso)
         if vm >= 0.0:
             tb = tm
             fb = vm
@@ -51,7 +54,7 @@ def _crossing(vol, nearest, iso, side, ta, fa, tb, fb, o, d):
 @njit(cache=True, fastmath=True)
 def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
     """Threshold crossing between (ta, fa < iso) and (tb, fb >= iso): regula falsi, 4 steps."""
-    return _crossing(vol, nearest, iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
+    return _crossing(vol, (0.0, 1.0, nearest), iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
 
 
 @njit(cache=True, fastmath=True)
@@ -84,7 +87,8 @@ def _step(light, r, a, s, st, k, t, v, have):
         extra = 1
     dep = t
     if not _beyond(vp, s.iso, side):
-        dep = _crossing(a.vol, s.nearest, s.iso, side, tp, vp, t, v, (r.oi, r.oj, r.ok), (r.di, r.dj, r.dk))
+        dep = _crossing(a.vol, (s.u0, s.ufac, s.nearest), s.iso, side, tp, vp, t, v, (r.oi, r.oj, r.ok),
+                        (r.di, r.dj, r.dk))
     return (dep, v, t, side), extra, True
 
 

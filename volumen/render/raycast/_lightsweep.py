@@ -32,7 +32,7 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
-from ._sample import sample_value
+from ._sample import sample_table
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of"]
@@ -49,14 +49,16 @@ def _to_world(aff, axa, axb, axc, ca, cb, cc, w):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _sig(volt, sig, ca, cb, cc):
-    v = sample_value(volt, cc, cb, ca, False)
+def _sig(field, ca, cb, cc):
+    volt, sig, u0, ufac = field
+    v = sample_table(volt, u0, ufac, cc, cb, ca, False)
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _sig_slice(volt, sig, k, cb, cc):
+def _sig_slice(field, k, cb, cc):
     """``_sig`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives."""
+    volt, sig, u0, ufac = field
     nb = volt.shape[1]
     nc = volt.shape[2]
     if cb <= 0.0:
@@ -75,7 +77,7 @@ def _sig_slice(volt, sig, k, cb, cc):
         i1, fc = i0 + 1, cc - i0
     r0 = volt[k, j0, i0] + fc * (volt[k, j0, i1] - volt[k, j0, i0])
     r1 = volt[k, j1, i0] + fc * (volt[k, j1, i1] - volt[k, j1, i0])
-    v = r0 + fb * (r1 - r0)
+    v = (r0 + fb * (r1 - r0) - u0) * ufac
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
@@ -133,7 +135,7 @@ def lattice_slice(st, nk, k0, pa, dsl, fwd):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
+def lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
     """Carry one lattice ray across slice ``k`` (at ``s``): returns its new ``(acc, sp)``.
 
     ``acc`` is the ray's optical depth so far (reference-step units x mm),
@@ -141,7 +143,7 @@ def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, a
     transmittance stored at the slice is :func:`lattice_transmittance_of`.
     """
     if t1 >= t0 and s >= t0 and s <= t1:
-        sg = _sig_slice(volt, sig, k, pb + db * s, pc + dc * s)
+        sg = _sig_slice(field, k, pb + db * s, pc + dc * s)
         if sp < 0.0:  # entering: the partial segment from the region's boundary
             acc += sg * (s - max(t0, s - dsl)) * length
         else:
@@ -153,7 +155,7 @@ def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, a
                 q = sp
                 for j in range(1, m):
                     sj = s - dsl + j * sub
-                    r = _sig(volt, sig, pa + da * sj, pb + db * sj, pc + dc * sj)
+                    r = _sig(field, pa + da * sj, pb + db * sj, pc + dc * sj)
                     acc += 0.5 * (q + r) * sub * length
                     q = r
                 acc += 0.5 * (q + sg) * sub * length
@@ -172,7 +174,7 @@ def lattice_transmittance_of(acc, scale):
 class Sweep(NamedTuple):
     """What a lattice sweep reads (the CPU driver and the CUDA kernel take it whole)."""
 
-    volt: Any      #: normalized volume with its axes ordered (a, b, c)
+    volt: Any      #: the samples with their axes ordered (a, b, c), read as ``_sample.sample_table`` does
     sig: Any       #: optical depth per reference step of each table entry
     aff: Any       #: voxel -> world affine rows (3, 4)
     geo: Any       #: packed region (``_geometry``)
@@ -181,6 +183,8 @@ class Sweep(NamedTuple):
     nplanes: int
     ds0: float     #: reference step, mm
     kext: float    #: extinction scale
+    u0: float = 0.0    #: samples -> table units: (v - u0) * ufac
+    ufac: float = 1.0
 
 
 @njit(parallel=True, cache=True, fastmath=True)
@@ -197,6 +201,7 @@ def _sweep(sw, work, out):
     pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(sw.meta)
     scale = sw.kext / sw.ds0
     wt0, wt1, wacc, wsp, wlen = work
+    field = (sw.volt, sw.sig, sw.u0, sw.ufac)
     for v in prange(nv):
         for u in range(nu):
             _, _, t0, t1, length = lattice_ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
@@ -209,17 +214,18 @@ def _sweep(sw, work, out):
             i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
             for u in range(nu):
                 db, dc = lattice_offsets(sw.meta, v, u)
-                acc, sp = lattice_step(sw.volt, sw.sig, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u],
-                                       wlen[v, u], wacc[v, u], wsp[v, u])
+                acc, sp = lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u], wlen[v, u],
+                                       wacc[v, u], wsp[v, u])
                 wacc[v, u] = acc
                 wsp[v, u] = sp
                 out[i, v, u] = lattice_transmittance_of(acc, scale)
 
 
-def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None) -> np.ndarray:
+def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None,
+                  norm=(0.0, 1.0)) -> np.ndarray:
     """Sweep one light's lattice: float32 ``(nk, nv, nu)`` transmittances (into ``out`` when given).
 
-    ``u`` is the normalized volume ``[z, y, x]``, ``sig`` the optical depth per
+    ``u`` is the volume ``[z, y, x]`` (table units ``(u - norm[0]) * norm[1]``), ``sig`` the optical depth per
     reference step of each table entry, ``affine`` the (4, 4) voxel -> world
     matrix, ``geo``/``planes`` the packed region, ``ds0`` the reference step
     (mm), ``kext`` the extinction scale.
@@ -231,6 +237,6 @@ def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: 
         out = np.empty((nk, nv, nu), np.float32)
     work = tuple(np.empty((nv, nu), np.float64) for _ in range(5))
     sw = Sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes,
-               np.asarray(meta, np.float64), int(nplanes), float(ds0), float(kext))
+               np.asarray(meta, np.float64), int(nplanes), float(ds0), float(kext), float(norm[0]), float(norm[1]))
     _sweep(sw, work, out)
     return out

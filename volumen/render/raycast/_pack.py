@@ -128,11 +128,12 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
     c = scene.isosurface.color
     return Settings(
         ds=ds0 / smp.samples_per_voxel, ds0=ds0, et=smp.early_termination, ka=ph.ambient, kd=ph.diffuse,
-        ks=ph.specular, shine=ph.shininess, vmin=prep.vmin, vscale=prep.scale, iso=u_iso, iso_r=c[0], iso_g=c[1],
-        iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0, sh_step=shw.step * ds0,
-        kext=kext, albedo=albedo, g=sh.scattering.phase_g, nearest=smp.interpolation == "nearest",
-        jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"], block=int(smp.block_size), gradop=t["gradop"], nlights=nlights,
-        nplanes=len(scene.clipping.planes), bounces=sh.pathtrace.bounces)
+        ks=ph.specular, shine=ph.shininess, u0=prep.u0, ufac=prep.ufac, vmin=prep.vmin, vscale=prep.scale,
+        iso=u_iso, iso_r=c[0], iso_g=c[1], iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0,
+        sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
+        nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"],
+        block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
+        bounces=sh.pathtrace.bounces)
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:

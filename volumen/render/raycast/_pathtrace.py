@@ -37,7 +37,7 @@ from numba import njit, prange
 from ._cpu import TILE, tile_order
 from ._geometry import primary_ray, ray_interval, region_interval, to_index
 from ._pack import pack_frame
-from ._sample import sample_value
+from ._sample import sample_table
 from ._scatter import phase_weight
 from ._shade import L_COL, L_RAD, light_vector
 
@@ -93,14 +93,15 @@ def sample_hg(g, dx, dy, dz, u1, u2):
 
 
 @njit(cache=True, fastmath=True)
-def _sigma(vol, sig, oi, oj, ok, di, dj, dk, t, scale):
-    v = sample_value(vol, oi + t * di, oj + t * dj, ok + t * dk, False)
+def _sigma(field, oi, oj, ok, di, dj, dk, t, scale):
+    vol, sig, u0, ufac = field
+    v = sample_table(vol, u0, ufac, oi + t * di, oj + t * dj, ok + t * dk, False)
     idx = min(max(int(v + 0.5), 0), sig.shape[0] - 1)
     return sig[idx] * scale, idx
 
 
 @njit(cache=True, fastmath=True)
-def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, scale, smaj, key, ctr):
+def _ratio_tracking(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, scale, smaj, key, ctr):
     """Unbiased transmittance estimate along ``o + s L``, s in [0, smax] within the region; returns (T, ctr)."""
     ta, tb = region_interval(geo, planes, nplanes, ox, oy, oz, lx, ly, lz, 0.0, smax)
     if not tb > ta:
@@ -114,7 +115,7 @@ def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
         ctr += 1
         if t >= tb:
             break
-        s, _ = _sigma(vol, sig, oi, oj, ok, di, dj, dk, t, scale)
+        s, _ = _sigma(field, oi, oj, ok, di, dj, dk, t, scale)
         tr *= 1.0 - s / smaj
         if tr < 0.05:  # Russian roulette keeps the estimate unbiased
             if rand01(key, ctr) < 0.5:
@@ -126,7 +127,7 @@ def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
 
 
 @njit(cache=True, fastmath=True)
-def _free_flight(a, o, d, ta, tb, scale, smaj, key, ctr):
+def _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr):
     """Delta (Woodcock) tracking from ``ta``: ``(hit, t, table index, ctr)`` of the first real collision."""
     oi, oj, ok = to_index(a.geo, o[0], o[1], o[2], 1.0)
     di, dj, dk = to_index(a.geo, d[0], d[1], d[2], 0.0)
@@ -136,7 +137,7 @@ def _free_flight(a, o, d, ta, tb, scale, smaj, key, ctr):
         ctr += 1
         if t >= tb:
             return False, t, 0, ctr
-        sg, idx = _sigma(a.vol, a.sig, oi, oj, ok, di, dj, dk, t, scale)
+        sg, idx = _sigma((a.vol, a.sig, s.u0, s.ufac), oi, oj, ok, di, dj, dk, t, scale)
         u = rand01(key, ctr)
         ctr += 1
         if u * smaj < sg:
@@ -170,8 +171,8 @@ def _next_event(a, s, w, d, scale, smaj, key, ctr):
         if spot <= 0.0 or dist <= off:
             continue
         ph = phase_weight(lx, ly, lz, -d[0], -d[1], -d[2], s.g)
-        vis, ctr = _ratio_tracking(a.vol, a.sig, a.geo, a.planes, s.nplanes, w[0] + off * lx, w[1] + off * ly,
-                                   w[2] + off * lz, lx, ly, lz, dist - off, scale, smaj, key, ctr)
+        vis, ctr = _ratio_tracking((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, w[0] + off * lx,
+                                   w[1] + off * ly, w[2] + off * lz, lx, ly, lz, dist - off, scale, smaj, key, ctr)
         e = s.kd * spot * ph * vis
         lr += e * a.lights[li, L_COL]
         lg += e * a.lights[li, L_COL + 1]
@@ -212,7 +213,7 @@ def trace_path(px, py, sample, a, s, smaj, acc):
     n = 0
     env = False  # the path ends seeing the environment (after a scattering event)
     while True:
-        hit, t, idx, ctr = _free_flight(a, o, d, ta, tb, scale, smaj, key, ctr)
+        hit, t, idx, ctr = _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr)
         if not hit:
             env = n > 0
             break

@@ -90,12 +90,12 @@ def light_visibility(li, w, lv, dist, a, s):
     yz = w[2] + off * lz
     kind = a.lvm[li, LV_KIND]
     if kind == DIRECT:
-        return shadow_transmittance(a.vol, a.sig, a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz, dist - off,
-                                    s.sh_step, s.ds0, s.kext)
+        return shadow_transmittance((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
+                                    dist - off, s.sh_step, s.ds0, s.kext)
     if kind == LATTICE:
         near = min(NEAR_STEPS * s.ds0, dist - off)
-        tr = shadow_transmittance(a.vol, a.sig, a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz, near,
-                                  s.sh_step, s.ds0, s.kext)
+        tr = shadow_transmittance((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
+                                  near, s.sh_step, s.ds0, s.kext)
         if near < dist - off and tr > 0.0:
             xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
             tr *= lattice_transmittance(a.lvm, a.lvd, li, xi, yi, zi)

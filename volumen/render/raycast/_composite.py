@@ -24,7 +24,7 @@ __all__ = ["DEPTH_OPACITY", "lit"]
 DEPTH_OPACITY = 0.5
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def lit(light, r, a, s, t, c, gradop):
     """Premultiplied sample ``c = (r, g, b, alpha)`` at ray parameter ``t``, modulated by the gradient opacity
     (when ``gradop``) and lit by the light tag's model."""
@@ -45,7 +45,7 @@ def lit(light, r, a, s, t, c, gradop):
     return cr, cg, cb, al
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _corrected(c, seg, ds):
     """``c`` with its opacity corrected from length ``ds`` to ``seg`` (colour scaled alike)."""
     cr, cg, cb, al = c
@@ -56,7 +56,7 @@ def _corrected(c, seg, ds):
     return c
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _accumulate(st, c, t, et):
     """Composite ``c`` under the state's colour; ``(state, done)``."""
     ar, ag, ab, aa, dep, vp, tp = st
@@ -69,13 +69,13 @@ def _accumulate(st, c, t, et):
 
 
 @init.register(Composite, Preintegrated)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _init(light, r, a, s):
     return (0.0, 0.0, 0.0, 0.0, FAR, 0.0, r.t0), 0, False, False
 
 
 @step.register(Composite)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _step_post(light, r, a, s, st, k, t, v, have):
     idx = int(v + 0.5)
     al = a.lut[idx, 3]
@@ -90,7 +90,7 @@ def _step_post(light, r, a, s, st, k, t, v, have):
     return st, 0, done
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _lookup_pre(pre, vf, vb, scale):
     n = pre.shape[0] - 1
     f = min(int(vf * scale + 0.5), n)
@@ -99,7 +99,7 @@ def _lookup_pre(pre, vf, vb, scale):
 
 
 @step.register(Preintegrated)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _step_pre(light, r, a, s, st, k, t, v, have):
     vp, tp = st[5], st[6]
     extra = 0
@@ -158,18 +158,18 @@ def _finish_pre(light, r, a, s, st, taken, have, out, px, py):
 
 
 @radius.register(Composite, Preintegrated)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _radius(a, st, bk, bj, bi):
     return int(a.bflag[bk, bj, bi])
 
 
 @eager.register(Composite)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _eager_yes():
     return True
 
 
 @eager.register(Preintegrated)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _eager_no():
     return False

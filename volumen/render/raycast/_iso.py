@@ -57,14 +57,14 @@ def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
     return _crossing(vol, (0.0, 1.0, nearest), iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _beyond(v, iso, side):
     """Whether value ``v`` lies beyond the threshold, seen from ``side``."""
     return v >= iso if side > 0.0 else v < iso
 
 
 @init.register(Isosurface)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _init(light, r, a, s):
     v = sample_at(r, a, s, r.t0)
     eye_inside = r.t0 <= a.cam[C_NEAR]
@@ -74,7 +74,7 @@ def _init(light, r, a, s):
 
 
 @step.register(Isosurface)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _step(light, r, a, s, st, k, t, v, have):
     side = st[3]
     if not _beyond(v, s.iso, side):
@@ -111,7 +111,7 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
 
 
 @radius.register(Isosurface)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _radius(a, st, bk, bj, bi):
     if st[3] > 0.0:  # skip distances of the blocks no value of which reaches the threshold
         return int(a.bflag[bk, bj, bi])
@@ -119,6 +119,6 @@ def _radius(a, st, bk, bj, bi):
 
 
 @eager.register(Isosurface)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _eager_yes():
     return True

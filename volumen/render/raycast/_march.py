@@ -39,7 +39,7 @@ from ._ray import begin_ray, sample_at
 __all__ = ["trace_pixel", "render_tiles"]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _box_exit(x, d, b, rad, size):
     """Distance along the index ray from coordinate x to the far side of blocks b - rad + 1 .. b + rad - 1."""
     if d > 0.0:
@@ -49,7 +49,7 @@ def _box_exit(x, d, b, rad, size):
     return FAR
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _jump(mode, r, a, s, st, k, t, prev_skip):
     """Empty-space skipping at sample ``k``: ``(next k, jumped, prev_skip)``."""
     gz, gy, gx = a.bflag.shape
@@ -71,7 +71,7 @@ def _jump(mode, r, a, s, st, k, t, prev_skip):
     return max(kn, k + 1), True, True
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _clear(out, px, py):
     for c in range(4):
         out.rgba[py, px, c] = 0.0
@@ -80,7 +80,7 @@ def _clear(out, px, py):
     out.nsamp[py, px] = 0
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def trace_pixel(px, py, a, s, out, mode, light):
     """Cast the ray of pixel (px, py); write ``out.rgba / depth / value / nsamp`` there."""
     _clear(out, px, py)
@@ -104,6 +104,13 @@ def trace_pixel(px, py, a, s, out, mode, light):
     finish(mode, light, r, a, s, st, taken, have, out, px, py)
 
 
+@njit(cache=True, fastmath=True, _nrt=False)
+def _trace_pixel_cpu(px, py, a, s, out, mode, light):
+    """``trace_pixel`` compiled without reference counting (nothing in it allocates): reading an array from the
+    records then costs no atomic increments, which threads sharing the arrays would contend for."""
+    trace_pixel(px, py, a, s, out, mode, light)
+
+
 @njit(parallel=True, fastmath=True, cache=True)
 def render_tiles(order, tile, a, s, out, mode, light):
     """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles in parallel."""
@@ -114,4 +121,4 @@ def render_tiles(order, tile, a, s, out, mode, light):
         x0 = (order[n] % ntx) * tile
         for py in range(y0, min(y0 + tile, h)):
             for px in range(x0, min(x0 + tile, w)):
-                trace_pixel(px, py, a, s, out, mode, light)
+                _trace_pixel_cpu(px, py, a, s, out, mode, light)

@@ -248,6 +248,12 @@ def trace_path(px, py, sample, a, s, smaj, acc):
     acc[py, px, 2] += lb
 
 
+@njit(cache=True, fastmath=True, _nrt=False)
+def _trace_path_cpu(px, py, k, a, s, smaj, acc):
+    """``trace_path`` without reference counting (see ``_march._trace_pixel_cpu``)."""
+    trace_path(px, py, k, a, s, smaj, acc)
+
+
 @njit(parallel=True, fastmath=True, cache=True)
 def _trace_tiles(order, tile, s0, s1, a, s, smaj, acc):
     h, w = acc.shape[0], acc.shape[1]
@@ -259,7 +265,7 @@ def _trace_tiles(order, tile, s0, s1, a, s, smaj, acc):
         for py in range(y0, min(y0 + tile, h)):
             for px in range(x0, min(x0 + tile, w)):
                 for k in range(s0, s1):
-                    trace_path(px, py, k, a, s, smaj, acc)
+                    _trace_path_cpu(px, py, k, a, s, smaj, acc)
 
 
 class PathTracer:

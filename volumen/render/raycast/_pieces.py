@@ -68,28 +68,25 @@ MODE_TAGS = {"composite": Composite, "preintegrated": Preintegrated, "mip": Mip,
 LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "shadows": Shadowed, "scatter": Scatter}
 
 
-def piece(name: str, doc: str = ""):
-    """A generic function ``f(tag, *args)`` calling the implementation registered for ``type(tag)``.
+def piece(name: str, params: str, doc: str = ""):
+    """A generic function ``f(tag, <params>)`` calling the implementation registered for ``type(tag)``.
 
+    ``params`` names the arguments after the tag (comma-separated: the arity is
+    fixed, so Numba can inline the chosen implementation into its caller).
     ``@f.register(TagA, TagB)`` above an ``@njit`` function registers it for
-    those tags; the implementation gets ``*args`` (not the tag).
+    those tags; the implementation gets the arguments after the tag.
     """
     impls: dict[type, object] = {}
-
-    def stub(tag, *args):
-        raise NotImplementedError(f"{name} is called from compiled code only")
-
+    args = ", ".join(p.strip() for p in params.split(",") if p.strip())
+    sep = ", " if args else ""
+    ns: dict = {"impls": impls}
+    exec(f"def stub(tag{sep}{args}):\n    raise NotImplementedError('called from compiled code only')\n"
+         f"def choose(tag{sep}{args}):\n    fn = impls[tag.instance_class]\n"
+         f"    def impl(tag{sep}{args}):\n        return fn({args})\n    return impl\n", ns)
+    stub = ns["stub"]
     stub.__name__ = stub.__qualname__ = name
     stub.__doc__ = doc
-
-    @overload(stub, target="generic")
-    def _choose(tag, *args):
-        fn = impls[tag.instance_class]
-
-        def impl(tag, *args):
-            return fn(*args)
-
-        return impl
+    overload(stub, target="generic", inline="always")(ns["choose"])
 
     def register(*tags):
         def deco(fn):
@@ -106,10 +103,10 @@ def piece(name: str, doc: str = ""):
 
 # the pieces of the marching skeleton (``_march``), implemented per mode tag in ``_composite``,
 # ``_project`` and ``_iso``, and the lighting piece, implemented per light tag in ``_shade``
-init = piece("init", "(mode, light, r, a, s) -> (state, samples taken, done, previous sample usable)")
-step = piece("step", "(mode, light, r, a, s, st, k, t, v, have_prev) -> (state, extra samples taken, done)")
-finish = piece("finish", "(mode, light, r, a, s, st, taken, have_prev, out, px, py): write the pixel")
-radius = piece("radius", "(mode, a, st, bk, bj, bi) -> skip radius in blocks (0: take the sample)")
-eager = piece("eager", "(mode) -> True when one skippable block suffices to jump")
-shade = piece("shade", "(light, a, s, n, v, w) -> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")
-uses_normals = piece("uses_normals", "(light) -> whether shading reads the gradient")
+init = piece("init", "light, r, a, s", "-> (state, samples taken, done, previous sample usable)")
+step = piece("step", "light, r, a, s, st, k, t, v, have", "-> (state, extra samples taken, done)")
+finish = piece("finish", "light, r, a, s, st, taken, have, out, px, py", "write the pixel")
+radius = piece("radius", "a, st, bk, bj, bi", "-> skip radius in blocks (0: take the sample)")
+eager = piece("eager", "", "-> True when one skippable block suffices to jump")
+shade = piece("shade", "a, s, n, v, w", "-> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")
+uses_normals = piece("uses_normals", "", "-> whether shading reads the gradient")

@@ -18,37 +18,37 @@ __all__ = []
 
 
 @init.register(Mip)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _init_mip(light, r, a, s):
     return (-FAR, FAR), 0, False, False
 
 
 @init.register(Minip)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _init_minip(light, r, a, s):
     return (FAR, FAR), 0, False, False
 
 
 @init.register(Average)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _init_average(light, r, a, s):
     return (0.0, 0.0), 0, False, False
 
 
 @step.register(Mip)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _step_mip(light, r, a, s, st, k, t, v, have):
     return ((v, t) if v > st[0] else st), 0, False
 
 
 @step.register(Minip)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _step_minip(light, r, a, s, st, k, t, v, have):
     return ((v, t) if v < st[0] else st), 0, False
 
 
 @step.register(Average)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _step_average(light, r, a, s, st, k, t, v, have):
     return (st[0] + v, st[1] + 1.0), 0, False
 
@@ -82,24 +82,24 @@ def _finish_average(light, r, a, s, st, taken, have, out, px, py):
 
 
 @radius.register(Mip)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _radius_mip(a, st, bk, bj, bi):
     return 1 if a.bmax[bk, bj, bi] <= st[0] else 0
 
 
 @radius.register(Minip)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _radius_minip(a, st, bk, bj, bi):
     return 1 if a.bmin[bk, bj, bi] >= st[0] else 0
 
 
 @radius.register(Average)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _radius_none(a, st, bk, bj, bi):
     return 0
 
 
 @eager.register(Mip, Minip, Average)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _eager_no():
     return False

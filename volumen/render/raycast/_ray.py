@@ -34,7 +34,7 @@ class Ray(NamedTuple):
     n: int      #: samples on the grid
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def begin_ray(px, py, a, s):
     """The :class:`Ray` of pixel (px, py); its ``t1 < t0`` when it misses the drawn region."""
     ox, oy, oz, dx, dy, dz = primary_ray(a.cam, px, py)

@@ -103,7 +103,7 @@ def light_visibility(li, w, lv, dist, a, s):
     return 1.0
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _unit_facing(n, v):
     """``(nx, ny, nz, flat)``: the unit normal turned toward the viewer ``v``; flat where the gradient vanishes."""
     gx, gy, gz = n
@@ -118,7 +118,7 @@ def _unit_facing(n, v):
     return nx, ny, nz, False
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _phong(a, s, n, v, w, shadowed):
     """Phong over the lights; ``shadowed``: each light weighted by :func:`light_visibility`."""
     nx, ny, nz, flat = _unit_facing(n, v)
@@ -149,25 +149,25 @@ def _phong(a, s, n, v, w, shadowed):
 
 
 @shade.register(Unlit)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _shade_unlit(a, s, n, v, w):
     return 1.0, 1.0, 1.0, 0.0, 0.0, 0.0
 
 
 @shade.register(Phong)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _shade_phong(a, s, n, v, w):
     return _phong(a, s, n, v, w, False)
 
 
 @shade.register(Shadowed)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _shade_shadowed(a, s, n, v, w):
     return _phong(a, s, n, v, w, True)
 
 
 @shade.register(Scatter)
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _shade_scatter(a, s, n, v, w):
     fr = fg = fb = s.ka
     for li in range(s.nlights):
@@ -184,12 +184,12 @@ def _shade_scatter(a, s, n, v, w):
 
 
 @uses_normals.register(Phong, Shadowed)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _normals_yes():
     return True
 
 
 @uses_normals.register(Unlit, Scatter)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _normals_no():
     return False

@@ -127,25 +127,39 @@ def _alternate(ours, theirs, rounds: int) -> tuple[float, float]:
 def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -> dict:
     """Peak RSS of a fresh process rendering one ``shading`` frame (composite ct-bone) of a data set.
 
-    Returns ``{"volume_bytes", "baseline_bytes" (after imports and a compile on a tiny volume), "peak_bytes"}``.
+    The data set is made here and saved as ``.npy``; the fresh process imports
+    volumen, compiles on a tiny volume, notes its RSS (the baseline), loads the
+    array (exactly the volume's bytes), renders once and notes its peak RSS.
+    Returns ``{"volume_bytes", "baseline_bytes", "peak_bytes"}``.
     """
-    code = (
-        "import resource, sys, numpy as np\n"
-        "from volumen.bench._render import load_dataset, _scene\n"
-        "from volumen.core import Camera\n"
-        "from volumen.data import phantom\n"
-        "from volumen.render import render\n"
-        "tiny = phantom('head', size=(16, 16, 16))\n"
-        f"render(_scene(tiny, 'composite', {shading!r}, 'ct-bone', 0.0, 1.0), Camera.orbit(tiny), (8, 8))\n"
-        "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
-        f"vol, off = load_dataset({kind!r}, {tuple(shape) if shape else None!r})\n"
-        "vol = type(vol)(np.ascontiguousarray(vol.data), affine=vol.affine, modality=vol.modality, units=vol.units)\n"
-        "import gc; gc.collect()\n"
-        f"render(_scene(vol, 'composite', {shading!r}, 'ct-bone', off, 1.0), Camera.orbit(vol), {tuple(size)!r})\n"
-        "peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
-        "print('MEM', vol.data.nbytes, base * 1024, peak * 1024)\n"
-    )
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=900)
+    import json
+    import tempfile
+
+    vol, off = load_dataset(kind, shape)
+    with tempfile.TemporaryDirectory() as tmp:
+        np.save(Path(tmp) / "data.npy", vol.data)
+        meta = {"spacing": list(vol.spacing), "affine": np.asarray(vol.affine).tolist(), "offset": off}
+        (Path(tmp) / "meta.json").write_text(json.dumps(meta))
+        del vol
+        code = (
+            "import json, resource, sys, numpy as np\n"
+            "from volumen.bench._render import _scene\n"
+            "from volumen.core import Camera, Volume\n"
+            "from volumen.data import phantom\n"
+            "from volumen.render import render\n"
+            "tiny = phantom('head', size=(16, 16, 16))\n"
+            "tiny = Volume(tiny.data.astype(np.int16), spacing=tiny.spacing, affine=tiny.affine, modality='CT')\n"
+            f"render(_scene(tiny, 'composite', {shading!r}, 'ct-bone', 0.0, 1.0), Camera.orbit(tiny), (8, 8))\n"
+            "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "m = json.loads(open(sys.argv[1] + '/meta.json').read())\n"
+            "vol = Volume(np.load(sys.argv[1] + '/data.npy'), spacing=tuple(m['spacing']), "
+            "affine=np.array(m['affine']), modality='CT')\n"
+            f"render(_scene(vol, 'composite', {shading!r}, 'ct-bone', m['offset'], 1.0), Camera.orbit(vol), "
+            f"{tuple(size)!r})\n"
+            "peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "print('MEM', vol.data.nbytes, base * 1024, peak * 1024)\n"
+        )
+        r = subprocess.run([sys.executable, "-c", code, tmp], capture_output=True, text=True, timeout=900)
     line = [x for x in r.stdout.splitlines() if x.startswith("MEM")]
     if not line:
         raise RuntimeError(f"peak-memory run failed: {r.stderr[-2000:]}")

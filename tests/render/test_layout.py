@@ -28,7 +28,7 @@ PER_PIXEL = {"trace_pixel", "trace_path"}
 
 def _functions():
     for path in sorted(ROOT.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 yield path.relative_to(ROOT.parent.parent), node
 

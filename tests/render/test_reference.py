@@ -65,6 +65,8 @@ def test_integer_data_sampled_directly_draws_the_same(name):
     ints = Volume(np.rint(v.data).astype(np.int16), **meta)
     floats = Volume(ints.data.astype(np.float32), **meta)
     assert prepare(ints).u is ints.data and prepare(floats).u is not floats.data
+    unsigned = Volume((ints.data - ints.data.min()).astype(np.uint16), **meta)  # would wrap in place: copied
+    assert prepare(unsigned).u.dtype == np.float32
     a = render(scene.with_(volume=ints), cam, size).rgba
     b = render(scene.with_(volume=floats), cam, size).rgba
     d = np.abs(a.astype(np.float64) - b)

@@ -173,8 +173,12 @@ def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
     image = render(scene, camera, size, backend=backend)  # warm-up: compile, per-volume caches
     peer = None
     if use_vtk and scene.mode == "composite":
-        peer = VtkScene(scene, camera, size, threads=threads)
-        theirs = peer.render()
+        try:
+            peer = VtkScene(scene, camera, size, threads=threads)
+        except ValueError as exc:  # e.g. a flipped or oblique grid, which the VTK peer does not translate
+            table.notes.append(f"{label['data']}: no VTK peer ({exc})")
+        else:
+            theirs = peer.render()
     ours_s, vtk_s = _alternate(lambda: render(scene, camera, size, backend=backend),
                                None if peer is None else peer.render_only, rounds)
     row = table.add(**label, ms=ours_s * 1e3, msamples_s=float(image.stats.get("samples", 0)) / ours_s * 1e-6)

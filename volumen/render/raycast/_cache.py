@@ -24,8 +24,8 @@ class Prepared:
     Attributes
     ----------
     u : (nz, ny, nx)
-        The samples: the volume's own data array when it is of an integer type
-        and C-contiguous (no copy), else a float32 copy normalized to table
+        The samples: the volume's own data array when it is of a signed integer
+        type and C-contiguous (no copy), else a float32 copy normalized to table
         units. Either way ``(u - u0) * ufac`` maps ``[vmin, vmax]`` onto
         ``[0, NLUT - 1]``, the transfer-function table's index.
     u0, ufac : float
@@ -48,7 +48,9 @@ class Prepared:
         self.vmin, self.vmax = float(lo), float(hi)
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
         data = volume.data
-        if data.dtype.kind in "iu" and data.flags.c_contiguous:  # sampled directly: no copy of the volume
+        # signed integers are sampled in place (no copy of the volume); unsigned ones would wrap around in the
+        # kernels' differences of neighbouring samples, so they get the normalized copy as floats do
+        if data.dtype.kind == "i" and data.flags.c_contiguous:
             self.u, self.u0, self.ufac = data, self.vmin, 1.0 / self.scale
         else:  # floats (NaN to clear) and strided views: one normalized float32 copy
             self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0

@@ -38,7 +38,7 @@ class Arrays(NamedTuple):
     cam: np.ndarray     #: packed camera, float64 (18,) (``_geometry.pack_camera``)
     geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
-    vol: np.ndarray     #: samples [z, y, x]: the data itself (integer types) or a normalized float32 copy
+    vol: np.ndarray     #: samples [z, y, x]: the data itself (signed integers) or a normalized float32 copy
     nrm: np.ndarray     #: packed normals [z, y, x, 4] int16 (``_precompute``), (1, 1, 1, 4) when unused
     lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
     pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused

@@ -230,9 +230,10 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
         for iname, size in images.items():
             for mode, shading, preset in cases:
                 scene = _scene(vol, mode, shading, preset, offset, spv)
-                label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=preset or "-")
+                shown = (preset if offset is not None else "data default") if preset else "-"
+                label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=shown)
                 row = _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label)
-                progress(f"  {iname} {mode}/{shading}/{preset or '-'}: {row['ms']:.1f} ms"
+                progress(f"  {iname} {mode}/{shading}/{shown}: {row['ms']:.1f} ms"
                          + (f", VTK {row['vtk_ms']:.1f} ms, ratio {row['ratio_vtk']:.2f}" if "vtk_ms" in row else ""))
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     table.notes.append(f"this process's peak RSS: {rss:.0f} MiB")

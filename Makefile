@@ -1,6 +1,6 @@
 # Two commands set up and use volumen on a fresh Debian machine with Python >= 3.11:
 #   make demo   - create .venv, install, write the phantom montages and renderings into out/
-#   make test   - create .venv, install with test extras, run the whole suite
+#   make test   - create .venv, install with test extras, lint (ruff), run the whole suite
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -8,7 +8,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test install system-data clean
+.PHONY: demo test install system-data browser clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -32,10 +32,24 @@ system-data:
 	  echo "mricron-data could not be installed; tests using it will skip"; \
 	else echo "not root: mricron-data not installed; tests using it will skip"; fi
 
+# Optional browser: Debian's chromium opens the notebook viewer's page headless in
+# tests/notebook/test_browser.py. Installing it needs root and apt; without it that test
+# skips with the reason printed.
+browser:
+	@if command -v chromium >/dev/null || command -v chromium-browser >/dev/null; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian package chromium (headless browser test of the notebook viewer)"; \
+	  (apt-get install -y -qq chromium >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq chromium >/dev/null 2>&1)) || \
+	  echo "chromium could not be installed; the browser test will skip"; \
+	else echo "not root: chromium not installed; the browser test will skip"; fi
+
 demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
-test: $(STAMP) system-data
+# a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
+test: $(STAMP) system-data browser
+	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 clean:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from .core import Volume
 from .errors import VolumenError, VolumeReadError, VolumeWriteError
 
-__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "save", "__version__"]
+__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "save", "show", "__version__"]
 __version__ = "0.1.0"
 
 
@@ -25,3 +25,10 @@ def save(volume: Volume, path, **options) -> None:
     from .io import save as _save
 
     _save(volume, path, **options)
+
+
+def show(volume_or_scene, camera=None, **options):
+    """An interactive 3-D view with controls and slice views in Jupyter; see :func:`volumen.notebook.show`."""
+    from .notebook import show as _show
+
+    return _show(volume_or_scene, camera, **options)

@@ -22,6 +22,7 @@ __all__ = [
     "NonFiniteValuesError",
     "VolumeWriteError",
     "SampleDataMissingError",
+    "LumenError",
 ]
 
 
@@ -102,3 +103,8 @@ class VolumeWriteError(VolumenError):
 
 class SampleDataMissingError(VolumeReadError):
     """Sample data that volumen looks for on the machine is not installed."""
+
+
+class LumenError(VolumenError, ValueError):
+    """No usable lumen: a point outside the scan or in no lumen, two points in lumens that do not
+    connect, a lumen mask that does not fit the scan. The message names the point or the file."""

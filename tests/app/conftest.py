@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-pytest.importorskip("PySide6.QtWidgets", reason="the application needs PySide6 (extra 'gui') and the system libraries Qt Widgets loads (libGL, libEGL, libxkbcommon)")
+pytest.importorskip("PySide6.QtWidgets", reason="the application needs PySide6 (extra 'gui') and the system libraries "
+                    "Qt Widgets loads (libGL, libEGL, libxkbcommon)")
 pytest.importorskip("pytestqt", reason="the application tests need pytest-qt")
 
 HEAD_REF = "phantom:head?size=64"

@@ -50,10 +50,10 @@ def test_blocked_endoscopy_move_keeps_the_camera_in_the_lumen(make_window, qtbot
 
 
 def test_main_window_screenshot_with_lights(make_window, qtbot, app_output, head64):
-    from volumen.app._interaction import orbit, zoom
     from volumen.app._light_panel import add_light_at_camera
     from volumen.app._overlays import light_cone
     from volumen.app._screenshot import save_widget
+    from volumen.core.gestures import orbit, zoom
 
     win = make_window(size=(1200, 800), fixed=False)
     st = win.state

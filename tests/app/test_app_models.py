@@ -17,7 +17,7 @@ def _angle(a, b) -> float:
 
 
 def test_orbit_turns_by_degrees_per_pixel_and_keeps_the_distance(head64):
-    from volumen.app._interaction import DEGREES_PER_PIXEL, orbit
+    from volumen.core.gestures import DEGREES_PER_PIXEL, orbit
 
     cam = Camera.anatomical(head64, "anterior")
     back0 = np.subtract(cam.position, cam.target)
@@ -33,7 +33,7 @@ def test_orbit_turns_by_degrees_per_pixel_and_keeps_the_distance(head64):
 
 
 def test_pan_moves_the_target_by_the_pixel_size_and_zoom_divides_the_distance(head64):
-    from volumen.app._interaction import mm_per_pixel, pan, zoom
+    from volumen.core.gestures import mm_per_pixel, pan, zoom
 
     cam = Camera.anatomical(head64, "anterior")
     s = mm_per_pixel(cam, (200, 200))
@@ -44,8 +44,8 @@ def test_pan_moves_the_target_by_the_pixel_size_and_zoom_divides_the_distance(he
 
 
 def test_light_moves_in_the_view_plane_and_the_cone_apex_is_its_projection(head64):
-    from volumen.app._interaction import aim_light, light_at_camera, move_light
     from volumen.app._overlays import light_cone, pick_light
+    from volumen.core.gestures import aim_light, light_at_camera, move_light
 
     cam = Camera.anatomical(head64, "anterior")
     light = Light(position=tuple(np.add(cam.target, (0, 60, 0))), direction=(0, -1, 0), exponent=5)
@@ -143,3 +143,26 @@ def test_session_file_is_written_atomically_and_checked(tmp_path, head64):
     path.write_text("{nope")
     with pytest.raises(SessionError, match="JSON"):
         load_session(path)
+
+
+def test_session_keeps_device_and_technique_and_reads_old_backend_names(tmp_path, head64):
+    """A session records the device and the technique with its options as ``volumen render --save-settings``
+    does (top-level ``device``, ``technique``); a session of volumen 0.1 (``app.technique = "mesh-gouraud"``)
+    still opens."""
+    from volumen.app._session import apply_session, session_dict
+    from volumen.app._state import AppState
+    from volumen.render import Technique
+
+    st = AppState()
+    st.set_volume(head64, "phantom:head?size=64")
+    st.set_display(technique=Technique("slicing", planes="two-then-one", precision="float16"))
+    assert st.device == "gl"  # the technique's default device, as cpu is not one of its devices
+    d = json.loads(json.dumps(session_dict(st, (64, 64))))
+    assert d["device"] == "gl" and d["technique"]["options"]["planes"] == "two-then-one"
+    again = AppState()
+    apply_session(again, d, head64)
+    assert (again.device, again.technique) == (st.device, st.technique)
+    old = {k: v for k, v in d.items() if k not in ("device", "technique")}
+    old["app"] = dict(d["app"], technique="mesh-gouraud")
+    apply_session(again, old, head64)
+    assert (again.device, again.technique) == ("gl", Technique("mesh", shading="gouraud"))

@@ -10,6 +10,8 @@ from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QWheelEvent
 from PySide6.QtWidgets import QApplication, QMessageBox
 
+from volumen.render import TECHNIQUES
+
 VIEW = 160  # the 3D view side set by the make_window fixture
 
 
@@ -32,12 +34,12 @@ def test_four_views_show_the_phantom_and_the_3d_picture_is_upright(make_window, 
     widths = (rgb.sum(axis=2) > 0).sum(axis=1)
     top, bottom = rows[0], rows[-1]
     assert widths[top + (bottom - top) // 4] > widths[bottom - (bottom - top) // 8]
-    for plane, view in win.slices.items():
+    for view in win.slices.values():
         assert view.geometry_ is not None and view.index == view.geometry_.index_of(head64.center)
 
 
 def test_mouse_drag_orbits_the_camera_by_the_expected_angle(make_window, qtbot):
-    from volumen.app._interaction import DEGREES_PER_PIXEL
+    from volumen.core.gestures import DEGREES_PER_PIXEL
 
     win = make_window()
     cam0 = win.state.camera
@@ -182,12 +184,12 @@ def test_interface_answers_within_100_ms_during_a_slow_render(make_window, qtbot
     qtbot.waitUntil(lambda: not win.worker.idle, timeout=5000)
     ax = win.slices["axial"]
     delays = []
-    for n in range(5):
+    for _ in range(5):
         i0 = ax.index
         t = time.perf_counter()
         QApplication.postEvent(ax, QWheelEvent(QPointF(50, 50), QPointF(50, 50), QPoint(0, 0), QPoint(0, 120),
                                                Qt.NoButton, Qt.NoModifier, Qt.ScrollUpdate, False))
-        qtbot.waitUntil(lambda: ax.index == i0 + 1, timeout=2000)
+        qtbot.waitUntil(lambda i0=i0: ax.index == i0 + 1, timeout=2000)
         delays.append(time.perf_counter() - t)
         qtbot.wait(20)
     assert not win.worker.idle, "the render finished before the events were handled: make it slower"
@@ -195,25 +197,70 @@ def test_interface_answers_within_100_ms_during_a_slow_render(make_window, qtbot
     assert sorted(delays)[len(delays) // 2] < 0.1, delays
 
 
+def test_cli_api_and_app_share_the_device_and_technique_names(qtbot):
+    """The app's boxes, the command line's choices and the API's checks all read volumen.render's one
+    declaration of devices, techniques and technique options."""
+    import argparse
+
+    from volumen.app._render_panel import RenderPanel
+    from volumen.app._state import AppState
+    from volumen.cli._render import register
+    from volumen.render import DEVICES, Technique, option_choices, resolve_device
+
+    def texts(box):
+        return [box.itemText(i) for i in range(box.count())]
+
+    panel = RenderPanel(AppState())
+    qtbot.addWidget(panel)
+    assert texts(panel.technique) == list(TECHNIQUES) and texts(panel.device) == list(DEVICES)
+    flags = {a.dest: a for a in register(argparse.ArgumentParser().add_subparsers())._actions}
+    assert list(flags["device"].choices) == list(DEVICES) and list(flags["technique"].choices) == list(TECHNIQUES)
+    for name in TECHNIQUES:
+        for field, choices in option_choices(name).items():
+            assert flags[f"{name}_{field}"].option_strings[0] == f"--{name}-{field.replace('_', '-')}"
+            if isinstance(choices, tuple):
+                assert list(flags[f"{name}_{field}"].choices) == list(choices)
+                assert texts(panel.options[(name, field)]) == list(choices)
+                assert getattr(Technique(name, **{field: choices[-1]}).options, field) == choices[-1]
+    usable = []  # the devices the API accepts for ray casting are the ones the app enables for it
+    for device in DEVICES:
+        try:
+            resolve_device(device, "raycast")
+        except ValueError:
+            continue
+        usable.append(device)
+    enabled = [d for i, d in enumerate(DEVICES) if panel.device.model().item(i).isEnabled()]
+    assert panel.state.technique.name == "raycast" and enabled == usable == ["cpu", "cuda", "auto"]
+    with pytest.raises(ValueError, match="valid: cpu, cuda, gl, auto"):
+        resolve_device("opengl")
+
+
 def test_every_technique_and_mode_draws_a_picture(make_window):
-    """Walk the techniques (OpenGL ones when the worker found OpenGL) and the modes of volumen.core.MODES."""
-    from volumen.app._render_panel import TECHNIQUES
+    """Walk the technique box (OpenGL ones when the worker found OpenGL), a choice option of each, and the
+    modes of volumen.core.MODES."""
     from volumen.core import MODES
-    from volumen.render import BACKENDS
 
     win = make_window()
+    panel = win.render_panel
     pictures = {}
-    for label, backend in TECHNIQUES.items():
-        if backend not in BACKENDS:
-            item = win.render_panel.technique.model().item(win.render_panel.technique.findData(backend))
-            assert not item.isEnabled() and item.toolTip()  # disabled, with the reason
-            print(f"technique {label!r} skipped: {item.toolTip()}")
+    for row in range(panel.technique.count()):
+        name, item = panel.technique.itemData(row), panel.technique.model().item(row)
+        if not item.isEnabled():
+            assert item.toolTip()  # disabled, with the reason
+            print(f"technique {name!r} skipped: {item.toolTip()}")
             continue
-        win.state.set_display(backend=backend)
+        panel.technique.setCurrentIndex(row)
+        assert win.state.technique.name == name and win.state.device in TECHNIQUES[name].devices
         assert win.wait_for_final(60) and win.last_error is None, win.last_error
-        pictures[backend] = _rgb(win)
-        assert pictures[backend].sum(axis=2).astype(bool).mean() > 0.1, label
-    win.state.set_display(backend="cpu")
+        pictures[name] = _rgb(win)
+        assert pictures[name].sum(axis=2).astype(bool).mean() > 0.1, name
+        for (tech, field), box in panel.options.items():
+            if tech == name:  # the last value of each choice option, through its box
+                box.setCurrentIndex(box.count() - 1)
+                assert getattr(win.state.technique.options, field) == box.currentText()
+        assert win.wait_for_final(60) and win.last_error is None, win.last_error
+    panel.technique.setCurrentIndex(panel.technique.findData("raycast"))
+    assert win.state.device == "cpu"
     for mode in MODES:
         win.state.update_scene(mode=mode)
         assert win.wait_for_final(60) and win.last_error is None, win.last_error

@@ -15,7 +15,7 @@ from volumen.cli import main
 from volumen.core import Volume
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
-from dicom_factory import PATIENT, write_series  # noqa: E402
+from dicom_factory import PATIENT, write_series
 
 
 def _volume():
@@ -77,7 +77,8 @@ def test_slices_writes_montage_with_radiological_orientation(tmp_path):
     assert axial.shape == (6, 7)
     assert np.all(axial[:, 0] == 255) and np.all(axial[:, 1:] == 0)
     montage = np.asarray(PILImage.open(tmp_path / "shots" / "r_montage.png"))
-    assert montage.shape == (6, 7 + 4 + 7 + 4 + 6)  # rows: tallest tile (axial, ny); axial+coronal+sagittal widths and two gaps
+    # rows: the tallest tile (axial, ny); columns: the axial, coronal and sagittal widths and two gaps
+    assert montage.shape == (6, 7 + 4 + 7 + 4 + 6)
 
 
 @pytest.mark.parametrize("argv, needle", [

@@ -42,14 +42,15 @@ def test_flags_override_settings(tmp_path):
                  "--save-settings", str(tmp_path / "m.json")]) == 0
     m = json.loads((tmp_path / "m.json").read_text())
     assert m["scene"]["mode"] == "mip" and m["size"] == [24, 24]
-    # MIP of the sphere phantom (1000 HU inside, through the saved ct-bone colours) is bright in the middle, black in the corners
+    # MIP of the sphere phantom (1000 HU inside, through the saved ct-bone colours): bright in the middle, black corners
     img = _png(tmp_path / "m.png").astype(float).mean(axis=2)
     assert img[12, 12] > 100 and img[0, 0] < 10
 
 
 def test_light_spec_parsing():
     light = parse_light("pos=1,2,3 dir=0,0,-2 exp=8 color=1,0.5,0 intensity=2")
-    assert light.position == (1.0, 2.0, 3.0) and light.direction == (0.0, 0.0, -2.0)  # kept as given; renderers normalize
+    assert light.position == (1.0, 2.0, 3.0)
+    assert light.direction == (0.0, 0.0, -2.0)  # kept as given; renderers normalize
     assert light.exponent == 8.0 and light.intensity == 2.0 and light.color == (1.0, 0.5, 0.0)
     with pytest.raises(ValueError, match="pos="):
         parse_light("exp=2")
@@ -79,8 +80,9 @@ def test_light_spec_words_and_shading_flags(tmp_path):
     assert shading["mode"] == "scattering" and shading["scattering"] == {"sigma_a": 0.5, "sigma_s": 1.0, "phase_g": 0.3}
 
 
-def test_settings_keep_backend_and_reading_options(tmp_path):
-    """The backend and every reading option that decided the picture are saved and used again."""
+def test_settings_keep_device_technique_and_reading_options(tmp_path):
+    """The device, the technique with its options and every reading option that decided the picture are saved
+    and used again (bit for bit); a settings file of volumen 0.1 (``"backend": "slicing-uint8"``) still reads."""
     import volumen
     from volumen.core import Volume
 
@@ -90,12 +92,28 @@ def test_settings_keep_backend_and_reading_options(tmp_path):
     volumen.save(Volume(data), tmp_path / "v.nrrd")
     settings = tmp_path / "s.json"
     argv = ["render", str(tmp_path / "v.nrrd"), "-o", str(tmp_path / "a.png"), "--size", "24x24",
-            "--backend", "slicing", "--nonfinite", "min", "--save-settings", str(settings)]
+            "--technique", "slicing", "--slicing-precision", "uint8", "--nonfinite", "min",
+            "--save-settings", str(settings)]
     assert main(argv) == 0
     saved = json.loads(settings.read_text())
-    assert saved["backend"] == "slicing" and saved["load"]["nonfinite"] == "min"
+    assert saved["device"] == "gl" and saved["load"]["nonfinite"] == "min"
+    assert saved["technique"]["name"] == "slicing" and saved["technique"]["options"]["precision"] == "uint8"
     assert main(["render", "--settings", str(settings), "-o", str(tmp_path / "b.png")]) == 0
     np.testing.assert_array_equal(_png(tmp_path / "a.png"), _png(tmp_path / "b.png"))
+    old = {k: v for k, v in saved.items() if k not in ("device", "technique")} | {"backend": "slicing-uint8"}
+    (tmp_path / "old.json").write_text(json.dumps(old))
+    assert main(["render", "--settings", str(tmp_path / "old.json"), "-o", str(tmp_path / "c.png")]) == 0
+    np.testing.assert_array_equal(_png(tmp_path / "a.png"), _png(tmp_path / "c.png"))
+
+
+def test_technique_flags_are_checked(tmp_path, capsys):
+    """An option of another technique, or a device the technique cannot use, fails in one line naming both."""
+    out = str(tmp_path / "x.png")
+    assert main(["render", "phantom:sphere", "-o", out, "--size", "8x8", "--mesh-shading", "gouraud"]) == 1
+    assert "--mesh-shading is an option of --technique mesh, not raycast" in capsys.readouterr().err
+    assert main(["render", "phantom:sphere", "-o", out, "--size", "8x8", "--technique", "mesh", "--device",
+                 "cpu"]) == 1
+    assert "technique 'mesh' runs on gl (or auto), not 'cpu'" in capsys.readouterr().err
 
 
 def test_unreadable_inputs_and_outputs_name_the_file(tmp_path, capsys):

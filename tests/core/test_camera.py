@@ -55,7 +55,8 @@ def test_orbit_rotates_as_documented(vol):
     # azimuth +90 from anterior: eye on the patient's left; -90: on the right
     np.testing.assert_allclose(Camera.orbit(vol, azimuth=90).position, c + [-d, 0, 0], atol=1e-9)
     np.testing.assert_allclose(Camera.orbit(vol, azimuth=-90).position, c + [d, 0, 0], atol=1e-9)
-    np.testing.assert_allclose(Camera.orbit(vol, azimuth=90).position, Camera.anatomical(vol, "left").position, atol=1e-9)
+    np.testing.assert_allclose(Camera.orbit(vol, azimuth=90).position, Camera.anatomical(vol, "left").position,
+                               atol=1e-9)
     # elevation +90: looking down from superior, up turned to posterior
     top = Camera.orbit(vol, elevation=90)
     np.testing.assert_allclose(top.position, c + [0, 0, d], atol=1e-9)

@@ -82,3 +82,10 @@ def test_slice_image_square_pixels():
     img = slice_image(v, "axial", window=(50, 100))
     assert img.dtype == np.uint8
     assert img.shape == (12, 7)  # 6 display rows 2 mm tall -> 12 rows 1 mm tall (same 12 mm footprint)
+
+
+def test_display_inverted_volume_shows_low_values_white():
+    data = np.arange(2 * 3 * 4, dtype=np.int16).reshape(2, 3, 4)
+    plain = slice_image(Volume(data), "axial", index=1, window=(12, 24))
+    inverted = slice_image(Volume(data, meta={"display_inverted": True}), "axial", index=1, window=(12, 24))
+    np.testing.assert_array_equal(inverted.astype(int), 255 - plain.astype(int))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -31,7 +33,7 @@ def test_window_level_and_shift():
     assert [p[0] for p in s.opacity[1:-1]] == [p[0] + 100 for p in bone.opacity[1:-1]]
     np.testing.assert_allclose(s.evaluate(741)[3], bone.evaluate(641)[3], atol=1e-6)
     big = bone.shifted(1e5)  # clamped inside the end points, still ordered
-    assert all(a[0] <= b[0] for a, b in zip(big.opacity, big.opacity[1:]))
+    assert all(a[0] <= b[0] for a, b in itertools.pairwise(big.opacity))
 
 
 def test_presets():
@@ -52,7 +54,8 @@ def test_gradient_opacity_and_json():
     tf = TransferFunction(opacity=((0, 0), (10, 1)), gradient_opacity=((0, 0), (100, 1)), name="g")
     np.testing.assert_allclose(tf.gradient_factor([0, 50, 200]), [0, 0.5, 1])
     assert TransferFunction.from_json(tf.to_json()) == tf
-    assert TransferFunction.from_dict(TransferFunction.preset("ct-vessels").to_dict()) == TransferFunction.preset("ct-vessels")
+    vessels = TransferFunction.preset("ct-vessels")
+    assert TransferFunction.from_dict(vessels.to_dict()) == vessels
 
 
 def test_validation():

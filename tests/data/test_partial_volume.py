@@ -95,7 +95,10 @@ def test_head_skin_and_skull_isosurfaces_lie_on_the_analytic_surfaces(blur):
 
 def test_torso_skin_isosurface_lies_on_the_analytic_surface():
     torso = phantom("torso", noise=0)
-    body = lambda reg: ellipse_cylinder_sd(reg, (0.0, 0.0), _torso.BODY_AX, (-1e3, 1e3))  # noqa: E731
+
+    def body(reg):
+        return ellipse_cylinder_sd(reg, (0.0, 0.0), _torso.BODY_AX, (-1e3, 1e3))
+
     err = _surface_errors(torso, body, 1, +1, (0.0, 0.0, 0.0), 60.0, -1000.0, 40.0)  # the front, along -y
     assert len(err) > 1500 and _rms(err) < 0.1 and np.abs(err).max() < 0.2
 

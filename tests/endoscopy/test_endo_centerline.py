@@ -42,7 +42,7 @@ def test_automatic_centerline_follows_the_truth(torso, colon_centerline):
         idx = np.rint(torso.world_to_index(q)[:, ::-1]).astype(int)
         return truth.mask[tuple(idx.T)]
 
-    for p, r in zip(cl.points[::10], cl.radius[::10]):
+    for p, r in zip(cl.points[::10], cl.radius[::10], strict=True):
         assert inside(p + (r - h) * dirs).all()
         assert not inside(p + (r + 1.5 * h) * dirs).all()
 

@@ -62,7 +62,7 @@ def test_json_round_trip_and_backward_play_are_exact(path, tmp_path, torso, colo
     endo = Endoscope(volume=torso)
     a = [im.rgba for im in endo.frames(kp2.play(frames=4), (32, 32))]
     b = [im.rgba for im in endo.frames(kp.play(frames=4, reverse=True), (32, 32))]
-    for x, y in zip(a, b[::-1]):
+    for x, y in zip(a, b[::-1], strict=True):
         assert np.max(np.abs(x - y)) <= 1e-6
     assert max(x[..., 3].mean() for x in a) > 0.9  # the wall fills the view
 

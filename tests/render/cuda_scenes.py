@@ -1,7 +1,7 @@
-"""Tiny scenes for comparing the ``cuda`` backend with the CPU, and the script that renders them on the simulator.
+"""Tiny scenes for comparing the ``cuda`` device with the CPU, and the script that renders them on the simulator.
 
 ``python cuda_scenes.py OUT.npz`` (with ``NUMBA_ENABLE_CUDASIM=1`` set before
-numba loads) renders every scene of :func:`scenes` with ``backend="cuda"``
+numba loads) renders every scene of :func:`scenes` with ``device="cuda"``
 and stores ``<name>/rgba``, ``<name>/depth``, ``<name>/value`` and a few
 stats, plus the upload log of the caching checks (``uploads/*``). The
 simulator runs each CUDA thread in Python, so pictures are 10x8 pixels and
@@ -84,7 +84,7 @@ def main(path: str) -> int:
 
     out = {}
     for name, (scene, cam, size) in scenes().items():
-        im = render(scene, cam, size, backend="cuda")
+        im = render(scene, cam, size, device="cuda")
         assert im.stats["backend"] == "cuda", im.stats
         out[f"{name}/rgba"] = im.rgba
         out[f"{name}/depth"] = im.depth
@@ -94,7 +94,7 @@ def main(path: str) -> int:
         print(name, "ok", flush=True)
     log = []
     for label, scene, cam in upload_sequence():
-        im = render(scene, cam, SIZE, backend="cuda")
+        im = render(scene, cam, SIZE, device="cuda")
         log.append((label, im.stats["uploads"], im.stats["light_volumes_built"]))
     out["uploads"] = np.array(json.dumps(log))
     np.savez(path, **out)

@@ -1,4 +1,4 @@
-"""The ``cuda`` backend where there is no GPU: a clear error, ``auto`` falls back to the CPU, the benchmarks
+"""The ``cuda`` device where there is no GPU: a clear error, ``auto`` falls back to the CPU, the benchmarks
 fail fast; and the CUDA kernels compile to PTX for an H100 where a CUDA compiler is installed."""
 
 from __future__ import annotations
@@ -27,30 +27,30 @@ no_gpu = pytest.mark.skipif(HAVE_GPU, reason="a CUDA device is present: the no-d
 
 
 @no_gpu
-def test_cuda_backend_without_a_device_says_so():
+def test_cuda_device_without_a_gpu_says_so():
     from volumen.render.cuda import CudaUnavailableError
 
     scene, cam, size = cuda_scenes.scenes()["composite-phong"]
     with pytest.raises(CudaUnavailableError, match="no CUDA device is available"):
-        render(scene, cam, size, backend="cuda")
+        render(scene, cam, size, device="cuda")
 
 
 @no_gpu
-def test_auto_backend_falls_back_to_the_cpu():
-    from volumen.render._api import auto_backend
+def test_auto_device_falls_back_to_the_cpu():
+    from volumen.render import resolve_device
 
     scene, cam, size = cuda_scenes.scenes()["composite-phong"]
-    assert auto_backend() == "cpu"
-    auto = render(scene, cam, size, backend="auto")
-    cpu = render(scene, cam, size, backend="cpu")
-    assert auto.stats["backend"] == "cpu"
+    assert resolve_device("auto") == "cpu"
+    auto = render(scene, cam, size, device="auto")
+    cpu = render(scene, cam, size, device="cpu")
+    assert auto.stats["backend"] == "cpu" and auto.stats["renderer"] == {"device": "cpu", "technique": "raycast"}
     np.testing.assert_array_equal(auto.rgba, cpu.rgba)
 
 
 @no_gpu
 @pytest.mark.parametrize("what", ["render", "lighting"])
-def test_bench_with_cuda_backend_fails_fast(what, tmp_path):
-    r = subprocess.run([sys.executable, "-m", "volumen", "bench", what, "--backend", "cuda", "--quick",
+def test_bench_on_the_cuda_device_fails_fast(what, tmp_path):
+    r = subprocess.run([sys.executable, "-m", "volumen", "bench", what, "--device", "cuda", "--quick",
                         "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 1, (r.stdout, r.stderr)
     assert "no CUDA device is available" in r.stderr, r.stderr

@@ -1,9 +1,9 @@
-"""The ``cuda`` backend on numba's CUDA simulator gives the CPU's pixels, for every mode and shading model.
+"""The ``cuda`` device on numba's CUDA simulator gives the CPU's pixels, for every mode and shading model.
 
 The simulator must be switched on before numba loads, and this test process
 must stay out of it (the other tests run compiled CPU code), so one
 subprocess (``cuda_scenes.py`` with ``NUMBA_ENABLE_CUDASIM=1``) renders
-every scene of :func:`cuda_scenes.scenes` with ``backend="cuda"`` -- the
+every scene of :func:`cuda_scenes.scenes` with ``device="cuda"`` -- the
 kernels, the device caches, the illumination volumes swept on the device,
 the path tracer's device accumulation -- and the CPU renders them here.
 Tolerance: 1e-4 on rgba, depth and projected values (the issue's CI bound;
@@ -54,7 +54,7 @@ def _close(a, b, what):
 @pytest.mark.parametrize("name", list(cuda_scenes.scenes()))
 def test_cuda_pixels_equal_cpu_pixels(name, simulated):
     scene, cam, size = cuda_scenes.scenes()[name]
-    cpu = render(scene, cam, size, backend="cpu")
+    cpu = render(scene, cam, size, device="cpu")
     assert cpu.rgba[..., 3].max() > 0.2  # the scene shows something
     _close(cpu.rgba, simulated[f"{name}/rgba"], f"{name} rgba")
     _close(cpu.depth, simulated[f"{name}/depth"], f"{name} depth")

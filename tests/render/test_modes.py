@@ -17,7 +17,8 @@ SIZE = (48, 48)
 def test_every_mode_and_shading(ball, mode, shading, render_dir):
     lo, hi = ball.value_range()
     tf = (TransferFunction.preset("mip-gray", value_range=(lo, hi)) if mode in ("mip", "minip", "average")
-          else TransferFunction(color=((-1000, 1, 1, 1), (1000, 1, 0.8, 0.6)), opacity=((-1000, 0), (0, 0.1), (1000, 0.8))))
+          else TransferFunction(color=((-1000, 1, 1, 1), (1000, 1, 0.8, 0.6)),
+                                opacity=((-1000, 0), (0, 0.1), (1000, 0.8))))
     lights = (Light(position=tuple(np.asarray(ball.center) + [60, 80, 40])),)
     scene = Scene(volume=ball, mode=mode, transfer=tf, shading=Shading(mode=shading), lights=lights,
                   isosurface=Isosurface(value=0.0))
@@ -60,8 +61,14 @@ def test_render_volume_one_call(ball):
 def test_bad_arguments_name_valid_values(ball):
     scene = Scene(volume=ball)
     cam = Camera.anatomical(ball, "anterior")
-    with pytest.raises(ValueError, match="cpu"):
-        render(scene, cam, (8, 8), backend="opengl")
+    with pytest.raises(ValueError, match="unknown device 'opengl'; valid: cpu, cuda, gl, auto"):
+        render(scene, cam, (8, 8), device="opengl")
+    with pytest.raises(ValueError, match="unknown technique 'splatting'; valid: raycast, slicing, mesh"):
+        render(scene, cam, (8, 8), technique="splatting")
+    with pytest.raises(ValueError, match="technique 'raycast' has no option 'precision'; valid: none"):
+        render(scene, cam, (8, 8), precision="uint8")
+    with pytest.raises(ValueError, match="technique 'slicing' runs on gl"):
+        render(scene, cam, (8, 8), device="cpu", technique="slicing")
     with pytest.raises(ValueError, match="composite"):
         Scene(volume=ball, mode="xray")
     with pytest.raises(ValueError, match="volume"):

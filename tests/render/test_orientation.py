@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from volumen.core import Camera, Sampling, Scene, TransferFunction, Volume
+from volumen.data import phantom
 from volumen.render import render
 
 SIZE = (64, 64)
@@ -63,11 +64,7 @@ def test_lps_and_ras_storage_render_alike():
 
 def test_head_phantom_anterior_view(render_dir):
     size = (256, 256)  # pixels of ~1.5 mm: the 3 mm bead is resolved
-    data = pytest.importorskip("volumen.data")
-    try:
-        vol = data.phantom("head")
-    except Exception as exc:  # the phantom is written elsewhere; its absence is not this renderer's failure
-        pytest.skip(f"head phantom unavailable: {exc}")
+    vol = phantom("head")
     lm = {k: np.asarray(v, float) for k, v in vol.meta["truth"]["landmarks"].items()}
     cam = Camera.anatomical(vol, "anterior", projection="perspective")
     (c_re, _), _ = cam.project(lm["right_eye"], size)

@@ -19,7 +19,8 @@ def test_json_round_trip_same_objects_same_pixels():
                   lights=(Light(position=(100, 80, 50), direction=(-1, -1, -0.5), exponent=3, intensity=0.8),),
                   shading=Shading(mode="phong", shininess=30, gradient="sobel"),
                   sampling=Sampling(samples_per_voxel=1.5, seed=3, block_size=4, preintegrate=True),
-                  clipping=Clipping(crop=(2, 29, 0, 31, 1, 30), planes=(ClipPlane(point=(15, 15, 15), normal=(0.3, 1, 0.1)),)),
+                  clipping=Clipping(crop=(2, 29, 0, 31, 1, 30),
+                                    planes=(ClipPlane(point=(15, 15, 15), normal=(0.3, 1, 0.1)),)),
                   isosurface=Isosurface(value=120.0, color=(1, 0, 0)))
     cam = Camera.orbit(vol, azimuth=40, elevation=-10, zoom=1.2, projection="orthographic")
     text = scene.to_json()

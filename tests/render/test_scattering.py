@@ -63,10 +63,10 @@ def test_homogeneous_slab_matches_closed_form(method, g):
 def test_henyey_greenstein_integrates_to_one(g):
     # integral over the sphere = 2 pi integral_{-1}^{1} p(mu) dmu, Gauss-Legendre on the njit function itself
     x, w = np.polynomial.legendre.leggauss(400)
-    total = 2 * np.pi * sum(wi * hg_phase(xi, g) for xi, wi in zip(x, w))
+    total = 2 * np.pi * sum(wi * hg_phase(xi, g) for xi, wi in zip(x, w, strict=True))
     assert abs(total - 1.0) < 1e-6, total
     # its mean cosine is g
-    mean_cos = 2 * np.pi * sum(wi * xi * hg_phase(xi, g) for xi, wi in zip(x, w))
+    mean_cos = 2 * np.pi * sum(wi * xi * hg_phase(xi, g) for xi, wi in zip(x, w, strict=True))
     assert abs(mean_cos - g) < 1e-6
 
 

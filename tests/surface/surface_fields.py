@@ -38,7 +38,8 @@ def ellipsoid_area(a: float, b: float, c: float) -> float:
     phi = np.arccos(c / a)
     m = (a * a * (b * b - c * c)) / (b * b * (a * a - c * c))
     s = np.sin(phi)
-    return float(2 * np.pi * c * c + 2 * np.pi * a * b / s * (ellipeinc(phi, m) * s * s + ellipkinc(phi, m) * np.cos(phi) ** 2))
+    return float(2 * np.pi * c * c
+                 + 2 * np.pi * a * b / s * (ellipeinc(phi, m) * s * s + ellipkinc(phi, m) * np.cos(phi) ** 2))
 
 
 def edge_counts(faces: np.ndarray) -> np.ndarray:

@@ -19,7 +19,7 @@ def test_sphere_area_volume_within_1_percent(sphere_mesh):
 @pytest.mark.parametrize("spacing", [(1.0, 1.0, 1.0), (1.6, 0.9, 1.2)])
 def test_ellipsoid_area_volume_within_1_percent(spacing):
     a, b, c = 20.0, 15.0, 12.0  # mm along x, y, z
-    shape = tuple(int(np.ceil(2 * s / d)) + 6 for s, d in zip((c, b, a), spacing))
+    shape = tuple(int(np.ceil(2 * s / d)) + 6 for s, d in zip((c, b, a), spacing, strict=True))
     mesh = marching_cubes(ellipsoid_field(shape, (a, b, c), spacing), 0.0)
     assert mesh.area() == pytest.approx(ellipsoid_area(a, b, c), rel=0.01)
     assert mesh.volume() == pytest.approx(4 / 3 * np.pi * a * b * c, rel=0.01)

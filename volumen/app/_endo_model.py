@@ -1,8 +1,13 @@
 """Virtual endoscopy in the application, without Qt: path, flight with collisions, playback.
 
 Built on :mod:`volumen.endoscopy`. The user picks a start and an end point in
-the slice views; :meth:`Endoscopy.compute` grows the lumen from the start and
-finds its centerline. Flight is manual (a :class:`ManualNavigator` whose moves
+the slice views; :meth:`Endoscopy.compute` finds the lumen from the start
+(its polarity, range and wall threshold estimated from the data, thin bridges
+cut: :func:`~volumen.endoscopy.find_lumen`), or reads it from a segmentation
+file (:attr:`Endoscopy.mask_file`), and finds its centerline; the lumen is
+kept (:attr:`Endoscopy.mask`) for the slice views' overlay, and
+:meth:`Endoscopy.cpr` draws the curved planar reformation along the path.
+Flight is manual (a :class:`ManualNavigator` whose moves
 go through a :class:`Collider`, so the eye stays ``margin`` mm inside the
 lumen; :attr:`Endoscopy.blocked` tells when the last move hit the wall),
 guided (a :class:`GuidedNavigator` advancing along the centerline), or the
@@ -15,8 +20,9 @@ import numpy as np
 
 __all__ = ["Endoscopy", "LUMENS"]
 
-#: lumen kind -> (value range of the lumen, wall threshold, which side of it is lumen)
-LUMENS = {"air": ((-1100.0, -400.0), -500.0, "below"), "contrast": ((150.0, 700.0), 150.0, "above")}
+#: the lumen kinds offered (``auto``: air or contrast, decided from the data at the start point); the same as
+#: ``volumen.endoscopy.LUMEN_KINDS`` (a test checks), not imported here to keep Numba out of the app's start
+LUMENS = ("auto", "air", "contrast")
 
 
 class Endoscopy:
@@ -25,14 +31,14 @@ class Endoscopy:
     Parameters
     ----------
     volume : Volume
-    lumen : {"air", "contrast"}
+    lumen : {"auto", "air", "contrast"}
     margin : float, mm
         Closest the eye may come to the wall.
     fov : float, degrees
         Field of view of the endoscopic camera.
     """
 
-    def __init__(self, volume, *, lumen: str = "air", margin: float = 2.0, fov: float = 90.0):
+    def __init__(self, volume, *, lumen: str = "auto", margin: float = 2.0, fov: float = 90.0):
         if lumen not in LUMENS:
             raise ValueError(f"lumen must be one of {', '.join(LUMENS)}, got {lumen!r}")
         self.volume = volume
@@ -42,6 +48,10 @@ class Endoscopy:
         self.start: np.ndarray | None = None
         self.end: np.ndarray | None = None
         self.centerline = None
+        self.mask_file = None
+        self.label = None
+        self.mask = None
+        self.estimate = None
         self.navigator = None
         self.guided = None
         self.blocked = False
@@ -49,28 +59,67 @@ class Endoscopy:
 
     # -- path -----------------------------------------------------------------
     def compute(self):
-        """Grow the lumen from :attr:`start` and find the centerline to :attr:`end` (world mm). Returns it.
+        """Find the lumen holding :attr:`start` (and :attr:`end`) and the centerline between them (world mm).
 
-        Raises ValueError when a point is missing or the two are not connected.
+        Sets :attr:`mask` and :attr:`estimate`; returns the centerline. Raises ValueError (a
+        :class:`~volumen.errors.LumenError` naming the point) when a point is missing, outside the scan, in
+        no lumen, or the two are not connected.
         """
-        from ..endoscopy import compute_centerline, lumen_mask
+        from ..endoscopy import (
+            check_points_in_mask,
+            compute_centerline,
+            estimate_lumen,
+            find_lumen,
+            load_lumen_mask,
+            nearest_voxel,
+        )
 
         if self.start is None or self.end is None:
             raise ValueError("pick a start and an end point in the slice views first")
-        rng = LUMENS[self.lumen][0]
-        mask = lumen_mask(self.volume, self.start, rng)
+        if self.mask_file:
+            mask = load_lumen_mask(self.mask_file, self.volume, self.label)
+            check_points_in_mask(self.volume, mask, {"start": self.start, "end": self.end}, self.mask_file)
+            est = estimate_lumen(self.volume, nearest_voxel(self.volume, mask, self.start), self.lumen)
+        else:
+            mask, est = find_lumen(self.volume, self.start, self.end, kind=self.lumen)
         self.centerline = compute_centerline(self.volume, mask, self.start, self.end, step=1.0)
+        self.mask, self.estimate, self._collider = mask, est, None
         return self.centerline
+
+    def lumen_estimate(self):
+        """The lumen's :class:`~volumen.endoscopy.LumenEstimate` (from the start point when not computed yet)."""
+        if self.estimate is None:
+            from ..endoscopy import estimate_lumen, lumen_voxel
+
+            if self.start is None:
+                raise ValueError("pick a start point first")
+            self.estimate = estimate_lumen(self.volume, lumen_voxel(self.volume, self.start), self.lumen)
+        return self.estimate
+
+    def transfer(self):
+        """The endoscopy transfer function made from the lumen's values."""
+        return self.lumen_estimate().transfer()
 
     @property
     def collider(self):
         """The :class:`~volumen.endoscopy.Collider` of the lumen's wall (built on first use)."""
         if self._collider is None:
-            from ..endoscopy import Collider, WallField
+            from ..endoscopy import Collider
 
-            _, level, side = LUMENS[self.lumen]
-            self._collider = Collider(WallField.from_threshold(self.volume, level, side), margin=self.margin)
+            self._collider = Collider(self.lumen_estimate().wall(self.volume), margin=self.margin)
         return self._collider
+
+    def cpr(self, kind: str = "straightened", width: float = 40.0, sections: int = 4):
+        """``(H, W, 3)`` uint8 picture of the curved planar reformation along the centerline, ``sections``
+        cross-sections evenly spread, marked and shown beside it."""
+        from ..endoscopy import cpr_figure, curved_reformation
+
+        if self.centerline is None:
+            raise ValueError("compute the centerline first")
+        cl = self.centerline
+        marks = list(np.linspace(0.0, cl.length, sections + 2)[1:-1])
+        return cpr_figure(self.volume, cl, curved_reformation(self.volume, cl, kind=kind, width=width), marks,
+                          section_width=width)
 
     def path(self, speed: float = 20.0):
         """The automatic :class:`~volumen.endoscopy.KeyframePath` along the centerline."""
@@ -158,6 +207,7 @@ class Endoscopy:
     # -- JSON -----------------------------------------------------------------
     def to_dict(self) -> dict:
         return {"lumen": self.lumen, "margin": self.margin, "fov": self.fov,
+                "mask_file": None if self.mask_file is None else str(self.mask_file), "label": self.label,
                 "start": None if self.start is None else [float(v) for v in self.start],
                 "end": None if self.end is None else [float(v) for v in self.end],
                 "centerline": None if self.centerline is None else self.centerline.to_dict()}
@@ -166,7 +216,8 @@ class Endoscopy:
     def from_dict(cls, volume, d: dict) -> Endoscopy:
         from ..endoscopy import Centerline
 
-        e = cls(volume, lumen=d.get("lumen", "air"), margin=d.get("margin", 2.0), fov=d.get("fov", 90.0))
+        e = cls(volume, lumen=d.get("lumen", "auto"), margin=d.get("margin", 2.0), fov=d.get("fov", 90.0))
+        e.mask_file, e.label = d.get("mask_file"), d.get("label")
         e.start = None if d.get("start") is None else np.asarray(d["start"], float)
         e.end = None if d.get("end") is None else np.asarray(d["end"], float)
         if d.get("centerline"):

@@ -1,7 +1,11 @@
 """The endoscopy panel: path between two picked points, manual and guided flight, playback, video.
 
-* pick the start and the end in the slice views, compute the centerline
-  (drawn in the slice views and the 3D view);
+* pick the start and the end in the slice views, compute the lumen (air or
+  contrast, found from the data, or read from a segmentation file) and its
+  centerline; the lumen shows as an overlay in the slice views (so a leak
+  shows), the centerline in the slice views and the 3D view;
+* save the curved planar reformation (straightened or stretched) along the
+  centerline, its cross-sections marked, as a PNG;
 * manual flight: W/S forward/back, A/D sideways, R/F up/down, arrow keys or
   left drag to turn; collisions keep the eye in the lumen and a red
   "blocked" marker flashes when a move hits the wall;
@@ -54,7 +58,8 @@ class EndoscopyPanel(QWidget):
         b = {}
         for key, label in (("start", "Pick start"), ("end", "Pick end"), ("compute", "Compute centerline"),
                            ("fly", "Fly (manual)"), ("guided", "Guided"), ("forward", "Play forward"),
-                           ("backward", "Play backward"), ("stop", "Stop"), ("record", "Record video...")):
+                           ("backward", "Play backward"), ("stop", "Stop"), ("record", "Record video..."),
+                           ("mask", "Lumen mask..."), ("cpr", "Save CPR...")):
             b[key] = QPushButton(label)
         self.buttons = b
         b["start"].clicked.connect(lambda: window.set_pick_mode("endo-start"))
@@ -66,8 +71,13 @@ class EndoscopyPanel(QWidget):
         b["backward"].clicked.connect(lambda: self.play(reverse=True))
         b["stop"].clicked.connect(self.stop)
         b["record"].clicked.connect(self._record)
+        b["mask"].clicked.connect(self._choose_mask)
+        b["cpr"].clicked.connect(self._save_cpr)
+        self.cpr_kind = QComboBox()
+        self.cpr_kind.addItems(["straightened", "stretched"])
         form = QFormLayout()
         form.addRow("Lumen", self.lumen)
+        form.addRow("CPR", self.cpr_kind)
         grid = QGridLayout()
         for n, key in enumerate(b):
             grid.addWidget(b[key], n // 2, n % 2)
@@ -94,7 +104,7 @@ class EndoscopyPanel(QWidget):
         self.window.set_endoscopy(self.model)
         m = self.model
         has_path = m is not None and m.centerline is not None
-        for k in ("guided", "forward", "backward", "record"):
+        for k in ("guided", "forward", "backward", "record", "cpr"):
             self.buttons[k].setEnabled(has_path)
         self.buttons["fly"].setEnabled(m is not None and m.start is not None)
         self.state.emit("endoscopy")
@@ -120,7 +130,10 @@ class EndoscopyPanel(QWidget):
         m.lumen = self.lumen.currentText()
 
         def done(cl):
-            self.status.setText(f"Centerline: {cl.length:.0f} mm, {len(cl.points)} points.")
+            import numpy as np
+
+            self.status.setText(f"{m.estimate.describe()}. Centerline: {cl.length:.0f} mm, {len(cl.points)} points.")
+            self.state.set_mask(self.state.volume.with_data(m.mask.astype(np.uint8)))  # the slices' overlay
             self._publish()
 
         def bad(exc):
@@ -132,12 +145,9 @@ class EndoscopyPanel(QWidget):
     def _enter_flight(self) -> None:
         from dataclasses import replace
 
-        from ..endoscopy import endoscopy_transfer
-
         if self._saved_scene is None:
             self._saved_scene = (self.state.scene, self.state.camera)
-        name = "endo-air" if self.model.lumen == "air" else "endo-contrast"
-        self.state.update_scene(transfer=endoscopy_transfer(name), mode="composite",
+        self.state.update_scene(transfer=self.model.transfer(), mode="composite",
                                 shading=replace(self.state.scene.shading, mode="headlight"),
                                 clipping=replace(self.state.scene.clipping, crop=None, planes=()))
         self.window.set_flying(True)
@@ -230,13 +240,12 @@ class EndoscopyPanel(QWidget):
         """Render the automatic path to a video in the background; returns the task."""
         from dataclasses import replace
 
-        from ..endoscopy import VideoWriter, endoscopy_transfer
+        from ..endoscopy import VideoWriter
         from ._frame import FrameJob, render_frame
 
         m = self.model
         poses = m.path().play(fps=fps)
-        name = "endo-air" if m.lumen == "air" else "endo-contrast"
-        scene = replace(self.state.scene, transfer=endoscopy_transfer(name), mode="composite")
+        scene = replace(self.state.scene, transfer=m.transfer(), mode="composite")
 
         def job(report):
             with VideoWriter(path, fps=fps) as w:
@@ -249,3 +258,36 @@ class EndoscopyPanel(QWidget):
         return run_task(self.window, job, lambda p: self.status.setText(f"Wrote {p}"),
                         lambda e: self.window.report_error("Recording failed", str(e)),
                         label="Recording the flythrough...", with_progress=True)
+
+    # -- lumen mask, CPR -------------------------------------------------------
+    def _choose_mask(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Lumen segmentation (label file)", "",
+                                              "Segmentations (*.nii *.nii.gz *.nrrd *.mha *.mhd)")
+        if path:
+            self.set_mask_file(path)
+
+    def set_mask_file(self, path, label=None) -> None:
+        """Take the lumen from a segmentation file (label ``label``, or every non-zero voxel) at the next compute."""
+        if self.model is not None:
+            self.model.mask_file, self.model.label = path, label
+            self.model.centerline = None
+            self.status.setText(f"Lumen from {path}" + (f", label {label}" if label is not None else "") + ".")
+            self._publish()
+
+    def _save_cpr(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(self, "Save the curved planar reformation", "cpr.png", "PNG (*.png)")
+        if path:
+            self.save_cpr(path)
+
+    def save_cpr(self, path):
+        """Write the CPR of the kind chosen in the panel to ``path`` (PNG) in the background; returns the task."""
+        m, kind = self.model, self.cpr_kind.currentText()
+
+        def job():
+            from PIL import Image as PILImage
+
+            PILImage.fromarray(m.cpr(kind)).save(path)
+            return path
+
+        return run_task(self.window, job, lambda p: self.status.setText(f"Wrote {p}"),
+                        lambda e: self.window.report_error("CPR failed", str(e)), label="Computing the CPR...")

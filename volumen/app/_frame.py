@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..core import Camera, Image, Scene
+from ..render import Technique, resolve_device
 from ._stereo import Stereo, combine, eye_cameras, eye_size
 
 __all__ = ["FrameJob", "Frame", "render_frame", "progressive_frames", "to_rgb", "composite_mesh", "on_gl_thread",
@@ -34,8 +35,9 @@ class FrameJob:
         With its volume attached.
     camera : Camera
     size : (width, height), pixels
-    backend : str
-        A key of ``volumen.render.BACKENDS``.
+    device : str
+        One of ``volumen.render.DEVICES`` (resolved when the picture is drawn).
+    technique : volumen.render.Technique
     brightness : float
         Gain on the rendered colour.
     background : (3,) float, linear RGB
@@ -49,7 +51,8 @@ class FrameJob:
     scene: Scene
     camera: Camera
     size: tuple[int, int]
-    backend: str = "cpu"
+    device: str = "cpu"
+    technique: Technique = field(default_factory=Technique)
     brightness: float = 1.0
     background: tuple[float, float, float] = (0.0, 0.0, 0.0)
     stereo: Stereo = field(default_factory=Stereo)
@@ -104,7 +107,8 @@ def _render_one(job: FrameJob, camera: Camera, size, fraction: float) -> Image:
     if job.mesh is not None and job.mesh_display == "instead":
         vol_img = None
     else:
-        vol_img = render_reduced(job.scene, camera, size, fraction, backend=job.backend)
+        vol_img = render_reduced(job.scene, camera, size, fraction, device=job.device,
+                                 technique=job.technique)
     if job.mesh is None or job.mesh_display == "hidden":
         return vol_img
     from ..render.raster import render_mesh
@@ -115,7 +119,8 @@ def _render_one(job: FrameJob, camera: Camera, size, fraction: float) -> Image:
 
 def needs_gl(job: FrameJob) -> bool:
     """True when ``job`` draws with OpenGL (a rasterized technique, or a mesh)."""
-    return job.backend != "cpu" or (job.mesh is not None and job.mesh_display != "hidden")
+    return (resolve_device(job.device, job.technique.name) == "gl"
+            or (job.mesh is not None and job.mesh_display != "hidden"))
 
 
 def on_gl_thread(fn, *args, **kw):
@@ -152,7 +157,8 @@ def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) ->
 
 def _progressive(job: FrameJob) -> bool:
     s = job.scene
-    return (s.shading.mode == "pathtrace" and s.mode == "composite" and job.backend == "cpu"
+    return (s.shading.mode == "pathtrace" and s.mode == "composite" and job.technique.name == "raycast"
+            and resolve_device(job.device, "raycast") == "cpu"
             and job.stereo.mode == "off" and (job.mesh is None or job.mesh_display == "hidden"))
 
 

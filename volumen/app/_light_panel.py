@@ -1,6 +1,6 @@
 """The light editor: list, add at the camera (key J), delete, and edit the selected light.
 
-Fields: kind (``volumen.core.LIGHT_KINDS`` read at run time), spot exponent,
+Fields: kind (``LIGHT_KINDS`` of ``volumen.core._lighting``, read at run time), spot exponent,
 intensity, colour, and "attached to the camera" (a flashlight that moves with
 the view; its position and direction are then kept in the camera's frame).
 Lights are also selected and moved in the 3D view.
@@ -26,7 +26,7 @@ from PySide6.QtWidgets import (
 )
 
 from ..core import Light
-from ._interaction import light_at_camera
+from ..core.gestures import light_at_camera
 
 __all__ = ["LightPanel", "add_light_at_camera", "attach_light"]
 

@@ -65,6 +65,7 @@ class MainWindow(QMainWindow):
         self.last_error = None
         self.endoscopy = None
         self._loading = None
+        self.series_chooser = None  # the open series chooser, if any
 
         self.slices = {p: SliceView(st, p) for p in ("axial", "coronal", "sagittal")}
         self.view3d = View3D(st)
@@ -183,21 +184,35 @@ class MainWindow(QMainWindow):
         if path:
             self.open_path(path)
 
-    def open_path(self, path: str):
-        """Load ``path`` in the background (progress dialog); on failure an error dialog, the old data stays."""
-        from ._session import resolve_volume
+    def open_path(self, path: str, series: str | None = None):
+        """Load ``path`` in the background (progress dialog); on failure an error dialog, the old data stays.
 
-        def done(volume):
-            self.set_volume(volume, path if str(path).startswith("phantom:") else str(path))
+        A DICOM folder holding several series opens the series chooser (``self.series_chooser``);
+        the chosen one (``series``, a SeriesInstanceUID) is then loaded.
+        """
+        from ._session import load_or_list, series_ref
+
+        ref = series_ref(path, series)
+
+        def done(result):
+            if isinstance(result, tuple):  # several series: (summaries, notes)
+                self._choose_series(path, *result)
+                return
+            self.set_volume(result, ref)
             if not str(path).startswith("phantom:"):
-                self.recent.add(str(path))
+                self.recent.add(ref)
                 self._fill_recent()
 
         def bad(exc):
             self.report_error("Cannot open the data", str(exc))
 
-        self._loading = run_task(self, lambda: resolve_volume(str(path)), done, bad, label=f"Loading {path}...")
+        self._loading = run_task(self, lambda: load_or_list(ref), done, bad, label=f"Loading {path}...")
         return self._loading
+
+    def _choose_series(self, path: str, series: list, notes: list[str]) -> None:
+        from ._series_chooser import ask_series
+
+        self.series_chooser = ask_series(self, str(path), series, lambda uid: self.open_path(path, series=uid), notes)
 
     # -- sessions -------------------------------------------------------------
     def session(self) -> dict:
@@ -247,7 +262,7 @@ class MainWindow(QMainWindow):
         if path:
             try:
                 save(path)
-            except Exception as exc:  # noqa: BLE001
+            except Exception as exc:  # noqa: BLE001 - any failure is reported in a dialog, the window stays
                 self.report_error("Cannot save the picture", str(exc))
 
     def _screenshot_3d_dialog(self) -> None:
@@ -260,7 +275,7 @@ class MainWindow(QMainWindow):
             try:
                 size = tuple(int(v) for v in text.lower().split("x"))
                 self.screenshot_3d(path, size)
-            except Exception as exc:  # noqa: BLE001
+            except Exception as exc:  # noqa: BLE001 - any failure is reported in a dialog, the window stays
                 self.report_error("Cannot make the screenshot", str(exc))
 
     def screenshot_3d(self, path, size: tuple[int, int]):
@@ -277,7 +292,8 @@ class MainWindow(QMainWindow):
     def frame_job(self) -> FrameJob:
         """What the 3D view shows now."""
         st = self.state
-        return FrameJob(scene=st.scene, camera=st.camera, size=self.view3d.view_size, backend=st.backend,
+        return FrameJob(scene=st.scene, camera=st.camera, size=self.view3d.view_size, device=st.device,
+                        technique=st.technique,
                         brightness=st.brightness, background=st.background, stereo=st.stereo,
                         mesh=st.mesh, mesh_display=st.mesh_display, token=self.token)
 
@@ -305,7 +321,7 @@ class MainWindow(QMainWindow):
             self.final_token = max(self.final_token, frame.token)
             self.statusBar().showMessage(f"frame {frame.seconds * 1000:.0f} ms", 3000)
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         super().resizeEvent(event)
         self.request_render(final=True)
 
@@ -349,7 +365,7 @@ class MainWindow(QMainWindow):
         if on:
             self.view3d.setFocus()
 
-    def keyPressEvent(self, event) -> None:  # noqa: N802
+    def keyPressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         key = event.key()
         name = QKEYS.get(key)
         if name and self.endo_panel.key(name):
@@ -362,7 +378,7 @@ class MainWindow(QMainWindow):
         else:
             super().keyPressEvent(event)
 
-    def closeEvent(self, event) -> None:  # noqa: N802
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         self.endo_panel.timer.stop()
         self.worker.stop(timeout=30.0)
         super().closeEvent(event)

@@ -111,7 +111,7 @@ def project_polyline(points, camera: Camera, size: tuple[int, int]) -> list[np.n
     ahead = (np.asarray(points, float) - np.asarray(camera.position)) @ f > 1e-3
     ok = ahead & np.all(np.isfinite(pts), axis=1)
     runs, cur = [], []
-    for q, good in zip(pts, ok):
+    for q, good in zip(pts, ok, strict=True):
         if good:
             cur.append(q)
         elif cur:

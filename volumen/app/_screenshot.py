@@ -28,10 +28,8 @@ def render_view_picture(job, size: tuple[int, int]) -> np.ndarray:
     """The 3D view's ``FrameJob`` rendered at ``size = (width, height)``: uint8 ``(H, W, 3)``."""
     from ._frame import progressive_frames, with_size
 
-    frame = None
-    for frame in progressive_frames(with_size(job, size), batch=16):
-        pass
-    return frame.rgb
+    *_, last = progressive_frames(with_size(job, size), batch=16)  # the refined frame is the last one
+    return last.rgb
 
 
 def save_rgb(rgb: np.ndarray, path) -> Path:

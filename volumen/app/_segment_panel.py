@@ -77,7 +77,8 @@ class SegmentPanel(QWidget):
         ml = QVBoxLayout(mesh)
         ml.addWidget(self.extract)
         self.radios = {}
-        for n, (key, label) in enumerate(zip(MESH_DISPLAYS, ("Hidden", "With the volume", "Instead of the volume"))):
+        labels = ("Hidden", "With the volume", "Instead of the volume")
+        for n, (key, label) in enumerate(zip(MESH_DISPLAYS, labels, strict=True)):
             rb = QRadioButton(label)
             self.show_group.addButton(rb, n)
             ml.addWidget(rb)

@@ -2,10 +2,10 @@
 
 A session is a superset of the settings file of ``volumen render
 --save-settings`` (``version``, ``scene``, ``camera``, ``size``,
-``background``), so ``volumen render --settings session.json -o out.png``
-renders the session's 3D view. The application's own state sits under
-``"app"``: the technique (backend), brightness, stereo, crosshair, slice
-window, mesh display, and the endoscopy path (start, end, centerline).
+``background``, ``device``, ``technique``), so ``volumen render --settings
+session.json -o out.png`` renders the session's 3D view. The application's own
+state sits under ``"app"``: brightness, stereo, crosshair, slice window, mesh
+display, and the endoscopy path (start, end, centerline).
 
 The data is named by ``scene.volume`` (a path, or ``phantom:NAME`` with an
 optional ``?size=N``); :func:`resolve_volume` loads it.
@@ -24,7 +24,7 @@ from ..core import Camera, Scene, Window
 from ..errors import VolumenError
 
 __all__ = ["SESSION_VERSION", "SessionError", "session_dict", "apply_session", "save_session", "load_session",
-           "resolve_volume", "phantom_ref", "write_atomic"]
+           "resolve_volume", "phantom_ref", "series_ref", "split_series_ref", "load_or_list", "write_atomic"]
 
 SESSION_VERSION = 1
 
@@ -44,7 +44,8 @@ def phantom_ref(name: str, size: int | None = None) -> str:
 
 
 def resolve_volume(ref: str):
-    """Load the volume named by a reference: ``phantom:NAME[?size=N]`` or a file / DICOM folder path.
+    """Load the volume named by a reference: ``phantom:NAME[?size=N]``, a file / DICOM folder path, or
+    ``FOLDER?series=UID`` for one series of a DICOM folder.
 
     Raises
     ------
@@ -64,7 +65,40 @@ def resolve_volume(ref: str):
         return phantom(name, **kw)
     from ..io import load
 
-    return load(ref)
+    path, series = split_series_ref(ref)
+    return load(path) if series is None else load(path, series=series)
+
+
+def load_or_list(ref: str):
+    """The volume of ``ref``, or ``(series summaries, notes)`` when it is a DICOM folder of several
+    series (for the series chooser); other failures raise as :func:`resolve_volume` does."""
+    from ..errors import MultipleSeriesError
+    from ..io import list_series
+
+    try:
+        return resolve_volume(ref)
+    except MultipleSeriesError:
+        notes: list[str] = []
+        return list_series(split_series_ref(ref)[0], notes), notes
+
+
+_SERIES = "?series="
+
+
+def series_ref(path: str, series: str | None) -> str:
+    """The reference of DICOM series ``series`` (a SeriesInstanceUID) in folder ``path``: ``PATH?series=UID``."""
+    return str(path) if series is None else f"{path}{_SERIES}{series}"
+
+
+def split_series_ref(ref: str) -> tuple[str, str | None]:
+    """``(path, SeriesInstanceUID or None)`` of a reference made by :func:`series_ref` (a path that
+    exists as written is never split)."""
+    import os
+
+    path, sep, series = ref.rpartition(_SERIES)
+    if not sep or os.path.exists(ref):
+        return ref, None
+    return path, series
 
 
 def session_dict(state, size: tuple[int, int], endoscopy: dict | None = None) -> dict:
@@ -78,8 +112,9 @@ def session_dict(state, size: tuple[int, int], endoscopy: dict | None = None) ->
         "camera": state.camera.to_dict(),
         "size": [int(size[0]), int(size[1])],
         "background": list(state.background),
+        "device": state.device,
+        "technique": state.technique.to_dict(),
         "app": {
-            "technique": state.backend,
             "brightness": float(state.brightness),
             "stereo": state.stereo.to_dict(),
             "crosshair": [float(v) for v in state.crosshair],
@@ -104,13 +139,14 @@ def apply_session(state, d: dict, volume) -> dict:
         stereo = Stereo.from_dict(app.get("stereo", {}))
         window = Window(*app["window"]) if "window" in app else None
         background = tuple(float(v) for v in d.get("background", (0, 0, 0)))
+        how = _technique(d)
     except (KeyError, TypeError, ValueError) as exc:
         raise SessionError(None, f"not a valid session: {exc}") from None
     with state.batch():
         state.set_volume(volume, scene.volume_ref, transfer=scene.transfer, camera=camera)
         state.update_scene(**{k: getattr(scene, k) for k in ("lights", "mode", "shading", "sampling", "clipping",
                                                               "isosurface")})
-        state.set_display(backend=app.get("technique", "cpu"), brightness=float(app.get("brightness", 1.0)),
+        state.set_display(**how, brightness=float(app.get("brightness", 1.0)),
                           background=background, stereo=stereo,
                           mesh_display=app.get("mesh_display", "hidden"))
         if "crosshair" in app:
@@ -118,6 +154,17 @@ def apply_session(state, d: dict, volume) -> dict:
         if window is not None:
             state.set_window(window)
     return app.get("endoscopy")
+
+
+def _technique(d: dict) -> dict:
+    """``device`` and ``technique`` of a session (volumen 0.1 kept a backend name as ``app.technique``)."""
+    from ..render import Technique, legacy_backend, resolve_device
+
+    if "technique" in d:
+        technique = Technique.from_dict(d["technique"])
+        return {"device": d.get("device") or resolve_device(None, technique.name), "technique": technique}
+    device, technique = legacy_backend(d.get("app", {}).get("technique", "cpu"))
+    return {"device": device, "technique": technique}
 
 
 def write_atomic(path, text: str) -> None:

@@ -75,9 +75,12 @@ class SliceView(QWidget):
         g = self.geometry_
         key = (id(g.volume), self.index, self.state.window, id(self.state.mask_canonical))
         if self._cache != key:
-            gray = np.ascontiguousarray(window_to_uint8(g.image(self.index), self.state.window))
-            self._gray = gray
-            self._image = QImage(gray.data, gray.shape[1], gray.shape[0], gray.strides[0], QImage.Format_Grayscale8)
+            gray = window_to_uint8(g.image(self.index), self.state.window)
+            if self.state.volume is not None and self.state.volume.meta.get("display_inverted"):
+                gray = 255 - gray  # MONOCHROME1: low values white
+            gray = self._gray = np.ascontiguousarray(gray)
+            fmt = QImage.Format_RGB888 if gray.ndim == 3 else QImage.Format_Grayscale8  # colour volumes: RGB
+            self._image = QImage(gray.data, gray.shape[1], gray.shape[0], gray.strides[0], fmt)
             self._mask_image = None
             if self.state.mask_canonical is not None:
                 m = g.image(self.index, self.state.mask_canonical) > 0
@@ -213,13 +216,13 @@ class SliceView(QWidget):
         ijk[g.normal_axis] = np.clip(np.rint(ijk[g.normal_axis]) + n, 0, g.n_slices - 1)
         self.state.set_crosshair(g.volume.index_to_world(ijk))
 
-    def wheelEvent(self, event) -> None:  # noqa: N802
+    def wheelEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         steps = event.angleDelta().y() / 120
         if steps:
             self.step_slice(int(np.sign(steps) * max(1, round(abs(steps)))))
         event.accept()
 
-    def keyPressEvent(self, event) -> None:  # noqa: N802
+    def keyPressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if event.key() in (Qt.Key_PageUp, Qt.Key_Up):
             self.step_slice(1)
         elif event.key() in (Qt.Key_PageDown, Qt.Key_Down):
@@ -243,7 +246,7 @@ class SliceView(QWidget):
                     best, best_d = (ax, side), d
         return best
 
-    def mousePressEvent(self, event) -> None:  # noqa: N802
+    def mousePressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self.geometry_ is None:
             return
         x, y = event.position().x(), event.position().y()
@@ -259,7 +262,7 @@ class SliceView(QWidget):
         elif event.button() == Qt.RightButton:
             self._drag = ("window", x, y, self.state.window)
 
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802
+    def mouseMoveEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         x, y = event.position().x(), event.position().y()
         if self._drag is None:
             edge = self._crop_edge(x, y) if self.geometry_ else None
@@ -289,7 +292,7 @@ class SliceView(QWidget):
             self.state.interacting = True
             self.state.update_scene(clipping=replace(clip, crop=tuple(c)))
 
-    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
+    def mouseReleaseEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self._drag is not None and self._drag[0] == "crop":
             self.state.interacting = False
             self.state.emit("scene")

@@ -19,6 +19,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..core import Camera, Scene, Window, canonical
+from ..render import Technique, resolve_device
 
 __all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
 
@@ -41,8 +42,10 @@ class AppState:
         Transfer function, lights, mode, shading, sampling, clipping (its
         ``volume`` is :attr:`volume`).
     camera : Camera or None
-    backend : str
-        Key of ``volumen.render.BACKENDS`` that draws the 3D view.
+    device : str
+        Where the 3D view is rendered: one of ``volumen.render.DEVICES`` the technique runs on, or ``auto``.
+    technique : volumen.render.Technique
+        How the 3D view is rendered (``raycast``, ``slicing``, ``mesh``) with its options.
     brightness : float
         Display gain applied to the rendered colour (1 = as rendered).
     background : (3,) float
@@ -70,7 +73,8 @@ class AppState:
         self.canonical = None
         self.scene = Scene()
         self.camera: Camera | None = None
-        self.backend = "cpu"
+        self.device = "cpu"
+        self.technique = Technique()
         self.brightness = 1.0
         self.background = (0.0, 0.0, 0.0)
         self.stereo = Stereo()
@@ -158,9 +162,16 @@ class AppState:
         self.emit("camera")
 
     def set_display(self, **changes) -> None:
-        """Change ``backend``, ``brightness``, ``background``, ``stereo`` or ``mesh_display``."""
+        """Change ``device``, ``technique``, ``brightness``, ``background``, ``stereo`` or ``mesh_display``.
+
+        A technique given without a device keeps the device when the technique runs on it, else takes the
+        technique's default device."""
+        if "technique" in changes and "device" not in changes:
+            tech = changes["technique"]
+            if self.device not in (*tech.spec.devices, "auto"):
+                changes["device"] = resolve_device(None, tech.name)
         for k, v in changes.items():
-            if k not in ("backend", "brightness", "background", "stereo", "mesh_display"):
+            if k not in ("device", "technique", "brightness", "background", "stereo", "mesh_display"):
                 raise ValueError(f"unknown display setting {k!r}")
             if k == "mesh_display" and v not in MESH_DISPLAYS:
                 raise ValueError(f"mesh_display must be one of {MESH_DISPLAYS}, got {v!r}")

@@ -84,7 +84,7 @@ class TransferCanvas(QWidget):
         return i if abs(xs[i] - x) <= 6 else None
 
     # -- painting -------------------------------------------------------------
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         p = QPainter(self)
         p.fillRect(self.rect(), QColor(30, 30, 34))
         if self.state.volume is None:
@@ -96,14 +96,14 @@ class TransferCanvas(QWidget):
         xs = self.x_of(edges)
         p.setPen(Qt.NoPen)
         p.setBrush(QColor(110, 110, 110))
-        for h, x0, x1 in zip(heights, xs[:-1], xs[1:]):
+        for h, x0, x1 in zip(heights, xs[:-1], xs[1:], strict=True):
             p.drawRect(QRectF(x0, r.bottom() - h * r.height(), max(x1 - x0, 1.0), h * r.height()))
         tf = self.state.scene.transfer
         lo, hi = self.range
         xs_fine = np.linspace(lo, hi, 200)
         alpha = tf.evaluate(xs_fine)[:, 3]
         p.setPen(QPen(QColor(255, 255, 255), 1.5))
-        p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in zip(self.x_of(xs_fine), self.y_of(alpha))]))
+        p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in zip(self.x_of(xs_fine), self.y_of(alpha), strict=True)]))
         p.setPen(QPen(Qt.black, 1))
         for v, a in tf.opacity:
             if lo <= v <= hi:
@@ -111,7 +111,7 @@ class TransferCanvas(QWidget):
                 p.drawEllipse(QPointF(float(self.x_of(v)), float(self.y_of(a))), 4.5, 4.5)
         bar = self.bar_rect()
         grad = QLinearGradient(bar.left(), 0, bar.right(), 0)
-        for v, rgb in zip(xs_fine[::10], tf.evaluate(xs_fine[::10])[:, :3]):
+        for v, rgb in zip(xs_fine[::10], tf.evaluate(xs_fine[::10])[:, :3], strict=True):
             grad.setColorAt(float((v - lo) / (hi - lo)), QColor.fromRgbF(*[float(c) for c in rgb]))
         p.fillRect(bar, grad)
         for v, *rgb in tf.color:
@@ -131,7 +131,7 @@ class TransferCanvas(QWidget):
         self.state.interacting = interactive
         self.state.update_scene(transfer=tf)
 
-    def mousePressEvent(self, event) -> None:  # noqa: N802
+    def mousePressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self.state.volume is None:
             return
         x, y = event.position().x(), event.position().y()
@@ -151,7 +151,7 @@ class TransferCanvas(QWidget):
                 i = self._opacity_hit(x, y)
                 self._drag = ("opacity", i) if i is not None else None
 
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802
+    def mouseMoveEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self._drag is None:
             return
         x, y = event.position().x(), event.position().y()
@@ -164,12 +164,12 @@ class TransferCanvas(QWidget):
         else:
             self._set(edit.move_color_stop(tf, i, self.value_of(x)))
 
-    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
+    def mouseReleaseEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self._drag is not None:
             self._drag = None
             self._set(self.state.scene.transfer, False)
 
-    def mouseDoubleClickEvent(self, event) -> None:  # noqa: N802
+    def mouseDoubleClickEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         x, y = event.position().x(), event.position().y()
         tf = self.state.scene.transfer
         if y >= self.bar_rect().top():

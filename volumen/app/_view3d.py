@@ -18,7 +18,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QImage, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QWidget
 
-from . import _interaction as gestures
+from ..core import gestures
 from ._overlays import crosshair_lines, light_cone, pick_light, project_polyline
 
 __all__ = ["View3D"]
@@ -88,7 +88,7 @@ class View3D(QWidget):
         v = self.state.volume
         return 0.08 * v.diagonal if v is not None else 20.0
 
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         p = QPainter(self)
         p.fillRect(self.rect(), Qt.black)
         if self._qimage is not None:
@@ -143,7 +143,7 @@ class View3D(QWidget):
             p.drawText(6, 16, self.status_text)
 
     # -- mouse ----------------------------------------------------------------
-    def mousePressEvent(self, event) -> None:  # noqa: N802
+    def mousePressEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         cam = self.state.camera
         if cam is None:
             return
@@ -169,7 +169,7 @@ class View3D(QWidget):
         if self._drag is not None:
             self.state.interacting = True
 
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802
+    def mouseMoveEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         pos = (event.position().x(), event.position().y())
         cam = self.state.camera
         if self._drag is None:
@@ -189,7 +189,7 @@ class View3D(QWidget):
         elif kind == "pan":
             self.state.set_camera(gestures.pan(cam, dx, dy, self.view_size))
         elif kind == "zoom":
-            self.state.set_camera(gestures.zoom(cam, float(np.exp(-dy * 0.01))))
+            self.state.set_camera(gestures.drag_zoom(cam, dy))
         elif kind in ("light", "aim"):
             n = self._drag[2]
             light = self.state.scene.lights[n]
@@ -197,15 +197,15 @@ class View3D(QWidget):
                 gestures.aim_light(light, cam, dx, dy)
             self.state.replace_light(n, new)
 
-    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
+    def mouseReleaseEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         if self._drag is not None:
             self._drag = None
             self.state.interacting = False
             self.interaction_finished.emit()
 
-    def wheelEvent(self, event) -> None:  # noqa: N802
+    def wheelEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         cam = self.state.camera
         steps = event.angleDelta().y() / 120
         if cam is not None and steps and not self.flying:
-            self.state.set_camera(gestures.zoom(cam, 1.1 ** steps))
+            self.state.set_camera(gestures.wheel_zoom(cam, steps))
         event.accept()

@@ -85,11 +85,9 @@ class RenderWorker(QObject):
         from ._frame import on_gl_thread
 
         def probe():
-            from ..render import BACKENDS
-            from ..render.raster import get_context, register_backends
+            from ..render.raster import get_context
 
             get_context()
-            register_backends(BACKENDS)
 
         try:
             on_gl_thread(probe)

@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-from ._table import Table, median_time, resolve_backend
+from ._table import Table, median_time, resolve_device
 
 __all__ = ["bench_lighting", "SEEDS"]
 
@@ -77,7 +77,7 @@ def _camera(volume, distance=None):
     return cam.with_(position=tuple(c + back / np.linalg.norm(back) * distance * volume.diagonal))
 
 
-def bench_lighting(*, quick: bool = False, repeat: int = 3, backend: str = "cpu", progress=print) -> Table:
+def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu", progress=print) -> Table:
     """Run the benchmark; returns the :class:`Table` (print ``table.render()``, save with ``table.save``).
 
     Parameters
@@ -86,8 +86,8 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, backend: str = "cpu"
         Tiny sizes (:data:`QUICK`), to check the benchmark itself runs.
     repeat : int
         Timed frames per case (median reported) after one warm-up frame.
-    backend : {"cpu", "cuda", "auto"}
-        ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
+    device : {"cpu", "cuda", "auto"}
+        Where the ray caster runs; ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
     """
     from functools import partial
 
@@ -95,11 +95,11 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, backend: str = "cpu"
     from volumen.data import phantom
     from volumen.render import render as render_any
 
-    backend, device = resolve_backend(backend)
-    render = partial(render_any, backend=backend)
+    device, described = resolve_device(device)
+    render = partial(render_any, device=device)
 
     cfg = QUICK if quick else FULL
-    table = Table(f"volumen bench lighting ({device}; head phantom ct-bone, anterior; spot lights)", [
+    table = Table(f"volumen bench lighting ({described}; head phantom ct-bone, anterior; spot lights)", [
         ("sweep", "sweep", "s"), ("volume", "volume", "s"), ("viewport", "viewport", "s"),
         ("distance", "eye distance (diag)", "s"), ("lights", "lights", "d"), ("shading", "shading", "s"),
         ("ms", "ms/frame", ".1f"), ("fps", "fps", ".2f"), ("x_phong", "x Phong", ".2f"),

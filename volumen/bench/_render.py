@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._table import Table, resolve_backend
+from ._table import Table, resolve_device
 from ._vtk import VtkScene, vtk_available
 
 __all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "peak_memory"]
@@ -156,12 +156,12 @@ def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -
 def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
     from volumen.render import render
 
-    image = render(scene, camera, size, backend=backend)  # warm-up: compile, per-volume caches
+    image = render(scene, camera, size, device=backend)  # warm-up: compile, per-volume caches
     peer = None
     if use_vtk and scene.mode == "composite":
         peer = VtkScene(scene, camera, size, threads=threads)
         theirs = peer.render()
-    ours_s, vtk_s = _alternate(lambda: render(scene, camera, size, backend=backend),
+    ours_s, vtk_s = _alternate(lambda: render(scene, camera, size, device=backend),
                                None if peer is None else peer.render_only, rounds)
     row = table.add(**label, ms=ours_s * 1e3, msamples_s=float(image.stats.get("samples", 0)) / ours_s * 1e-6)
     if peer is not None:
@@ -189,7 +189,7 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
     datasets = datasets or DATASETS
     rounds = int(repeat or rounds)
     images, cases = images or IMAGES, cases or CASES
-    backend, device = resolve_backend(backend)
+    backend, device = resolve_device(backend)
     threads = numba.get_num_threads()
     use_vtk = with_vtk and vtk_available()
     table = Table(f"volumen bench render ({device} ray casting vs VTK fixed-point, {threads} threads each)", [

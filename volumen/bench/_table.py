@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Table", "machine_info", "median_time", "resolve_backend"]
+__all__ = ["Table", "machine_info", "median_time", "resolve_device"]
 
 
 def machine_info() -> dict[str, Any]:
@@ -29,20 +29,17 @@ def machine_info() -> dict[str, Any]:
     return info
 
 
-def resolve_backend(backend: str) -> tuple[str, str]:
-    """``(backend, description)`` for a benchmark: ``auto`` resolved; ``cuda`` checked at once, so a machine
-    without a CUDA device fails before any volume is built (``CudaUnavailableError``, which says why)."""
-    if backend == "auto":
-        from volumen.render._api import auto_backend
+def resolve_device(device: str) -> tuple[str, str]:
+    """``(device, description)`` for a ray-casting benchmark: ``auto`` resolved; ``cuda`` checked at once, so a
+    machine without a CUDA device fails before any volume is built (``CudaUnavailableError``, which says why)."""
+    from volumen.render import resolve_device as resolve
 
-        backend = auto_backend()
-    if backend == "cuda":
+    device = resolve(device, "raycast")
+    if device == "cuda":
         from volumen.render.cuda import require_cuda
 
         return "cuda", f"CUDA {require_cuda()}"
-    if backend == "cpu":
-        return "cpu", "CPU"
-    raise ValueError(f"unknown benchmark backend {backend!r}; valid: cpu, cuda, auto")
+    return device, device.upper()
 
 
 def median_time(fn, repeat: int = 3, warmup: int = 1) -> float:
@@ -93,7 +90,10 @@ class Table:
         heads = [h for _k, h, _f in self.columns]
         cells = [[self._cell(r, k, f) for k, _h, f in self.columns] for r in self.rows]
         widths = [max([len(h)] + [len(c[i]) for c in cells]) for i, h in enumerate(heads)]
-        line = lambda vals: "| " + " | ".join(v.rjust(w) for v, w in zip(vals, widths)) + " |"  # noqa: E731
+
+        def line(vals):
+            return "| " + " | ".join(v.rjust(w) for v, w in zip(vals, widths, strict=True)) + " |"
+
         out = [f"### {self.title}", "", line(heads), "|" + "|".join("-" * (w + 2) for w in widths) + "|"]
         out += [line(c) for c in cells]
         out += [""] + [f"- {n}" for n in self.notes]

@@ -79,6 +79,31 @@ def _mc_rows(table, name, volume, iso):
         table.add(volume=name, implementation=impl, ms=1e3 * (time.perf_counter() - t0), triangles=tris)
 
 
+def _cases(base, size, gl: bool, planes) -> list:
+    """(technique, case, function of a camera) rows of the frame-time table for the scene ``base``."""
+    from volumen.core import Sampling, Shading
+    from volumen.render import render
+    from volumen.render.raster import render_reduced
+
+    def frame(scene=base, fraction=1.0, **how):
+        return lambda c: render_reduced(scene, c, size, fraction, **how)
+
+    cases = [("mesh", "phong", frame(technique="mesh"))] if gl else []
+    cases.append(("raycast", "headlight spv 1", lambda c: render(base, c, size)))
+    cases += [("raycast", f"headlight reduced 1/{int(1 / f)}", frame(fraction=f)) for f in (0.5, 0.25)]
+    if not gl:
+        return cases
+    for spv in (1.0, 2.0):
+        for sh in ("none", "headlight"):
+            sc = base.with_(shading=Shading(mode=sh), sampling=Sampling(samples_per_voxel=spv))
+            cases.append(("slicing", f"{sh} spv {spv:g}", frame(sc, technique="slicing", depth=False)))
+    cases.append(("slicing", "headlight spv 1 + depth", frame(technique="slicing")))
+    cases += [("slicing", f"headlight {p}", frame(technique="slicing", depth=False, planes=p)) for p in planes[1:]]
+    cases += [("slicing", f"headlight reduced 1/{int(1 / f)}", frame(fraction=f, technique="slicing"))
+              for f in (0.5, 0.25)]
+    return cases
+
+
 def bench_techniques(*, volumes=None, size=(256, 256), frames: int = 120, mc_sizes=(128,), progress=print):
     """Run the benchmark; returns ``(mc_table, frames_table, agreement_table)`` (:class:`Table` each).
 
@@ -93,17 +118,8 @@ def bench_techniques(*, volumes=None, size=(256, 256), frames: int = 120, mc_siz
     """
     from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction
     from volumen.data import phantom
-    from volumen.render import BACKENDS, render
-    from volumen.render.raster import (
-        ADAPTIVE,
-        RasterUnavailable,
-        SlicingOptions,
-        context_info,
-        register_backends,
-        render_isosurface_mesh,
-        render_reduced,
-        render_slicing,
-    )
+    from volumen.render import option_choices, render
+    from volumen.render.raster import RasterUnavailable, context_info
     from volumen.surface._bench import bench_marching_cubes
 
     volumes = volumes or VOLUMES
@@ -129,7 +145,6 @@ def bench_techniques(*, volumes=None, size=(256, 256), frames: int = 120, mc_siz
     except RasterUnavailable as exc:
         ft.notes.append(f"no OpenGL context ({exc}): mesh and slicing rows skipped")
         gl = False
-    register_backends(BACKENDS)
     tf = TransferFunction.preset("ct-bone")
     for label, (pname, psize) in volumes.items():
         t0 = time.perf_counter()
@@ -138,34 +153,17 @@ def bench_techniques(*, volumes=None, size=(256, 256), frames: int = 120, mc_siz
         _mc_rows(mc, label, vol, 300.0)
         cams = camera_path(vol, frames)
         base = Scene(volume=vol, transfer=tf, isosurface=Isosurface(value=300.0), shading=Shading(mode="headlight"))
-        cases = [("mesh", "phong", lambda c: render_isosurface_mesh(base, c, size))] if gl else []
-        cases.append(("ray casting", "headlight spv 1", lambda c: render(base, c, size)))
-        for frac in (0.5, 0.25):
-            cases.append(("ray casting", f"headlight reduced 1/{int(1 / frac)}",
-                          lambda c, f=frac: render_reduced(base, c, size, f, backend="cpu")))
-        if gl:
-            nodepth = SlicingOptions(depth=False)
-            for spv in (1.0, 2.0):
-                for sh in ("none", "headlight"):
-                    sc = base.with_(shading=Shading(mode=sh), sampling=Sampling(samples_per_voxel=spv))
-                    cases.append(("slicing", f"{sh} spv {spv:g}", lambda c, s=sc: render_slicing(s, c, size, nodepth)))
-            cases.append(("slicing", "headlight spv 1 + depth", lambda c: render_slicing(base, c, size)))
-            for mode in ADAPTIVE[1:]:
-                opt = SlicingOptions(depth=False, planes=mode)
-                cases.append(("slicing", f"headlight {mode}", lambda c, o=opt: render_slicing(base, c, size, o)))
-            for frac in (0.5, 0.25):
-                cases.append(("slicing", f"headlight reduced 1/{int(1 / frac)}",
-                              lambda c, f=frac: render_reduced(base, c, size, f, backend="slicing")))
+        cases = _cases(base, size, gl, option_choices("slicing")["planes"])
         for tech, case, fn in cases:
             row = ft.add(volume=label, technique=tech, case=case, **_frame_times(fn, cams))
             progress(f"  {tech:12s} {case:28s} mean {row['mean_ms']:8.1f} ms  weighted {row['weighted_ms']:8.1f} ms")
         if gl:
             for sh in ("none", "headlight"):
                 for spv in (1.0, 2.0):
-                    sc = base.with_(shading=Shading(mode=sh), sampling=Sampling(samples_per_voxel=spv, jitter=False,
-                                                                                 skip_empty=False, early_termination=1.0))
+                    sampling = Sampling(samples_per_voxel=spv, jitter=False, skip_empty=False, early_termination=1.0)
+                    sc = base.with_(shading=Shading(mode=sh), sampling=sampling)
                     cam = Camera.orbit(vol, azimuth=30, elevation=10, projection="orthographic")
-                    a, b = render(sc, cam, size), render_slicing(sc, cam, size)
+                    a, b = render(sc, cam, size), render(sc, cam, size, technique="slicing")
                     d = np.abs(a.rgba - b.rgba)
                     ag.add(volume=label, shading=sh, spv=spv, mad=float(d.mean()), max=float(d.max()))
     mc.notes.append(f"machine: {machine_info().get('cpus')} CPUs; VTK on 2 STDThread workers for the phantoms")
@@ -177,7 +175,7 @@ def main(args) -> int:
     kw = dict(QUICK) if args.quick else {}
     tables = bench_techniques(**kw)
     stem = "techniques" + ("-quick" if args.quick else "")
-    for name, table in zip(("mc", "frames", "agreement"), tables):
+    for name, table in zip(("mc", "frames", "agreement"), tables, strict=True):
         print()
         print(table.render())
         path = table.save(Path(args.out) / f"{stem}-{name}.json")

@@ -21,6 +21,7 @@ COMMANDS = {
     "slices": "_slices",
     "render": "_render",
     "fly": "_fly",
+    "cpr": "_cpr",
     "mesh": "_mesh",
     "view": "_view",
     "bench": "_bench",
@@ -36,7 +37,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"volumen {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for name, mod in COMMANDS.items():
+    for mod in COMMANDS.values():
         module = importlib.import_module(f"{__name__}.{mod}")
         p = module.register(sub)
         p.set_defaults(_run=module.run)
@@ -47,8 +48,10 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (also used by ``python -m volumen``)."""
     from volumen.errors import VolumenError
 
+    from ._common import join_negative_values
+
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else list(argv)))
     try:
         result = args._run(args)
     except VolumenError as exc:
@@ -64,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"volumen {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 1
-    except Exception as exc:  # noqa: BLE001 - the user gets one line, developers set VOLUMEN_DEBUG
+    except Exception as exc:  # the user gets one line, developers set VOLUMEN_DEBUG
         if os.environ.get("VOLUMEN_DEBUG"):
             raise
         print(f"volumen {args.command}: internal error: {type(exc).__name__}: {exc} "

@@ -17,9 +17,13 @@ def register(sub):
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
     p.add_argument("--repeat", type=int, default=3, help="timed frames per case (median reported)")
     p.add_argument("--spv", type=float, default=1.0, help="samples per voxel")
-    p.add_argument("--backend", choices=("cpu", "cuda", "auto"), default="cpu",
-                   help="render and lighting: ray casting on the CPU (default), on a CUDA GPU (fails at once where "
-                   "there is none), or auto (cuda when a device is usable)")
+    from volumen.render import TECHNIQUES
+
+    devices = (*TECHNIQUES["raycast"].devices, "auto")
+    p.add_argument("--device", "--backend", dest="device", choices=devices, default=devices[0],
+                   help=f"render and lighting: where the ray caster runs, one of {', '.join(devices)} (default "
+                   f"{devices[0]}; cuda fails at once where there is none; auto: cuda when a device is usable); "
+                   "--backend is its old name")
     return p
 
 
@@ -31,12 +35,12 @@ def run(args):
     if args.what == "lighting":
         from volumen.bench._lighting import bench_lighting
 
-        table = bench_lighting(quick=args.quick, repeat=args.repeat, backend=args.backend)
+        table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)
     else:
         from volumen.bench._render import QUICK, bench_render
 
         kw = dict(QUICK) if args.quick else {}
-        table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, backend=args.backend, **kw)
+        table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, backend=args.device, **kw)
     print()
     print(table.render())
     path = table.save(Path(args.out) / f"{args.what}{'-quick' if args.quick else ''}.json")

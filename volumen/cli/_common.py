@@ -3,6 +3,26 @@
 from __future__ import annotations
 
 import argparse
+import re
+
+# a negative number or a comma-separated list starting with one: "-60,30,80", "-1.5e2"
+_NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d)[\d.eE+\-,x]*$")
+
+
+def join_negative_values(argv: list[str]) -> list[str]:
+    """``["--end", "-60,30,80"]`` -> ``["--end=-60,30,80"]``: argparse would take the value for an option.
+
+    Only a ``--long`` option without ``=`` followed by a token that reads as a
+    negative number (or a comma list starting with one) is joined.
+    """
+    out: list[str] = []
+    for tok in argv:
+        prev = out[-1] if out else ""
+        if _NEGATIVE_VALUE.match(tok) and prev.startswith("--") and "=" not in prev and len(prev) > 2:
+            out[-1] = f"{prev}={tok}"
+        else:
+            out.append(tok)
+    return out
 
 
 def add_load_options(p: argparse.ArgumentParser) -> None:

@@ -62,7 +62,9 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
     from dataclasses import replace
 
     from volumen.core import Camera, Clipping, Isosurface, Light, Scene, Shading, TransferFunction
-    from volumen.render import default_transfer, render
+    from volumen.render import Technique, default_transfer, render
+
+    from ._render import SETTINGS_VERSION
 
     out.mkdir(parents=True, exist_ok=True)
     cards = []
@@ -86,9 +88,10 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
             ms = (time.perf_counter() - t0) * 1e3
             png = out / f"{name}_{stem}.png"
             image.save(png)
-            settings = {"version": 1, "scene": scene.to_dict(), "camera": camera.to_dict(), "size": [size, size],
-                        "background": [0, 0, 0], "orbit": {"view": "anterior", "azimuth": -25, "elevation": 10, "zoom": 1.5},
-                        "load": {}}
+            orbit = {"view": "anterior", "azimuth": -25, "elevation": 10, "zoom": 1.5}
+            settings = {"version": SETTINGS_VERSION, "scene": scene.to_dict(), "camera": camera.to_dict(),
+                        "size": [size, size], "background": [0, 0, 0], "orbit": orbit, "load": {},
+                        "device": image.stats["renderer"]["device"], "technique": Technique().to_dict()}
             png.with_suffix(".json").write_text(json.dumps(settings, indent=2))
             cards.append((name, png.name, caption, ms, png.with_suffix(".json").name))
             progress(f"  {png.name}: {ms:.0f} ms")

@@ -1,8 +1,15 @@
-"""``volumen info PATH``: dimensions, spacing, orientation, value range, modality. Never patient identity."""
+"""``volumen info PATH``: dimensions, spacing, orientation, value range, modality. Never patient identity.
+
+For a DICOM folder it first lists every image series (number, modality, size, files,
+description, SeriesInstanceUID) and the files it skipped, like dcm2niix; the volume is
+described when the folder holds one series or ``--series`` picks one.
+"""
 
 from __future__ import annotations
 
 import json
+from dataclasses import asdict
+from pathlib import Path
 
 import numpy as np
 
@@ -37,18 +44,57 @@ def describe(volume) -> dict:
         "affine": np.round(volume.affine, 6).tolist(),
         "warnings": list(meta.get("warnings", [])),
     }
-    for key in ("series_uid", "series_description", "n_files", "transfer_syntax", "manufacturer"):
+    facts["colour"] = "RGB" if volume.is_color else ""
+    for key in ("series_uid", "series_description", "series_number", "n_files", "transfer_syntax", "sop_class",
+                "photometric", "manufacturer", "modality_lut", "voi_lut", "display_inverted"):
         if key in meta:
             facts[key] = meta[key]
     return facts
 
 
+_LABELS = {"series_uid": "series_uid", "n_files": "n_files", "transfer_syntax": "transfer", "sop_class": "SOP class",
+           "photometric": "photometric", "modality_lut": "modality LUT", "voi_lut": "VOI LUT"}
+
+
+def _series_listing(args) -> tuple[list, list[str]] | None:
+    """The series of a DICOM folder and the skip notes; ``None`` for anything else."""
+    from volumen.io import list_series
+
+    if str(args.input).startswith("phantom:") or not Path(args.input).is_dir():
+        return None
+    notes: list[str] = []
+    return list_series(args.input, notes), notes
+
+
+def _print_listing(path, series, notes) -> None:
+    print(f"{len(series)} image series in {path}:")
+    print(f"{'#':>5}  {'mod':<3} {'columns x rows x slices':<23} {'files':>11}  description  SeriesInstanceUID")
+    for s in series:
+        print(s.line())
+    for n in notes:
+        print(f"note:         {n}")
+
+
 def run(args):
+    listing = _series_listing(args)
+    if listing is not None and len(listing[0]) > 1 and not args.series:
+        series, notes = listing
+        if args.json:
+            print(json.dumps({"series": [asdict(s) for s in series], "notes": notes}, indent=2))
+        else:
+            _print_listing(args.input, series, notes)
+            print("choose one with --series SERIES_INSTANCE_UID")
+        return 0
     vol = load_from_args(args)
     facts = describe(vol)
+    if listing is not None:
+        facts["series"] = [asdict(s) for s in listing[0]]
     if args.json:
         print(json.dumps(facts, indent=2))
         return 0
+    if listing is not None:
+        _print_listing(args.input, listing[0], [])  # skip notes are among the warnings below
+        print()
     z, y, x = facts["shape_zyx"]
     dz, dy, dx = facts["spacing_mm_zyx"]
     lines = [
@@ -63,9 +109,11 @@ def run(args):
         f"modality:     {facts['modality']}",
         f"values:       {facts['value_range'][0]:g} .. {facts['value_range'][1]:g} {facts['units']} ({facts['dtype']})",
     ]
-    for key in ("series_uid", "n_files", "transfer_syntax"):
-        if key in facts:
-            lines.append(f"{key + ':':14}{facts[key]}")
+    if facts["colour"]:
+        lines.append(f"colour:       {facts['colour']} (channel last: data is z, y, x, 3)")
+    for key, label in _LABELS.items():
+        if facts.get(key):
+            lines.append(f"{label + ':':14}{facts[key]}")
     for w in facts["warnings"]:
         lines.append(f"warning:      {w}")
     print("\n".join(lines))

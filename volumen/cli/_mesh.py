@@ -41,7 +41,8 @@ def run(args):
     volume = load_from_args(args)
     mask = load_from_args(args, path=args.mask) if args.mask else None
     if mask is not None and mask.shape != volume.shape:
-        raise ValueError(f"--mask {args.mask} has shape {mask.shape}, the volume {volume.shape}: they must share a grid")
+        raise ValueError(f"--mask {args.mask} has shape {mask.shape}, the volume {volume.shape}: "
+                         "they must share a grid")
     with tqdm(total=100, desc="mesh", unit="%", disable=args.quiet, leave=False) as bar:
         def progress(fraction: float) -> None:
             bar.update(max(0, int(round(100 * fraction)) - bar.n))

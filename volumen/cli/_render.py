@@ -1,7 +1,7 @@
 """``volumen render INPUT -o out.png``: one picture, every setting a flag, reproducible from JSON.
 
 ``--save-settings s.json`` writes everything that decided the picture (scene,
-camera, size, background, reading options); ``--settings s.json`` renders it
+camera, size, background, reading options, device and technique); ``--settings s.json`` renders it
 again bit for bit. Flags given together with ``--settings`` override it.
 """
 
@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from ._common import _floats, add_load_options, load_from_args, parse_point
+from ._technique import add_technique_options, technique_from_args
 
 SETTINGS_VERSION = 1
 
@@ -20,7 +21,7 @@ SETTINGS_VERSION = 1
 def register(sub):
     from volumen.core import MODES, PRESETS, SHADINGS, VIEWS
 
-    p = sub.add_parser("render", help="render a volume to a PNG (ray casting on the CPU)")
+    p = sub.add_parser("render", help="render a volume to a PNG (ray casting, texture slicing or a mesh)")
     p.add_argument("input", nargs="?", help="volume file, DICOM folder or phantom:NAME (optional with --settings)")
     p.add_argument("-o", "--out", required=True, help="output PNG")
     p.add_argument("--settings", help="scene JSON written by --save-settings; flags given override it")
@@ -31,7 +32,8 @@ def register(sub):
     g.add_argument("--mode", choices=MODES, help="composite (default), mip, minip, average, isosurface")
     g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
     g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
-    g.add_argument("--shading", choices=SHADINGS, help="none, headlight (default), phong (uses --light)")
+    g.add_argument("--shading", choices=SHADINGS, help=f"{', '.join(SHADINGS)} (default headlight; the lit models "
+                   "use --light)")
     g.add_argument("--light", action="append", default=None, metavar="SPEC",
                    help="a light, repeatable: 'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I "
                         "[kind=point|spot|headlight attach=world|camera radius=R]' (mm, RAS; attach=camera: "
@@ -44,8 +46,6 @@ def register(sub):
     g.add_argument("--phase-g", type=float, help="scattering: Henyey-Greenstein anisotropy g in (-1, 1)")
     g.add_argument("--pt-samples", type=int, help="pathtrace: samples per pixel")
     g.add_argument("--pt-bounces", type=int, help="pathtrace: scattering events per path (1 = single)")
-    g.add_argument("--backend", default=None,
-                   help="cpu (ray casting, default), slicing[-variant] or mesh (OpenGL); see volumen.render.BACKENDS")
     c = p.add_argument_group("camera")
     c.add_argument("--view", choices=VIEWS, help="anatomical view (default anterior)")
     c.add_argument("--azimuth", type=float, help="degrees about the view's up axis")
@@ -62,6 +62,7 @@ def register(sub):
     s.add_argument("--crop-space", choices=["voxel", "world"], help="units of --crop (default voxel)")
     s.add_argument("--clip-plane", action="append", default=None, metavar="SPEC",
                    help="'point=X,Y,Z normal=X,Y,Z' in world mm, repeatable (the side the normal points to is kept)")
+    add_technique_options(p)
     add_load_options(p)
     return p
 
@@ -226,11 +227,11 @@ def run(args):
     if scene.shading.mode in ("phong", "shadows", "scattering", "pathtrace") and not scene.lights:
         print(f"warning: shading {scene.shading.mode!r} without --light: only the ambient term lights the picture "
               "(add --light 'pos=X,Y,Z dir=...' or use --shading headlight)", file=sys.stderr)
-    backend = args.backend or (base or {}).get("backend") or "cpu"
+    device, technique = technique_from_args(args, base)
     out_dir = Path(args.out).resolve().parent
     if not out_dir.is_dir():
         raise ValueError(f"{args.out}: folder {out_dir} does not exist")
-    image = render(scene, camera, size, backend=backend)
+    image = render(scene, camera, size, device=device, technique=technique)
     dt = time.perf_counter() - t0
     image.save(args.out, background=background)
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}) in {dt * 1000:.0f} ms")
@@ -239,7 +240,7 @@ def run(args):
                                                    "byte_order") if getattr(args, k, None) is not None}
         settings = {"version": SETTINGS_VERSION, "scene": scene.to_dict(), "camera": camera.to_dict(),
                     "size": list(size), "background": list(background), "orbit": orbit, "load": load_opts,
-                    "backend": backend}
+                    "device": device, "technique": technique.to_dict()}
         Path(args.save_settings).write_text(json.dumps(settings, indent=2))
         print(f"wrote {args.save_settings}")
     return 0

@@ -1,5 +1,9 @@
-"""Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only."""
+"""Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only.
 
+:mod:`volumen.core.gestures` turns mouse drags into cameras and lights (the app and the notebook share it);
+:mod:`volumen.core.display` makes the PNG and HTML with which Image, Volume and Mesh show themselves in notebooks."""
+
+from . import display, gestures
 from ._camera import VIEWS, Camera
 from ._image import Image
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
@@ -8,6 +12,8 @@ from ._transfer import PRESETS, TransferFunction
 from ._volume import Volume, axis_codes
 
 __all__ = [
+    "gestures",
+    "display",
     "Volume",
     "axis_codes",
     "Camera",

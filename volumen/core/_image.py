@@ -96,6 +96,12 @@ class Image:
             out[..., :3] = _srgb_encode(out[..., :3])
         return np.rint(out * 255.0).astype(np.uint8)
 
+    def _repr_png_(self) -> bytes:
+        """Notebook display: :meth:`to_uint8` over black as PNG."""
+        from .display import image_png
+
+        return image_png(self)
+
     def save(self, path, *, background: tuple[float, float, float] | None = (0.0, 0.0, 0.0),
              encoding: Literal["linear", "srgb"] = "linear") -> None:
         """Write a PNG (Pillow) of :meth:`to_uint8` ``(background, encoding)``; RGBA when ``background`` is None."""

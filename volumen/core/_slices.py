@@ -111,7 +111,8 @@ def canonical(volume: Volume) -> Volume:
         M[a, 3] = n_ijk[a] - 1 if flip[w] else 0.0
     affine = volume.affine @ M
     # data [k, j, i]: numpy axis of voxel axis a is 2 - a
-    data = np.transpose(volume.data, [2 - src_axis[2 - ax] for ax in range(3)])
+    axes = [2 - src_axis[2 - ax] for ax in range(3)] + ([3] if volume.is_color else [])
+    data = np.transpose(volume.data, axes)
     slicer = tuple(slice(None, None, -1) if flip[2 - ax] else slice(None) for ax in range(3))
     data = np.ascontiguousarray(data[slicer])
     spacing = tuple(float(np.linalg.norm(affine[:3, a])) for a in (2, 1, 0))
@@ -146,7 +147,7 @@ def slice_at(volume: Volume, plane: Plane, index: int | None = None, world: tupl
 
     Returns
     -------
-    image : (rows, cols) array
+    image : (rows, cols) or, for a colour volume, (rows, cols, 3) array
         Values in the data's units, row 0 at the top of the display.
     pixel_spacing : (row_mm, col_mm)
         Physical size of a display pixel, for aspect-correct display.
@@ -180,17 +181,24 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
 
     With ``square_pixels`` the image is stretched (linear interpolation) along the
     axis with the larger pixel spacing so one pixel covers the same mm both ways.
-    Returns a uint8 ``(rows, cols)`` array, row 0 at the top.
+    Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
+    ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
+    data with no window is shown as stored, 0..255). A volume whose
+    ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
     if window is None and volume.units == "HU":
         window = "soft-tissue"
+    if window is None and volume.is_color and img.dtype == np.uint8:
+        window = Window(level=127.5, width=255.0)
     out = window_to_uint8(img, window)
+    if volume.meta.get("display_inverted"):  # MONOCHROME1: low values are white
+        out = 255 - out
     if square_pixels and not np.isclose(sr, sc, rtol=1e-3):
         from scipy import ndimage
 
         base = min(sr, sc)
-        zoom = (sr / base, sc / base)
+        zoom = (sr / base, sc / base) + ((1.0,) if out.ndim == 3 else ())
         out = ndimage.zoom(out.astype(np.float32), zoom, order=1, mode="nearest")
         out = np.rint(np.clip(out, 0, 255)).astype(np.uint8)
     return out
@@ -202,7 +210,8 @@ def montage(volume: Volume, window: Window | str | tuple[float, float] | None = 
 
     The three planes pass through ``world`` (RAS+ mm; default the volume's
     centre), each with square pixels, bottom-aligned on a black canvas with
-    ``gap`` pixels between them. Returns a uint8 ``(rows, cols)`` array.
+    ``gap`` pixels between them. Returns a uint8 ``(rows, cols)`` array, or
+    ``(rows, cols, 3)`` for a colour volume.
     """
     can = canonical(volume)
     if world is None:
@@ -210,7 +219,7 @@ def montage(volume: Volume, window: Window | str | tuple[float, float] | None = 
     tiles = [slice_image(volume, p, world=world, window=window, canonical_volume=can) for p in PLANES]
     rows = max(t.shape[0] for t in tiles)
     cols = sum(t.shape[1] for t in tiles) + gap * (len(tiles) - 1)
-    out = np.zeros((rows, cols), np.uint8)
+    out = np.zeros((rows, cols) + tiles[0].shape[2:], np.uint8)
     c = 0
     for t in tiles:
         out[rows - t.shape[0]:, c:c + t.shape[1]] = t

@@ -75,7 +75,8 @@ class TransferFunction(JsonData):
 
     # -- evaluation ---------------------------------------------------------
     def evaluate(self, values) -> np.ndarray:
-        """Colour and opacity at data ``values`` (any shape): float32 ``(..., 4)`` = r, g, b, alpha (not premultiplied)."""
+        """Colour and opacity at data ``values`` (any shape): float32 ``(..., 4)`` = r, g, b, alpha (straight,
+        not premultiplied)."""
         v = np.asarray(values, dtype=float)
         out = np.empty(v.shape + (4,), np.float32)
         for c in range(3):

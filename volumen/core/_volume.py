@@ -19,7 +19,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Volume", "axis_codes"]
+__all__ = ["Volume", "axis_codes", "LUMA_WEIGHTS"]
+
+#: Rec. 601 luma weights of (R, G, B): the grey value of a colour sample.
+LUMA_WEIGHTS = (0.299, 0.587, 0.114)
 
 _AXIS_NAMES = (("L", "R"), ("P", "A"), ("I", "S"))
 
@@ -56,12 +59,13 @@ def _default_affine(spacing) -> np.ndarray:
 
 @dataclass(eq=False)
 class Volume:
-    """A scalar volume in physical units and patient (RAS+) space.
+    """A scalar or colour volume in physical units and patient (RAS+) space.
 
     Parameters
     ----------
-    data : (nz, ny, nx) array
+    data : (nz, ny, nx) or (nz, ny, nx, 3) array
         Samples indexed ``[z, y, x]``; kept C-contiguous (copied only if it is not).
+        A trailing axis of 3 holds colour (R, G, B; channel last): see ``is_color``.
     spacing : (3,) float, mm
         ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``.
     affine : (4, 4) float, optional
@@ -88,8 +92,8 @@ class Volume:
 
     def __post_init__(self) -> None:
         data = np.asarray(self.data)
-        if data.ndim != 3:
-            raise ValueError(f"Volume data must be 3-D [z, y, x], got shape {data.shape}")
+        if not (data.ndim == 3 or (data.ndim == 4 and data.shape[3] == 3)):
+            raise ValueError(f"Volume data must be 3-D [z, y, x] or colour [z, y, x, 3], got shape {data.shape}")
         if min(data.shape) < 1:
             raise ValueError(f"Volume data has an empty axis: shape {data.shape}")
         if data.dtype == np.bool_:
@@ -122,8 +126,13 @@ class Volume:
     # -- shape and geometry -------------------------------------------------
     @property
     def shape(self) -> tuple[int, int, int]:
-        """``(nz, ny, nx)``."""
-        return self.data.shape  # type: ignore[return-value]
+        """``(nz, ny, nx)`` (the grid; a colour volume's channel axis is not part of it)."""
+        return self.data.shape[:3]  # type: ignore[return-value]
+
+    @property
+    def is_color(self) -> bool:
+        """True when ``data`` is ``(nz, ny, nx, 3)``: R, G, B per voxel, channel last."""
+        return self.data.ndim == 4
 
     @property
     def dtype(self) -> np.dtype:
@@ -191,6 +200,14 @@ class Volume:
         return float(np.linalg.norm(self.extent))
 
     # -- values ---------------------------------------------------------------
+    def luminance(self) -> np.ndarray:
+        """float32 ``(nz, ny, nx)``: Rec. 601 luma ``0.299 R + 0.587 G + 0.114 B`` of a colour
+        volume (in the data's units), or the scalar data itself as float32."""
+        if not self.is_color:
+            return self.data.astype(np.float32, copy=False)
+        w = np.asarray(LUMA_WEIGHTS, np.float32)
+        return np.ascontiguousarray(self.data.astype(np.float32, copy=False) @ w)
+
     def value_range(self) -> tuple[float, float]:
         """``(min, max)`` over finite values (NaN and inf ignored)."""
         d = self.data
@@ -213,12 +230,12 @@ class Volume:
 
     # -- derived volumes ------------------------------------------------------
     def with_data(self, data: np.ndarray, **changes) -> Volume:
-        """A volume on the same grid with other values (a mask, a filtered copy)."""
+        """A volume on the same grid with other values (a mask, a filtered copy; scalar or colour)."""
         kw = dict(spacing=self.spacing, affine=self.affine.copy(), modality=self.modality,
                   units=self.units, name=self.name, meta=dict(self.meta))
         kw.update(changes)
-        if np.asarray(data).shape != self.shape:
-            raise ValueError(f"new data shape {np.asarray(data).shape} differs from {self.shape}")
+        if np.asarray(data).shape[:3] != self.shape:
+            raise ValueError(f"new data grid {np.asarray(data).shape[:3]} differs from {self.shape}")
         return Volume(data, **kw)
 
     def crop(self, z: slice | tuple = slice(None), y: slice | tuple = slice(None),
@@ -229,7 +246,7 @@ class Volume:
         for s in sl:
             if s.step not in (None, 1):
                 raise ValueError("crop takes contiguous ranges (step 1)")
-        starts = [s.indices(n)[0] for s, n in zip(sl, self.shape)]
+        starts = [s.indices(n)[0] for s, n in zip(sl, self.shape, strict=True)]
         data = self.data[tuple(sl)]
         if min(data.shape) < 1:
             raise ValueError(f"crop {z, y, x} leaves an empty volume")
@@ -245,7 +262,8 @@ class Volume:
         Default: isotropic at the smallest current spacing. The new grid starts at
         voxel (0, 0, 0) of the old one and covers the same voxel-centre box;
         interpolation is ``scipy.ndimage.zoom``-style spline of ``order``
-        (1 = trilinear). Integer data is rounded back to its dtype.
+        (1 = trilinear), each colour channel on its own. Integer data is rounded
+        back to its dtype.
         """
         from scipy import ndimage
 
@@ -261,7 +279,11 @@ class Volume:
         scale = new / old
         src = self.data
         work = src.astype(np.float32) if src.dtype.kind in "iub" else src
-        out = ndimage.affine_transform(work, scale, output_shape=tuple(n_new), order=order, mode=mode)
+        if self.is_color:
+            out = np.stack([ndimage.affine_transform(work[..., c], scale, output_shape=tuple(n_new), order=order,
+                                                     mode=mode) for c in range(3)], axis=-1)
+        else:
+            out = ndimage.affine_transform(work, scale, output_shape=tuple(n_new), order=order, mode=mode)
         if src.dtype.kind in "iu":
             info = np.iinfo(src.dtype)
             out = np.clip(np.rint(out), info.min, info.max).astype(src.dtype)
@@ -274,8 +296,21 @@ class Volume:
         return Volume(out, spacing=tuple(new), affine=aff, modality=self.modality, units=self.units,
                       name=self.name, meta=meta)
 
+    def _repr_png_(self) -> bytes:
+        """Notebook display: the axial, coronal and sagittal planes through the centre."""
+        from .display import volume_png
+
+        return volume_png(self)
+
+    def _repr_html_(self) -> str:
+        """Notebook display: the geometry as a table beside the three planes."""
+        from .display import volume_html
+
+        return volume_html(self)
+
     def __repr__(self) -> str:
         lo, hi = self.value_range()
-        return (f"Volume(name={self.name!r}, shape(z,y,x)={self.shape}, spacing(dz,dy,dx)="
+        grid = f"shape(z,y,x,rgb)={self.data.shape}" if self.is_color else f"shape(z,y,x)={self.shape}"
+        return (f"Volume(name={self.name!r}, {grid}, spacing(dz,dy,dx)="
                 f"{tuple(round(s, 4) for s in self.spacing)} mm, orientation={self.orientation}, "
                 f"modality={self.modality}, range=[{lo:g}, {hi:g}] {self.units})")

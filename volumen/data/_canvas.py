@@ -128,7 +128,7 @@ def ellipsoid_sd(reg: Region, center, semi_axes, rotation=None) -> np.ndarray:
     for a sphere; within a few per cent of the true distance near the surface of
     a moderately eccentric ellipsoid.
     """
-    px, py, pz = (c - np.float32(o) for c, o in zip((reg.x, reg.y, reg.z), center))
+    px, py, pz = (c - np.float32(o) for c, o in zip((reg.x, reg.y, reg.z), center, strict=True))
     if rotation is not None:
         r = np.asarray(rotation, dtype=np.float32)
         px, py, pz = (px * r[0, a] + py * r[1, a] + pz * r[2, a] for a in range(3))
@@ -179,7 +179,7 @@ def ellipse_cylinder_sd(reg: Region, center_xy, semi_xy, z_range) -> np.ndarray:
 def box_sd(reg: Region, lo_xyz, hi_xyz) -> np.ndarray:
     """Signed distance (mm) to an axis-aligned box ``[lo, hi]`` (exact outside near the faces, and inside)."""
     d = [np.abs(c - np.float32((lo + hi) / 2.0)) - np.float32((hi - lo) / 2.0)
-         for c, lo, hi in zip((reg.x, reg.y, reg.z), lo_xyz, hi_xyz)]
+         for c, lo, hi in zip((reg.x, reg.y, reg.z), lo_xyz, hi_xyz, strict=True)]
     inside = np.minimum(np.maximum(np.maximum(d[0], d[1]), d[2]), 0.0)
     outside = np.sqrt(sum(np.maximum(di, 0.0) ** 2 for di in d))
     return (inside + outside).astype(np.float32)

@@ -3,9 +3,9 @@
 Anatomy, painted back to front on a float canvas (see ``_canvas``):
 
 * scalp: skin (+40 HU) over subcutaneous fat (-100), soft tissue (+45) in the face and neck;
-* skull (outer and inner tables +1700, each 30 % of the thickness, diploe +1050) of varying thickness: ~3 mm at the temples,
-  ~6.5 mm at the vertex, ~9.5 mm at the back, ~10 mm at the base; a floor rising toward the
-  front leaves room for the face below; two frontal sinuses (air in bone) in the forehead;
+* skull (outer and inner tables +1700, each 30 % of the thickness, diploe +1050) of varying
+  thickness: ~3 mm at the temples, ~6.5 mm at the vertex, ~9.5 mm at the back, ~10 mm at the base;
+  a floor rising toward the front leaves room for the face below; two frontal sinuses (air in bone) in the forehead;
 * a thin layer of CSF (+8), grey (+40) and white matter (+27), a third ventricle and two
   C-shaped lateral ventricles (+5) that read as a butterfly on coronal slices;
 * two eyes (vitreous +10 in a +45 sclera, lens +80) in fat-filled bony orbits, a nose,
@@ -74,7 +74,7 @@ def _skull_sd(reg: Region) -> np.ndarray:
 
 def _skull_thickness(reg: Region) -> np.ndarray:
     """Skull thickness (mm) by direction from the braincase centre: thick at the back and base, thin at the temples."""
-    ux, uy, uz = ((c - o) / a for c, o, a in zip((reg.x, reg.y, reg.z), SKULL_C, SKULL_AX))
+    ux, uy, uz = ((c - o) / a for c, o, a in zip((reg.x, reg.y, reg.z), SKULL_C, SKULL_AX, strict=True))
     norm = np.maximum(np.sqrt(ux * ux + uy * uy + uz * uz), 1e-6)
     ux, uy, uz = ux / norm, uy / norm, uz / norm
     return 6.5 + 3.0 * np.maximum(-uy, 0) ** 2 + 3.5 * np.maximum(-uz, 0) ** 2 - 3.5 * ux**4

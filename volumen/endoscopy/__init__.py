@@ -1,6 +1,8 @@
 """Virtual endoscopy: lumens, centerlines, collision detection, navigation, flythroughs, unfolded views.
 
 * :func:`lumen_mask` -- region growing from a seed over a value range (air, contrast);
+* :func:`find_lumen`, :func:`estimate_lumen` -- the lumen from a start (and end) point alone: its
+  polarity (air or contrast), value range and wall threshold from the data, thin bridges cut;
 * :func:`compute_centerline` -> :class:`Centerline` -- minimal path kept away from the wall,
   smoothed, resampled every ``step`` mm, with the local radius and rotation-minimizing frames;
 * :class:`WallField`, :class:`Collider` -- where the wall is; moves that stop at a safety margin
@@ -8,17 +10,25 @@
 * :class:`Pose`, :class:`ManualNavigator`, :class:`GuidedNavigator`, :class:`Keyframe`,
   :class:`KeyframePath` -- manual, guided and automatic navigation (no GUI);
 * :class:`Endoscope`, :class:`FrameLog`, :class:`VideoWriter` -- rendering and writing flythroughs;
-* :func:`unfold` -> :class:`Unfolded` -- the wall cut open along the centerline.
+* :class:`Flight` -- keyframes, endoscope settings and centerline saved together, reproducing every frame;
+* :func:`unfold` -> :class:`Unfolded` -- the wall cut open along the centerline;
+* :func:`curved_reformation` -> :class:`CPR`, :func:`cross_section`, :func:`cpr_figure` -- straightened and
+  stretched curved planar reformations along the centerline, with cross-sections.
 
 Numba kernels compile (or load from Numba's cache) on first use, not at import.
 """
 
 from ._centerline import Centerline, compute_centerline
 from ._collision import Collider, MoveResult
+from ._cpr import CPR, cross_section, curved_reformation
+from ._cpr_figure import cpr_figure
+from ._flight import Flight
 from ._flythrough import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
 from ._keyframes import Keyframe, KeyframePath, catmull_rom
-from ._lumen import AIR_RANGE, CONTRAST_RANGE, lumen_mask
+from ._lumen import AIR_RANGE, CONTRAST_RANGE, find_lumen, lumen_mask, lumen_voxel, nearest_voxel
+from ._lumen_file import check_points_in_mask, load_lumen_mask
 from ._navigation import GuidedNavigator, ManualNavigator
+from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from ._pose import Pose, slerp
 from ._unfold import Unfolded, unfold
 from ._video import VideoWriter
@@ -26,6 +36,14 @@ from ._wall import WallField
 
 __all__ = [
     "lumen_mask",
+    "find_lumen",
+    "lumen_voxel",
+    "nearest_voxel",
+    "load_lumen_mask",
+    "check_points_in_mask",
+    "estimate_lumen",
+    "LumenEstimate",
+    "LUMEN_KINDS",
     "AIR_RANGE",
     "CONTRAST_RANGE",
     "Centerline",
@@ -41,10 +59,15 @@ __all__ = [
     "KeyframePath",
     "catmull_rom",
     "Endoscope",
+    "Flight",
     "FrameLog",
     "ENDOSCOPY_PRESETS",
     "endoscopy_transfer",
     "VideoWriter",
     "Unfolded",
     "unfold",
+    "CPR",
+    "curved_reformation",
+    "cross_section",
+    "cpr_figure",
 ]

@@ -101,7 +101,7 @@ class Centerline:
         return np.interp(np.clip(np.asarray(s, float), 0.0, self.length), self.arc, self.radius)
 
     def project(self, point) -> tuple[float, float]:
-        """``(arc, distance)``: arc length (mm) of the closest point of the polyline to ``point`` and the distance (mm)."""
+        """``(arc, distance)``: arc length (mm) of the polyline's closest point to ``point``, and the distance (mm)."""
         p = np.asarray(point, float)
         a, b = self.points[:-1], self.points[1:]
         ab = b - a

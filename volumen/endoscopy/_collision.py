@@ -255,7 +255,8 @@ class Collider:
         self._geo = wall.geometry
 
     def first_hit(self, origin, direction, max_length: float) -> float:
-        """Distance (mm) from ``origin`` along ``direction`` (world, any length) to the wall; inf if none within ``max_length``."""
+        """Distance (mm) from ``origin`` along ``direction`` (world, any length) to the wall; inf if none within
+        ``max_length``."""
         o = np.asarray(origin, float)
         d = np.asarray(direction, float)
         d = d / np.linalg.norm(d)

@@ -72,7 +72,8 @@ class FrameLog:
         return float(np.sum(t * t) / np.sum(t)) if t.size and t.sum() > 0 else float("nan")
 
     def to_dict(self) -> dict:
-        """``frames``, ``mean_s``, ``weighted_mean_s`` (sum t^2 / sum t), ``total_s``, ``min_s``, ``max_s``, ``times_s``."""
+        """``frames``, ``mean_s``, ``weighted_mean_s`` (sum t^2 / sum t), ``total_s``, ``min_s``, ``max_s``,
+        ``times_s``."""
         t = self.times
         return {"frames": len(t), "mean_s": self.mean, "weighted_mean_s": self.weighted_mean,
                 "total_s": float(np.sum(t)) if t else 0.0, "min_s": min(t) if t else None,
@@ -114,6 +115,12 @@ class Endoscope:
         Near plane ahead of the eye.
     samples_per_voxel : float
         Sampling density of the rays.
+    jitter : bool or None
+        Offset each ray's first sample by a hash of its pixel (the same in every
+        frame): breaks the concentric "wood-grain" rings of a camera looking down
+        a tube into fine noise fixed on the screen, which does not crawl in motion.
+        None (default): on in composite mode, off in isosurface mode (whose
+        refined hits show no rings).
     """
 
     volume: object = field(repr=False)
@@ -127,6 +134,7 @@ class Endoscope:
     fov: float = 100.0
     near: float = 0.5
     samples_per_voxel: float = 2.0
+    jitter: bool | None = None
 
     def __post_init__(self):
         if self.mode not in ("isosurface", "composite"):
@@ -142,9 +150,36 @@ class Endoscope:
         if self.transfer is None:
             object.__setattr__(self, "transfer", endoscopy_transfer("endo-air"))
         object.__setattr__(self, "lights", tuple(self.lights))
+        if self.jitter is None:
+            object.__setattr__(self, "jitter", self.mode == "composite")
 
     def with_(self, **changes) -> Endoscope:
+        """A copy with ``changes``; a new ``mode`` without ``jitter`` takes that mode's default jitter."""
+        if "mode" in changes and "jitter" not in changes:
+            changes["jitter"] = None
         return replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """Every setting but the volume, JSON-ready (the transfer function and lights as their dicts)."""
+        return {"mode": self.mode, "threshold": self.threshold, "transfer": self.transfer.to_dict(),
+                "color": list(self.color), "shading": self.shading, "flashlight": self.flashlight,
+                "lights": [light.to_dict() for light in self.lights], "fov": self.fov, "near": self.near,
+                "samples_per_voxel": self.samples_per_voxel, "jitter": self.jitter}
+
+    @classmethod
+    def from_dict(cls, d: dict, volume) -> Endoscope:
+        """Inverse of :meth:`to_dict` on ``volume``; unknown keys raise ValueError naming the valid ones."""
+        known = {f for f in cls.__dataclass_fields__ if f != "volume"}
+        extra = set(d) - known
+        if extra:
+            raise ValueError(f"unknown Endoscope fields {sorted(extra)}; valid: {sorted(known)}")
+        d = dict(d)
+        if "transfer" in d:
+            d["transfer"] = TransferFunction.from_dict(d["transfer"])
+        d["lights"] = tuple(Light.from_dict(x) for x in d.get("lights", ()))
+        if "color" in d:
+            d["color"] = tuple(d["color"])
+        return cls(volume=volume, **d)
 
     def scene(self, pose) -> Scene:
         """The :class:`Scene` seen from ``pose`` (the flashlight sits at the eye)."""
@@ -153,7 +188,7 @@ class Endoscope:
             lights = (Light(position=pose.position, direction=pose.forward, exponent=self.flashlight), *lights)
         return Scene(volume=self.volume, transfer=self.transfer, mode=self.mode, lights=lights,
                      shading=Shading(mode=self.shading),
-                     sampling=Sampling(samples_per_voxel=self.samples_per_voxel, jitter=False),
+                     sampling=Sampling(samples_per_voxel=self.samples_per_voxel, jitter=self.jitter, seed=0),
                      isosurface=Isosurface(value=self.threshold, color=self.color))
 
     def camera(self, pose):

@@ -180,7 +180,8 @@ class KeyframePath:
         ahead = centerline.at(np.minimum(s + look_ahead, centerline.length))
         tan = centerline.tangent_at(s)
         dirs = np.where(np.linalg.norm(ahead - pts, axis=1, keepdims=True) > 1e-6, ahead - pts, tan)
-        return cls([Keyframe(tuple(p), tuple(d), tuple(u)) for p, d, u in zip(pts, dirs, ups)], speed=speed)
+        keys = [Keyframe(tuple(p), tuple(d), tuple(u)) for p, d, u in zip(pts, dirs, ups, strict=True)]
+        return cls(keys, speed=speed)
 
     # -- JSON ---------------------------------------------------------------
     def to_dict(self) -> dict:

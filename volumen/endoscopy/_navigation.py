@@ -88,7 +88,8 @@ class ManualNavigator:
         self.pose = self.pose.rotated(self.pose.right, degrees)
 
     def roll(self, degrees: float) -> None:
-        """Roll the camera about the view direction (positive: its up turns toward its right, clockwise seen from behind)."""
+        """Roll the camera about the view direction (positive: its up turns toward its right, clockwise seen
+        from behind)."""
         self.pose = self.pose.rotated(self.pose.forward, degrees)
 
     def look(self, direction, up=None) -> None:

@@ -45,7 +45,7 @@ class VideoWriter:
             import imageio.v2 as iio
 
             try:
-                import imageio_ffmpeg  # noqa: F401
+                import imageio_ffmpeg  # noqa: F401 - imported only to find out whether it is installed
             except ImportError:  # pragma: no cover - depends on the installation
                 raise ValueError("writing MP4 needs the imageio-ffmpeg package (pip install imageio-ffmpeg)") from None
             self._writer = iio.get_writer(str(self.path), format="FFMPEG", mode="I", fps=self.fps, codec="libx264",

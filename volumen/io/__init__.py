@@ -5,5 +5,6 @@ Libraries used: pydicom (DICOM), nibabel (NIfTI), pynrrd (NRRD), SimpleITK
 """
 
 from ._api import READ_FORMATS, WRITE_FORMATS, detect_format, load, save
+from ._dicom_listing import SeriesSummary, list_series
 
-__all__ = ["load", "save", "detect_format", "READ_FORMATS", "WRITE_FORMATS"]
+__all__ = ["load", "save", "detect_format", "list_series", "SeriesSummary", "READ_FORMATS", "WRITE_FORMATS"]

@@ -180,7 +180,7 @@ def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None, 
     The format comes from the suffix (``.nii``, ``.nii.gz``, ``.nrrd``, ``.mha``,
     ``.mhd``, ``.npy``, ``.npz``) or from ``format``. ``options`` go to the writer
     (e.g. ``encoding="gzip"`` for NRRD, ``compress=True`` for MetaImage). Raises
-    :class:`VolumeWriteError` for an unknown suffix or a failed write.
+    :class:`VolumeWriteError` for an unknown suffix, a colour volume or a failed write.
     """
     p = Path(path)
     if format is None:
@@ -193,6 +193,9 @@ def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None, 
         raise VolumeWriteError(p, f"cannot write format {format!r}; choose one of {list(WRITE_FORMATS)}")
     if not p.parent.exists():
         raise VolumeWriteError(p, f"folder {p.parent} does not exist")
+    if volume.is_color:
+        raise VolumeWriteError(p, "is to hold a colour (RGB) volume, which volumen does not write yet; save its grey "
+                                  "values instead: volume.with_data(volume.luminance())")
     try:
         _module(format).write(volume, p, **options)
     except VolumeWriteError:

@@ -1,10 +1,13 @@
 """DICOM reader: a folder, a file or a list of files holding one image series -> :class:`Volume`.
 
 Headers of every file are read first (:mod:`._dicom_series` groups them by
-SeriesInstanceUID, orders slices along their normal and builds the geometry);
-pixels are then read for the chosen series only, rescaled to physical units
-(RescaleSlope / RescaleIntercept: CT in HU) and stacked ``[slice, row, column]``
-= ``[z, y, x]``. DICOM is LPS+; the affine is turned into RAS+ once, here.
+SeriesInstanceUID; a file that cannot be read is a note, not the end of the
+folder), :mod:`._dicom_geometry` orders the slices along their normal and builds
+the geometry; pixels are then decoded for the chosen series only
+(:mod:`._dicom_pixels`: colour as RGB, Modality LUT applied), rescaled to physical
+units (RescaleSlope / RescaleIntercept: CT in HU) and stacked ``[slice, row, column]``
+= ``[z, y, x]`` (``[z, y, x, 3]`` for colour). DICOM is LPS+; the affine is turned
+into RAS+ once, in :mod:`._dicom_geometry`.
 
 Patient identity (names, IDs, dates of birth, addresses, institutions, accession
 numbers, study dates) is never copied into the volume, its warnings or any error.
@@ -13,35 +16,18 @@ numbers, study dates) is never copied into the volume, its warnings or any error
 from __future__ import annotations
 
 import os
-import warnings
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
-import pydicom
-from pydicom.errors import InvalidDicomError
-from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
 
 from ..core import Volume
-from ..errors import (
-    CorruptDataError,
-    MissingDependencyError,
-    MissingPathError,
-    MultipleSeriesError,
-    SeriesError,
-    UnknownFormatError,
-)
-from ._dicom_series import Geometry, SeriesHeaders, measure, read_headers
+from ..errors import CorruptDataError, MissingPathError, MultipleSeriesError, SeriesError, UnknownFormatError
+from ._dicom_geometry import Geometry, measure
+from ._dicom_pixels import decode
+from ._dicom_series import SeriesHeaders, read_headers
 
-__all__ = ["read"]
-
-_INSTALL = {
-    "JPEG-LS": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install pyjpegls, or: pip install python-gdcm)",
-    "JPEG 2000": "pip install pylibjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)",
-    "JPEG": "pip install pylibjpeg pylibjpeg-libjpeg (or: pip install python-gdcm)",
-    "RLE": "pip install pylibjpeg pylibjpeg-rle",
-}
-_INSTALL_ANY = "pip install pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg (or: pip install python-gdcm)"
+__all__ = ["read", "scan"]
 
 
 def _files(path) -> tuple[list[Path], Path]:
@@ -76,55 +62,14 @@ def _choose(series: dict[str, SeriesHeaders], uid: str | None, where) -> SeriesH
     return next(iter(series.values()))
 
 
-def _decode(path: str, frames: int | None, shape: tuple[int, int]) -> np.ndarray:
-    """Stored pixel values of one file: ``(rows, cols)``, or ``(frames, rows, cols)`` if ``frames``."""
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                ds = pydicom.dcmread(path)
-            except InvalidDicomError:  # no preamble: accepted by the header pass for its DICOM suffix
-                ds = pydicom.dcmread(path, force=True)
-                if "TransferSyntaxUID" not in ds.file_meta:
-                    ds.file_meta.TransferSyntaxUID = (ImplicitVRLittleEndian if ds.original_encoding[0]
-                                                      else ExplicitVRLittleEndian)
-    except Exception as exc:  # noqa: BLE001 - whatever pydicom raises, the file is unreadable
-        raise CorruptDataError(path, f"is not a readable DICOM file ({type(exc).__name__})") from None
-    if "PixelData" not in ds:
-        raise CorruptDataError(path, "has no pixel data (truncated file?)")
-    ts = getattr(ds.get("file_meta", None), "TransferSyntaxUID", None)
-    ts_name = f"{ts.name} ({ts})" if ts is not None else "an unknown transfer syntax"
-    if ts is not None and ts.is_compressed:
-        from pydicom.pixels import get_decoder
-
-        try:
-            available = get_decoder(ts).is_available
-        except NotImplementedError:
-            raise CorruptDataError(path, f"pixel data uses {ts_name}, which no pydicom decoder supports") from None
-        if not available:
-            hint = next((v for k, v in _INSTALL.items() if k in ts.name), _INSTALL_ANY)
-            raise MissingDependencyError(path, f"pixel data is compressed with {ts_name} and no installed "
-                                               f"decoder reads it; install one: {hint}")
-    if int(ds.get("SamplesPerPixel", 1) or 1) != 1:
-        raise SeriesError(path, f"colour images (SamplesPerPixel={ds.SamplesPerPixel}, "
-                                f"{ds.get('PhotometricInterpretation', '')}) are not volumes volumen reads")
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            arr = ds.pixel_array
-    except Exception as exc:  # noqa: BLE001
-        raise CorruptDataError(path, f"could not decode its {ts_name} pixel data ({type(exc).__name__}: "
-                                     f"{str(exc)[:160]})") from None
-    if frames == 1 and arr.ndim == 2:
-        arr = arr[None]
-    want = shape if frames is None else (frames, *shape)
-    if arr.shape != want:
-        raise CorruptDataError(path, f"pixel data has shape {arr.shape}, the header says {want}")
-    return arr
+def _samples(series: SeriesHeaders) -> int:
+    """Values per pixel after decoding: 3 for colour (RGB, YBR_*, PALETTE COLOR), else 1."""
+    info = series.info
+    return 3 if info["samples_per_pixel"] == 3 or info["photometric"] == "PALETTE COLOR" else 1
 
 
 def _stack(series: SeriesHeaders, geo: Geometry) -> np.ndarray:
-    """Stored values ``(n, rows, cols)`` in the sorted slice order (each file read once)."""
+    """Values ``(n, rows, cols)`` (or ``(n, rows, cols, 3)``) in the sorted slice order (each file read once)."""
     slices = series.slices
     dest: dict[str, list[tuple[int, int | None]]] = defaultdict(list)
     for k, idx in enumerate(geo.order):
@@ -135,13 +80,13 @@ def _stack(series: SeriesHeaders, geo: Geometry) -> np.ndarray:
     out = None
     for path, targets in dest.items():
         multi = targets[0][1] is not None
-        arr = _decode(path, n_frames[path] if multi else None, slices[0].shape)
+        arr = decode(path, n_frames[path] if multi else None, slices[0].shape, _samples(series))
         if out is None:
-            out = np.empty((len(slices), *slices[0].shape), arr.dtype)
+            out = np.empty((len(slices), *arr.shape[1:]), arr.dtype)
         elif arr.dtype != out.dtype:
             out = out.astype(np.result_type(out.dtype, arr.dtype))
         for k, frame in targets:
-            out[k] = arr if frame is None else arr[frame]
+            out[k] = arr[0 if frame is None else frame]
     return out
 
 
@@ -207,54 +152,52 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
     -------
     Volume
         ``data`` ``[z, y, x]`` = ``[slice, row, column]`` in physical units (RescaleSlope /
-        RescaleIntercept applied; CT in HU): the stored integer dtype when the rescale is
-        the identity, an integer dtype wide enough when slope and intercept are whole
-        numbers shared by all slices, float32 otherwise. ``spacing`` ``(dz, dy, dx)`` mm,
-        with dz from the slice positions; ``affine`` (column, row, slice) -> RAS+ mm.
-        ``meta`` holds technical facts only: ``series_uid``, ``series_description``,
-        ``slice_positions`` (mm along the slice normal), ``rescale``, ``window_presets``,
-        ``transfer_syntax``, ``n_files``, ``warnings``...
+        RescaleIntercept or the Modality LUT Sequence applied; CT in HU): the stored integer
+        dtype when the rescale is the identity, an integer dtype wide enough when slope and
+        intercept are whole numbers shared by all slices, float32 otherwise (float64 for
+        DoubleFloatPixelData). Colour (RGB, YBR_*, PALETTE COLOR) is ``[z, y, x, 3]`` RGB.
+        ``spacing`` ``(dz, dy, dx)`` mm, with dz from the slice positions; ``affine``
+        (column, row, slice) -> RAS+ mm. ``meta`` holds technical facts only:
+        ``series_uid``, ``series_description``, ``series_number``, ``slice_positions`` (mm
+        along the slice normal), ``rescale``, ``window_presets``, ``transfer_syntax(_uid)``,
+        ``sop_class(_uid)``, ``photometric``, ``display_inverted`` (MONOCHROME1),
+        ``modality_lut``, ``voi_lut``, ``n_files``, ``warnings`` (every assumption made and
+        every file skipped)...
 
     Raises
     ------
     MissingPathError, UnknownFormatError
         Missing path; no DICOM files.
     CorruptDataError
-        A DICOM file that cannot be parsed or decoded (named).
+        A file of the chosen series that cannot be parsed or decoded (named); every file
+        unreadable.
     SeriesError, MultipleSeriesError
         No images, several series and none chosen, inconsistent or duplicate slices.
     MissingDependencyError
         Compressed pixel data without an installed decoder (names what to install).
     """
-    files, where = _files(path)
-    if not files:
-        raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")
-    notes: list[str] = []
-    dicomdirs: list[str] = []
-    found = read_headers(files, notes, dicomdirs)
-    if not found:
-        if notes or dicomdirs:
-            what = f"{len(notes)} DICOM file(s) without pixel data" if notes else ""
-            what += (" and " if what else "") + (f"{len(dicomdirs)} DICOMDIR index file(s) whose images are "
-                                                  "missing" if dicomdirs else "")
-            raise SeriesError(where, f"holds no DICOM images, only {what}")
-        raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
+    found, notes, where = scan(path)
     chosen = _choose(found, series, where)
+    if chosen.bad:  # a file of this very series is broken: a slice would be missing
+        path, problem = chosen.bad[0]
+        raise CorruptDataError(path, f"{problem} (a file of series {chosen.uid}, which cannot load without it)")
     geo = measure(chosen.slices, where)
     info = chosen.info
     slices = [chosen.slices[i] for i in geo.order]
     data, rescale = _rescale(_stack(chosen, geo), np.array([s.slope for s in slices]),
                              np.array([s.intercept for s in slices]))
     meta = {
-        "series_uid": chosen.uid, "series_description": chosen.description,
+        "series_uid": chosen.uid, "series_description": chosen.description, "series_number": info["series_number"],
         "manufacturer": info["manufacturer"], "manufacturer_model": info["manufacturer_model"],
-        "sop_class": info["sop_class"], "transfer_syntax": info["transfer_syntax"],
+        "sop_class": info["sop_class"], "sop_class_uid": info["sop_class_uid"],
+        "transfer_syntax": info["transfer_syntax"], "transfer_syntax_uid": info["transfer_syntax_uid"],
         "photometric": info["photometric"], "n_files": len(chosen.files), "multiframe": slices[0].frame is not None,
         "rescale": rescale, "window_presets": info["window_presets"],
         "slice_positions": [float(p) for p in geo.positions],
         "slice_normal": [float(v) for v in geo.normal_lps * (-1.0, -1.0, 1.0)],  # RAS+
         "warnings": notes + geo.warnings,
     }
+    _display_facts(meta, info)
     if geo.tilt_deg > 0.01:
         meta["gantry_tilt_deg"] = geo.tilt_deg
     affine, spacing = geo.affine, geo.spacing
@@ -270,6 +213,54 @@ def read(path, *, series: str | None = None, resample: bool = False) -> Volume:
         meta["warnings"].append(meta["resampled"])
     modality = info["modality"]
     rtype = info["rescale_type"]
-    units = rtype if rtype and rtype.upper() != "US" else ("HU" if modality == "CT" else "")
+    units = "" if data.ndim == 4 else (rtype if rtype and rtype.upper() != "US" else ("HU" if modality == "CT" else ""))
     return Volume(data, spacing=spacing, affine=affine, modality=modality, units=units,
                   name=chosen.description or "DICOM series", meta=meta)
+
+
+def _display_facts(meta: dict, info: dict) -> None:
+    """How the values should be shown: MONOCHROME1 inverted, LUTs applied or available."""
+    if info["photometric"] == "MONOCHROME1":
+        meta["display_inverted"] = True  # stored values kept; slice views show low values white
+        meta["warnings"].append("MONOCHROME1: values kept as stored (low = white on film); slice views show "
+                                "them inverted")
+    if info["modality_lut"]:
+        meta["modality_lut"] = f"applied ({info['modality_lut']})"
+    if info["voi_lut"]:
+        meta["voi_lut"] = f"not applied: available for display ({info['voi_lut']})"
+
+
+def scan(path) -> tuple[dict[str, SeriesHeaders], list[str], Path]:
+    """Read the headers under ``path``: ``(series by SeriesInstanceUID, notes, path for messages)``.
+
+    Unreadable files are notes (path and cause) as long as some series is found (and
+    listed in ``SeriesHeaders.bad`` of their series when their SeriesInstanceUID could be
+    read); when none is found, the error says why (the unreadable file itself when there is one).
+    """
+    files, where = _files(path)
+    if not files:
+        raise UnknownFormatError(where, "is an empty folder: no DICOM files to read")
+    notes: list[str] = []
+    dicomdirs: list[str] = []
+    bad: list[tuple[str, str, str]] = []
+    found = read_headers(files, notes, dicomdirs, bad)
+    if not found:
+        if bad:
+            first, problem, _ = bad[0]
+            if len(files) == 1:
+                raise CorruptDataError(first, problem)
+            raise CorruptDataError(where, f"holds no readable DICOM images: {len(bad)} unreadable DICOM file(s), "
+                                          f"e.g. {first}: {problem}")
+        if notes or dicomdirs:
+            kinds = sorted({n[n.rindex("(") + 1:-1] for n in notes if n.endswith(")")})
+            what = [f"{len(notes)} DICOM file(s) without pixel data ({', '.join(kinds)})"] if notes else []
+            what += [f"{len(dicomdirs)} DICOMDIR index file(s) whose images are missing"] if dicomdirs else []
+            raise SeriesError(where, f"holds no DICOM images, only {' and '.join(what)}")
+        if len(files) == 1 and files[0] == where:
+            raise UnknownFormatError(where, "is not a DICOM file (no 'DICM' marker and no DICOM suffix)")
+        raise UnknownFormatError(where, f"holds no DICOM files ({len(files)} file(s) looked at)")
+    for path, problem, uid in bad:
+        if uid in found:
+            found[uid].bad.append((path, problem))
+        notes.append(f"skipped unreadable file {path}: {problem}")
+    return found, notes, where

@@ -2,50 +2,35 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import warnings
 
 from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
+from ._techniques import Technique, legacy_backend, resolve_device
 
-__all__ = ["render", "render_volume", "clear_cache", "BACKENDS", "auto_backend"]
-
-
-def _cpu(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
-    from .raycast import render_cpu  # Numba loads here, not at import
-
-    return render_cpu(scene, camera, size)
+__all__ = ["render", "render_volume", "clear_cache"]
 
 
-def _cuda(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
-    from .cuda import render_cuda  # numba.cuda loads here, not at import
-
-    return render_cuda(scene, camera, size)
-
-
-def auto_backend() -> str:
-    """The backend ``"auto"`` stands for: ``"cuda"`` when a CUDA device is usable (never the simulator),
-    else ``"cpu"``."""
-    from .cuda import cuda_available
-
-    return "cuda" if cuda_available() else "cpu"
-
-
-def _auto(scene: Scene, camera: Camera, size: tuple[int, int]) -> Image:
-    return BACKENDS[auto_backend()](scene, camera, size)
+def _choose(device, technique, options, backend) -> tuple[str, Technique]:
+    """(resolved device, Technique) from ``render``'s arguments."""
+    if backend is not None:
+        warnings.warn("render(backend=...) is deprecated: use device= and technique= (volumen.render.DEVICES, "
+                      "TECHNIQUES)", DeprecationWarning, stacklevel=3)
+        device, technique = legacy_backend(backend)
+    if isinstance(technique, Technique):
+        if options:
+            technique = Technique(technique.name, technique.options, **options)
+    elif isinstance(technique, str):
+        technique = Technique(technique, **options)
+    else:
+        raise ValueError(f"technique must be a name or a Technique, got {type(technique).__name__}")
+    return resolve_device(device, technique.name), technique
 
 
-#: backend name -> function(scene, camera, size) -> Image
-BACKENDS: dict[str, Callable[[Scene, Camera, tuple[int, int]], Image]] = {"cpu": _cpu, "cuda": _cuda, "auto": _auto}
-
-# the OpenGL techniques (texture slicing variants, meshes); moderngl loads only when one draws
-from .raster import register_backends  # noqa: E402
-
-register_backends(BACKENDS)
-
-
-def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, backend: str = "cpu") -> Image:
+def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, device: str | None = None,
+           technique: str | Technique = "raycast", backend: str | None = None, **options) -> Image:
     """Render a scene.
 
     Parameters
@@ -54,11 +39,21 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         Must hold its ``volume`` (a :class:`~volumen.core.Volume`).
     camera : Camera
     size : (width, height), pixels
-    backend : str
-        A key of :data:`BACKENDS`: ``"cpu"`` (Numba ray casting), ``"cuda"``
-        (the same kernels on an NVIDIA GPU; raises
-        :class:`~volumen.render.cuda.CudaUnavailableError` where there is
-        none), ``"auto"`` (``"cuda"`` when a device is usable, else ``"cpu"``).
+    device : one of :data:`~volumen.render.DEVICES`, or None
+        ``"cpu"`` (Numba), ``"cuda"`` (the same kernels on an NVIDIA GPU;
+        raises :class:`~volumen.render.cuda.CudaUnavailableError` where there
+        is none), ``"gl"`` (OpenGL), ``"auto"`` (the technique's best usable
+        device: ``"cuda"`` for ray casting when a device is usable); None: the
+        technique's default (``"cpu"`` for ray casting, ``"gl"`` for slicing and mesh).
+    technique : one of :data:`~volumen.render.TECHNIQUES`, or a :class:`~volumen.render.Technique`
+        ``"raycast"``, ``"slicing"`` or ``"mesh"``.
+    **options
+        The technique's options (:func:`~volumen.render.option_choices`), e.g.
+        ``precision="uint8"``, ``planes="near-quarter"`` for slicing,
+        ``shading="gouraud"`` for mesh.
+    backend : str, deprecated
+        A backend name of volumen 0.1 (``"cpu"``, ``"slicing-uint8"``...);
+        warns and stands for its device and technique.
 
     Returns
     -------
@@ -78,23 +73,25 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         ``light_volumes_built``; shading ``pathtrace`` (composite mode) runs
         ``scene.shading.pt_samples`` samples per pixel of :class:`PathTracer`
         and reports ``spp``; its depth is the mean distance of the first
-        scattering event.
+        scattering event. ``stats["renderer"]``: the ``device`` and ``technique`` that drew it.
     """
-    if backend not in BACKENDS:
-        raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
+    device, technique = _choose(device, technique, options, backend)
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(camera, Camera):
         raise ValueError(f"camera must be a Camera, got {type(camera).__name__}")
     if scene.volume is None:
-        raise ValueError("scene.volume is None: attach the Volume (Scene(volume=...) or Scene.from_dict(d, volume=...))")
+        raise ValueError("scene.volume is None: attach the Volume (Scene(volume=...) or "
+                         "Scene.from_dict(d, volume=...))")
     try:
         w, h = (int(s) for s in size)
     except (TypeError, ValueError):
         raise ValueError(f"size must be (width, height) in pixels, got {size!r}") from None
     if not (1 <= w <= 16384 and 1 <= h <= 16384):
         raise ValueError(f"size must be (width, height) with 1..16384 pixels each, got {size!r}")
-    return BACKENDS[backend](scene, camera, (w, h))
+    image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
+    image.stats["renderer"] = {"device": device, "technique": technique.name}
+    return image
 
 
 def default_transfer(volume, mode: Mode) -> TransferFunction:
@@ -111,7 +108,8 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
                   mode: Mode = "composite", projection: Projection = "perspective",
                   size: tuple[int, int] = (512, 512), shading: ShadingMode = "headlight", azimuth: float = 0.0,
                   elevation: float = 0.0, zoom: float = 1.0, samples_per_voxel: float = 1.0,
-                  iso_value: float | None = None, backend: str = "cpu") -> Image:
+                  iso_value: float | None = None, device: str | None = None,
+                  technique: str | Technique = "raycast", **options) -> Image:
     """Render a volume in one call.
 
     Parameters
@@ -130,6 +128,8 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     iso_value : float or None
         Isosurface threshold in data units; None: 300 HU for CT, the middle
         of the value range otherwise.
+    device, technique, **options :
+        As in :func:`render`.
     """
     if isinstance(preset, TransferFunction):
         tf = preset
@@ -143,7 +143,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
     camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
-    return render(scene, camera, size, backend=backend)
+    return render(scene, camera, size, device=device, technique=technique, **options)
 
 
 def clear_cache(volume=None) -> None:

@@ -5,6 +5,7 @@ come from (``Volume.with_data``); seeds are world RAS+ mm or voxel ``(i, j, k)``
 SciPy and Numba are imported on first use.
 """
 
+from ._bridges import cut_bridges
 from ._components import keep_components_touching, keep_largest_component, label_components
 from ._connectivity import CONNECTIVITIES, neighbour_offsets
 from ._mask import mask_data, mask_like
@@ -26,6 +27,7 @@ __all__ = [
     "binary_open",
     "binary_close",
     "fill_holes",
+    "cut_bridges",
     "mask_like",
     "mask_data",
     "CONNECTIVITIES",

@@ -44,7 +44,7 @@ def _apply(mask: Volume, radius_mm: float, op: str) -> Volume:
     else:  # close: pad so the erosion does not eat what touches the border
         pad = [(h, h) for h in (np.array(fp.shape) - 1) // 2]
         out = ndimage.binary_closing(np.pad(m, pad), structure=fp)
-        out = out[tuple(slice(a, a + n) for (a, _), n in zip(pad, m.shape))]
+        out = out[tuple(slice(a, a + n) for (a, _), n in zip(pad, m.shape, strict=True))]
     return mask_like(mask, out, morphology=(op, float(radius_mm)))
 
 

@@ -89,6 +89,12 @@ class Mesh:
         return Mesh(vertices, self.faces if faces is None else faces, normals,
                     meta={**self.meta, **meta})
 
+    def _repr_png_(self) -> bytes:
+        """Notebook display: a shaded thumbnail (``volumen.core`` draws it without OpenGL)."""
+        from ..core.display import mesh_png
+
+        return mesh_png(self)
+
     def __repr__(self) -> str:
         return f"Mesh({self.n_vertices} vertices, {self.n_faces} triangles)"
 

@@ -18,7 +18,10 @@ def test_slabs_tile_the_depth_range(mode):
 def test_distributions_put_planes_where_the_source_says():
     z0, z1, d = 0.0, 120.0, 200.0
     kw = dict(ds0=1.0, spv=1.0, diagonal=d)
-    mid = lambda b: 0.5 * (b[1:] + b[:-1])  # noqa: E731
+
+    def mid(b):
+        return 0.5 * (b[1:] + b[:-1])
+
     uni = slab_boundaries("uniform", z0, z1, **kw)
     assert len(uni) - 1 == 120 and np.allclose(np.diff(uni), 1.0)
     nq = mid(slab_boundaries("near-quarter", z0, z1, **kw))

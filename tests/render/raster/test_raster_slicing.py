@@ -122,7 +122,7 @@ def test_adaptive_modes_inside_the_head(gl, raster_dir):
     imgs = [render_slicing(scene, cam, (64, 64), SlicingOptions(planes=p)) for p in ADAPTIVE]
     ref = imgs[ADAPTIVE.index("two-per-voxel")]
     assert ref.alpha.mean() > 0.2
-    for p, im in zip(ADAPTIVE, imgs):
+    for p, im in zip(ADAPTIVE, imgs, strict=True):
         assert np.abs(im.rgba - ref.rgba).mean() < 0.03, p
     save_row(raster_dir / "adaptive_modes_inside_head.png", imgs)
 
@@ -151,7 +151,8 @@ def test_uint8_blending_bands_and_float_does_not(gl, raster_dir):
     faint = _scene(blob, spv=4.0, tf=TF.with_opacity_scale(0.15))
     cam = _ortho(blob)
     save_row(raster_dir / "blending_uint8_float16_float32.png",
-             [render_slicing(faint, cam, (64, 64), SlicingOptions(precision=p)) for p in ("uint8", "float16", "float32")],
+             [render_slicing(faint, cam, (64, 64), SlicingOptions(precision=p))
+              for p in ("uint8", "float16", "float32")],
              scale=2.0)
 
 

@@ -1,4 +1,4 @@
-"""Every registered raster technique checked by a number; reduced viewports; shader files; light import."""
+"""Every OpenGL technique and option value checked by a number; reduced viewports; shader files; light import."""
 
 from __future__ import annotations
 
@@ -9,14 +9,29 @@ import numpy as np
 import pytest
 
 from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction
-from volumen.render import render
-from volumen.render.raster import TECHNIQUES, register_backends, render_reduced, upscale
+from volumen.render import TECHNIQUES, option_choices, render
+from volumen.render.raster import render_reduced, upscale
 
 TF = TransferFunction(color=((-1000, 0.9, 0.4, 0.2), (1000, 1.0, 1.0, 0.9)),
                       opacity=((-1000, 0.0), (-200, 0.0), (300, 0.04), (1000, 0.12)))
-#: mean |rgba - ray caster| allowed per slicing variant (8-bit rounds every blend; pre-classification
+#: mean |rgba - ray caster| allowed per slicing option value (8-bit rounds every blend; pre-classification
 #: interpolates classified voxels; the adaptive distributions place planes differently)
-TOLERANCE = {"slicing-uint8": 0.02, "slicing-pre": 0.03, "slicing-float16": 0.005}
+TOLERANCE = {"uint8": 0.02, "pre": 0.03, "float16": 0.005}
+
+
+def _variants() -> list[tuple[str, dict]]:
+    """Every technique drawn by OpenGL with its default options, then with each other value of each choice
+    option (one changed at a time), read from the registry."""
+    out = []
+    for name, spec in TECHNIQUES.items():
+        if spec.devices != ("gl",):
+            continue
+        out.append((name, {}))
+        defaults = spec.options()
+        for field, choices in option_choices(name).items():
+            if isinstance(choices, tuple):
+                out += [(name, {field: c}) for c in choices if c != getattr(defaults, field)]
+    return out
 
 
 def _scene(volume, mode="composite"):
@@ -25,51 +40,59 @@ def _scene(volume, mode="composite"):
                  sampling=Sampling(jitter=False, skip_empty=False, early_termination=1.0))
 
 
-@pytest.mark.parametrize("name", sorted(TECHNIQUES))
-def test_every_technique_agrees_with_the_ray_caster(gl, blob, name):
+@pytest.mark.parametrize(("name", "options"), _variants(), ids=lambda v: v if isinstance(v, str) else
+                         "-".join(map(str, v.values())) or "default")
+def test_every_technique_agrees_with_the_ray_caster(gl, blob, name, options):
     """Walk the registry through ``volumen.render.render``: slicing variants reproduce the ray caster's
-    composite picture (orthographic; mean |difference| < 2e-3, or the variant's stated tolerance),
+    composite picture (orthographic; mean |difference| < 2e-3, or the option value's stated tolerance),
     mesh variants its isosurface depth (median < 0.05 mm)."""
-    backends = register_backends({})
-    assert set(backends) == set(TECHNIQUES)
-    tech = TECHNIQUES[name]
     cam = Camera.orbit(blob, azimuth=-20, elevation=30, projection="orthographic", zoom=1.15)
-    if tech.kind == "slicing":
+    if name == "slicing":
         scene = _scene(blob)
         ref = render(scene, cam, (48, 48))
-        img = backends[name](scene, cam, (48, 48))
+        img = render(scene, cam, (48, 48), technique=name, **options)
         mad = float(np.abs(ref.rgba - img.rgba).mean())
-        assert ref.alpha.max() > 0.5 and mad < TOLERANCE.get(name, 2e-3), (name, mad)
+        tol = max([TOLERANCE.get(v, 2e-3) for v in options.values()] + [2e-3])
+        assert ref.alpha.max() > 0.5 and mad < tol, (name, options, mad)
         assert img.stats["planes"] > 40
     else:
         scene = _scene(blob, "isosurface")
         ref = render(scene, cam, (48, 48))
-        img = backends[name](scene, cam, (48, 48))
+        img = render(scene, cam, (48, 48), technique=name, **options)
         both = np.isfinite(ref.depth) & np.isfinite(img.depth)
         assert both.sum() > 200
         assert np.median(np.abs(ref.depth[both] - img.depth[both])) < 0.05
         assert img.stats["triangles"] > 1000
+    assert img.stats["renderer"] == {"device": "gl", "technique": name}
+    assert img.stats["options"] == {**TECHNIQUES[name].options().to_dict(), **options}
 
 
-def test_register_backends_into_render():
-    """The registry fills a backend table without creating a context; names keep their technique."""
-    table = register_backends({"cpu": object()})
-    assert "cpu" in table and all(table[n] is TECHNIQUES[n] for n in TECHNIQUES)
+def test_the_variants_of_volumen_0_1_are_the_same_pictures(gl, blob):
+    """Each backend name of volumen 0.1 (``slicing-uint8``...) still draws, warning, the picture of its device
+    and technique (bit for bit)."""
+    from volumen.render import legacy_backend
+    from volumen.render._techniques import _LEGACY
+
+    scene, cam = _scene(blob), Camera.orbit(blob, azimuth=-20, elevation=30, projection="orthographic")
+    for old in ("slicing-uint8", "slicing-near-quarter", "mesh-gouraud"):
+        device, tech = legacy_backend(old)
+        with pytest.warns(DeprecationWarning, match="device= and technique="):
+            a = render(scene, cam, (24, 24), backend=old)
+        b = render(scene, cam, (24, 24), device=device, technique=tech)
+        np.testing.assert_array_equal(a.rgba, b.rgba)
+    assert len(_LEGACY) == 14
 
 
-@pytest.mark.parametrize("backend", ["cpu", "slicing"])
-def test_reduced_viewport_keeps_the_picture(gl, blob, backend):
+@pytest.mark.parametrize("technique", ["raycast", "slicing"])
+def test_reduced_viewport_keeps_the_picture(gl, blob, technique):
     """Half-size rendering upscaled stays within 0.02 (mean) of the full-size picture, a quarter within
     0.04; fraction 1 returns the full render itself."""
-    from volumen.render import BACKENDS
-
-    register_backends(BACKENDS)
     scene = _scene(blob)
     cam = Camera.orbit(blob, azimuth=30, elevation=10, zoom=1.2)
-    full = render(scene, cam, (64, 64), backend=backend)
-    half = render_reduced(scene, cam, (64, 64), 0.5, backend=backend)
-    quarter = render_reduced(scene, cam, (64, 64), 0.25, backend=backend)
-    same = render_reduced(scene, cam, (64, 64), 1.0, backend=backend)
+    full = render(scene, cam, (64, 64), technique=technique)
+    half = render_reduced(scene, cam, (64, 64), 0.5, technique=technique)
+    quarter = render_reduced(scene, cam, (64, 64), 0.25, technique=technique)
+    same = render_reduced(scene, cam, (64, 64), 1.0, technique=technique)
     assert half.rgba.shape == full.rgba.shape and half.stats["reduced"]["render_size"] == (32, 32)
     e2, e4 = (float(np.abs(full.rgba - x.rgba).mean()) for x in (half, quarter))
     assert e2 < 0.02 and e4 < 0.04 and e2 < e4, (e2, e4)

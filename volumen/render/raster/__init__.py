@@ -6,18 +6,18 @@
   adaptive plane distributions (:data:`ADAPTIVE`), Phong from gradients;
 * meshes (:func:`render_mesh`, :func:`render_isosurface_mesh`,
   :class:`MeshOptions`): Phong or Gouraud, any lights, ``Image.depth`` written;
-* reduced viewport (:func:`render_reduced`) for any backend.
+* reduced viewport (:func:`render_reduced`) for any device and technique.
 
-Every technique is registered in :data:`TECHNIQUES`; :func:`register_backends`
-makes them backends of ``volumen.render.render``. Shaders are the ``.glsl``
-files in ``shaders/``. Nothing here imports OpenGL until a picture is drawn.
+Slicing and mesh are techniques of ``volumen.render.render`` on device ``gl``
+(registered in ``volumen.render.TECHNIQUES``, their options the dataclasses
+here). Shaders are the ``.glsl`` files in ``shaders/``. Nothing here imports
+OpenGL until a picture is drawn.
 """
 
 from ._context import PRECISIONS, RasterUnavailable, context_info, get_context, on_gl_thread
 from ._mesh import MeshOptions, clear_mesh_cache, isosurface_mesh, render_isosurface_mesh, render_mesh
 from ._planes import ADAPTIVE, slab_boundaries, slice_polygons
 from ._reduced import reduced_size, render_reduced, upscale
-from ._registry import TECHNIQUES, Technique, register_backends
 from ._slicing import SlicingOptions, render_slicing
 from ._textures import clear_cache
 
@@ -36,9 +36,6 @@ __all__ = [
     "render_reduced",
     "reduced_size",
     "upscale",
-    "TECHNIQUES",
-    "Technique",
-    "register_backends",
     "get_context",
     "context_info",
     "RasterUnavailable",

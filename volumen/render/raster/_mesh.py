@@ -192,14 +192,14 @@ def render_mesh(mesh, camera, size, *, scene=None, color=None, options: MeshOpti
     timings["total"] = time.perf_counter() - t_start
     from ...core import Image
 
-    stats = {"timings": timings, "backend": "mesh", "options": opt.to_dict(), "triangles": mesh.n_faces,
-             "renderer": ctx.info.get("GL_RENDERER")}
+    stats = {"timings": timings, "options": opt.to_dict(), "triangles": mesh.n_faces,
+             "gl_renderer": ctx.info.get("GL_RENDERER")}
     return Image(rgba=rgba, depth=depth, stats=stats)
 
 
 @gl_thread
 def render_isosurface_mesh(scene, camera, size, options: MeshOptions | None = None):
-    """Mesh backend: the isosurface of ``scene.volume`` at ``scene.isosurface.value`` by marching cubes
+    """Technique ``mesh``: the isosurface of ``scene.volume`` at ``scene.isosurface.value`` by marching cubes
     (cached), drawn by :func:`render_mesh` in ``scene.isosurface.color``; ``stats["timings"]["mesh"]``
     is the extraction time (0 when cached)."""
     opt = options or MeshOptions()

@@ -28,11 +28,14 @@ few pixels each and far ones many.
 
 from __future__ import annotations
 
+from typing import Literal, get_args
+
 import numpy as np
 
-__all__ = ["ADAPTIVE", "slab_boundaries", "slice_polygons", "box_corners"]
+__all__ = ["ADAPTIVE", "Planes", "slab_boundaries", "slice_polygons", "box_corners"]
 
-ADAPTIVE = ("uniform", "near-quarter", "diagonal-quarter", "two-per-voxel", "two-then-one")
+Planes = Literal["uniform", "near-quarter", "diagonal-quarter", "two-per-voxel", "two-then-one"]
+ADAPTIVE: tuple[str, ...] = get_args(Planes)
 
 # the 12 edges of a box whose corner c has bits (i, j, k) = (c & 1, c >> 1 & 1, c >> 2 & 1)
 _EDGES = np.array([(c, c | b) for b in (1, 2, 4) for c in range(8) if not c & b], np.int64)

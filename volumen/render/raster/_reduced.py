@@ -1,4 +1,4 @@
-"""Reduced viewport: render at a fraction of the size, then upscale (any backend).
+"""Reduced viewport: render at a fraction of the size, then upscale (any device and technique).
 
 While the user drags the camera, the application renders at half the size
 (the source found one half keeps the picture's quality while dragging) and
@@ -60,8 +60,8 @@ def upscale(image, size):
     return Image(rgba=rgba, depth=depth, stats=dict(image.stats), value=value)
 
 
-def render_reduced(scene, camera, size, fraction: float = 0.5, *, backend: str = "cpu"):
-    """Render through ``volumen.render.render(..., backend=backend)`` at ``fraction`` of ``size``, upscaled.
+def render_reduced(scene, camera, size, fraction: float = 0.5, **how):
+    """Render through ``volumen.render.render(scene, camera, ..., **how)`` at ``fraction`` of ``size``, upscaled.
 
     Parameters
     ----------
@@ -70,8 +70,8 @@ def render_reduced(scene, camera, size, fraction: float = 0.5, *, backend: str =
     size : (width, height), pixels of the returned picture
     fraction : float in (0, 1]
         Side ratio of the rendered viewport (0.5: a quarter of the pixels).
-    backend : str
-        Any registered backend (``"cpu"`` ray casting, ``"slicing"``, ``"mesh"``...).
+    **how
+        ``device``, ``technique`` and the technique's options, as in ``volumen.render.render``.
 
     Returns
     -------
@@ -82,7 +82,7 @@ def render_reduced(scene, camera, size, fraction: float = 0.5, *, backend: str =
     from .._api import render
 
     small = reduced_size(size, fraction)
-    img = render(scene, camera, small, backend=backend)
+    img = render(scene, camera, small, **how)
     if small == tuple(int(s) for s in size):
         return img
     t = time.perf_counter()

@@ -11,8 +11,8 @@ One file per program, in the moderngl-window layout::
 
 A variant is the same file compiled with extra ``#define`` lines injected
 after ``#version``. A line ``#include "name.glsl"`` is replaced by that file of
-the same folder (shared code such as ``lighting.glsl``, written once). Sources are read once (``importlib.resources``) and each
-(context, file, defines) program is compiled once and cached.
+the same folder (shared code such as ``lighting.glsl``, written once). Sources are read once
+(``importlib.resources``) and each (context, file, defines) program is compiled once and cached.
 """
 
 from __future__ import annotations

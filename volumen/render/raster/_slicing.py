@@ -18,7 +18,7 @@ import numpy as np
 from ._context import PRECISIONS, Target, get_context, gl_thread
 from ._depth import DepthFromOpticalDepth
 from ._glcamera import as_uniform, projection_matrix, view_depth_range, view_matrix
-from ._planes import ADAPTIVE, box_corners, slab_boundaries, slice_polygons
+from ._planes import ADAPTIVE, Planes, box_corners, slab_boundaries, slice_polygons
 from ._shaders import program
 from ._textures import NLUT, classified_texture, tf_texture, value_range, value_texture
 from ._uniforms import MAX_CLIP, clip_rows, light_rows, max_lights, set_camera, set_lighting, set_uniform
@@ -58,7 +58,7 @@ class SlicingOptions:
     order: Order = "back-to-front"
     precision: Precision = "float32"
     classification: Classification = "post"
-    planes: str = "uniform"
+    planes: Planes = "uniform"
     depth: bool = True
     depth_chunk: int = 8
 
@@ -227,8 +227,8 @@ def render_slicing(scene, camera, size, options: SlicingOptions | None = None):
         ibo.release()
         ctx.disable(moderngl.BLEND)
     timings["total"] = time.perf_counter() - t_start
-    stats = {"timings": timings, "backend": "slicing", "mode": "composite", "options": opt.to_dict(),
+    stats = {"timings": timings, "mode": "composite", "options": opt.to_dict(),
              "planes": int(len(depths)), "triangles": int(len(tris)),
              "plane_spacing_mm": (float(gaps.min()), float(gaps.max())) if len(gaps) else (0.0, 0.0),
-             "reference_step_mm": ds0, "renderer": ctx.info.get("GL_RENDERER")}
+             "reference_step_mm": ds0, "gl_renderer": ctx.info.get("GL_RENDERER")}
     return Image(rgba=rgba, depth=depth, stats=stats)

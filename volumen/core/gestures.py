@@ -1,4 +1,5 @@
-"""Mouse gestures of the 3D view as camera and light arithmetic (plain numpy, no Qt).
+"""Mouse gestures of a 3D view as camera and light arithmetic (plain numpy): the desktop application
+and the notebook widget turn the same drag into the same camera.
 
 Pixel offsets are ``(dx, dy)`` with x to the right and y DOWN the screen, as
 mouse events give them.
@@ -10,7 +11,8 @@ mouse events give them.
 * :func:`pan`: eye and target slide in the view plane so the point under the
   mouse at the target's depth follows the mouse.
 * :func:`zoom`: the eye moves toward the target (perspective) or the parallel
-  scale shrinks (orthographic) by ``factor``.
+  scale shrinks (orthographic) by ``factor``; :func:`drag_zoom` (a vertical drag, up = closer,
+  ``exp(-dy * ZOOM_PER_PIXEL)``) and :func:`wheel_zoom` (``WHEEL_ZOOM`` per notch away from the user).
 * :func:`move_light`, :func:`aim_light`: a selected light follows the mouse in
   the view plane at its own depth, or turns its spot axis.
 """
@@ -21,13 +23,18 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import Camera, Light
+from ._camera import Camera
+from ._lighting import Light
 
-__all__ = ["DEGREES_PER_PIXEL", "orbit", "pan", "zoom", "mm_per_pixel", "move_light", "aim_light",
-           "light_at_camera", "rotate"]
+__all__ = ["DEGREES_PER_PIXEL", "ZOOM_PER_PIXEL", "WHEEL_ZOOM", "orbit", "pan", "zoom", "drag_zoom", "wheel_zoom",
+           "mm_per_pixel", "move_light", "aim_light", "light_at_camera", "rotate"]
 
 #: orbit and aim speed: degrees of rotation per pixel of mouse motion
 DEGREES_PER_PIXEL = 0.5
+#: drag zoom speed: the magnification is ``exp(-dy * ZOOM_PER_PIXEL)`` for a drag of ``dy`` pixels
+ZOOM_PER_PIXEL = 0.01
+#: magnification of one wheel notch
+WHEEL_ZOOM = 1.1
 
 
 def rotate(v, axis, degrees: float) -> np.ndarray:
@@ -81,6 +88,16 @@ def zoom(camera: Camera, factor: float) -> Camera:
     if np.linalg.norm(back) < 1e-3:
         return camera
     return camera.with_(position=tuple(t + back))
+
+
+def drag_zoom(camera: Camera, dy: float) -> Camera:
+    """The camera after a vertical drag of ``dy`` pixels (down positive): up magnifies."""
+    return zoom(camera, float(np.exp(-dy * ZOOM_PER_PIXEL)))
+
+
+def wheel_zoom(camera: Camera, notches: float) -> Camera:
+    """The camera after ``notches`` wheel notches (positive: away from the user, magnifies)."""
+    return zoom(camera, WHEEL_ZOOM ** float(notches))
 
 
 def light_at_camera(camera: Camera, *, exponent: float = 10.0, intensity: float = 1.0) -> Light:

@@ -1,0 +1,72 @@
+"""A CPR as a picture: grey values through a window, the cross-sections' positions marked, the sections beside it.
+
+:func:`cpr_figure` lays out, left to right, the CPR (row 0, the path's start,
+at the top) and a column of cross-sections (:func:`cross_section`), each with a
+coloured frame; the CPR carries a tick of the same colour at both edges and a
+dot on the centerline at the section's arc. The whole figure is enlarged by an
+integer factor (nearest neighbour) to about ``height`` pixels.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._cpr import CPR, cross_section
+
+__all__ = ["cpr_figure", "window_grey", "MARK_COLORS"]
+
+MARK_COLORS = np.array([(255, 200, 0), (0, 200, 255), (255, 80, 200), (120, 255, 80), (255, 120, 40),
+                        (160, 140, 255)], np.uint8)
+
+
+def window_grey(values: np.ndarray, window: tuple[float, float] | None = None) -> np.ndarray:
+    """``(H, W, 3)`` uint8: ``values`` from ``window = (lo, hi)`` (data units; default the 1st and 99.5th
+    percentiles) to black..white; NaN (outside the scan) black."""
+    v = np.asarray(values, float)
+    finite = v[np.isfinite(v)]
+    if window is None:
+        window = tuple(np.percentile(finite, [1.0, 99.5])) if finite.size else (0.0, 1.0)
+    lo, hi = float(window[0]), float(window[1])
+    g = np.clip((np.nan_to_num(v, nan=lo) - lo) / max(hi - lo, 1e-12), 0.0, 1.0)
+    return np.repeat((255 * g + 0.5).astype(np.uint8)[..., None], 3, axis=2)
+
+
+def _frame(tile: np.ndarray, color) -> np.ndarray:
+    out = np.empty((tile.shape[0] + 4, tile.shape[1] + 4, 3), np.uint8)
+    out[:] = color
+    out[2:-2, 2:-2] = tile
+    return out
+
+
+def cpr_figure(volume, centerline, cpr: CPR, marks=(), *, window=None, section_width: float = 40.0,
+               height: int = 600) -> np.ndarray:
+    """``(H, W, 3)`` uint8: the CPR with the cross-sections at arcs ``marks`` (mm) marked and shown beside it."""
+    if window is None:
+        finite = cpr.values[np.isfinite(cpr.values)]
+        window = tuple(np.percentile(finite, [1.0, 99.5]))
+    img = window_grey(cpr.values, window)
+    tiles = []
+    for n, s in enumerate(marks):
+        color = MARK_COLORS[n % len(MARK_COLORS)]
+        r = cpr.row_at(s)
+        img[r, :3] = color
+        img[r, -3:] = color
+        c = int(round(cpr.centre[r]))
+        img[r, max(c - 1, 0):c + 2] = color
+        tiles.append(_frame(window_grey(cross_section(volume, centerline, s, width=section_width, pixel=cpr.pixel),
+                                        window), color))
+    if tiles:
+        col_w = max(t.shape[1] for t in tiles)
+        column = np.zeros((sum(t.shape[0] for t in tiles), col_w, 3), np.uint8)
+        y = 0
+        for t in tiles:
+            column[y:y + t.shape[0], :t.shape[1]] = t
+            y += t.shape[0]
+        h = max(img.shape[0], column.shape[0])
+        fig = np.zeros((h, img.shape[1] + 4 + col_w, 3), np.uint8)
+        fig[:img.shape[0], :img.shape[1]] = img
+        fig[:column.shape[0], img.shape[1] + 4:] = column
+    else:
+        fig = img
+    k = max(1, int(round(height / fig.shape[0])))
+    return np.repeat(np.repeat(fig, k, axis=0), k, axis=1)

@@ -1,0 +1,84 @@
+"""volumen in Jupyter: an interactive 3-D view with controls and linked slice views.
+
+``volumen.show(volume_or_scene)`` returns a :class:`Viewer` (ipywidgets + jupyter-rfb): drag to orbit
+(Shift or middle button: pan; right button or wheel: zoom) with the desktop application's gestures
+(:mod:`volumen.core.gestures`); frames are rendered on a background thread, at a reduced viewport
+while dragging and at full size once the mouse rests. ``viewer.scene`` and ``viewer.camera`` read and
+set the picture. The jupyter packages are imported by :func:`show`, not by ``import volumen.notebook``.
+Pictures (Image, Volume, Mesh) display themselves through :mod:`volumen.core.display`.
+"""
+
+from __future__ import annotations
+
+from ._loop import REDUCED_FRACTION, REFINE_AFTER, RenderLoop
+from ._view import View, ViewState, drag_kind, draw_frame
+
+__all__ = ["show", "View", "ViewState", "RenderLoop", "draw_frame", "drag_kind", "export_html", "phantom_ref",
+           "REDUCED_FRACTION", "REFINE_AFTER"]
+
+
+def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, preset: str | None = None,
+         volume_ref: str = "", **how):
+    """An interactive notebook view of a Volume or a Scene.
+
+    Parameters
+    ----------
+    volume_or_scene : Volume or Scene
+        A volume gets ``volumen.render.default_transfer`` (or ``preset``) and headlight shading.
+    camera : Camera, optional
+        Default: ``Camera.orbit(volume)`` (the anterior view).
+    size : (width, height), pixels of the 3-D view
+    slices : bool
+        Show the linked axial / coronal / sagittal views with window and level.
+    preset : str, optional
+        A transfer-function preset name (``volumen.core.PRESETS``) for a volume.
+    volume_ref : str, optional
+        Where the volume comes from (a path), written into ``viewer.scene.to_dict()`` so ``volumen render
+        --settings`` can load it; default ``phantom:NAME?size=N`` for a built-in phantom, else empty.
+    **how
+        ``device``, ``technique`` and technique options for ``volumen.render.render``.
+
+    Returns
+    -------
+    Viewer
+        An ipywidgets box; ``.scene``, ``.camera`` (settable), ``.wait()``, ``.frame``, ``.snapshot_html()``.
+    """
+    from ..core import Camera, Scene, Volume
+    from ._widget import Viewer
+
+    if isinstance(volume_or_scene, Volume):
+        from ..render import default_transfer
+
+        vol = volume_or_scene
+        tf = default_transfer(vol, "composite")
+        scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=tf)
+        if preset is not None:
+            from ._controls import preset_transfer
+
+            scene = scene.with_(transfer=preset_transfer(scene, preset))
+    elif isinstance(volume_or_scene, Scene):
+        scene = volume_or_scene
+    else:
+        raise ValueError(f"show takes a Volume or a Scene, got {type(volume_or_scene).__name__}")
+    if scene.volume is None:
+        raise ValueError("the scene has no volume attached (Scene(volume=...))")
+    return Viewer(scene, camera or Camera.orbit(scene.volume), size, slices=slices, **how)
+
+
+def phantom_ref(volume) -> str:
+    """``phantom:NAME?size=N&param=value`` for a volume made by ``volumen.data.phantom`` (as the command line
+    reads it), else ``""``."""
+    from urllib.parse import urlencode
+
+    made = volume.meta.get("phantom")
+    if not made:
+        return ""
+    query = {k: v for k, v in {"size": made.get("size"), **made.get("params", {})}.items() if v is not None}
+    return f"phantom:{made['name']}" + (f"?{urlencode(query)}" if query else "")
+
+
+def export_html(frame) -> str:
+    """A standalone HTML page showing ``frame`` in jupyter-rfb's widget front end; see ``_export``."""
+    from ._export import export_html as _export
+
+    return _export(frame)

@@ -23,6 +23,7 @@ __all__ = [
     "VolumeWriteError",
     "SampleDataMissingError",
     "LumenError",
+    "DeviceLimitError",
 ]
 
 
@@ -108,3 +109,8 @@ class SampleDataMissingError(VolumeReadError):
 class LumenError(VolumenError, ValueError):
     """No usable lumen: a point outside the scan or in no lumen, two points in lumens that do not
     connect, a lumen mask that does not fit the scan. The message names the point or the file."""
+
+
+class DeviceLimitError(VolumenError, ValueError):
+    """A device cannot hold what a picture needs (a volume past the OpenGL 3-D texture size...). The message
+    names the limit, the size asked for, and the device to use instead."""

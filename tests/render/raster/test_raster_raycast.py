@@ -117,3 +117,36 @@ def test_pathtrace_on_gl_is_a_clear_error(gl):
     with pytest.raises(DeviceLimitError, match="path tracing .*--device cpu"):
         render(scene.with_(shading=Shading(mode="pathtrace")), cam, (16, 16), device="gl")
 
+
+
+def test_cli_render_device_gl(gl, tmp_path, capsys):
+    """``volumen render --device gl`` writes the CPU's picture (8-bit, mean |diff| <= 1 level, with a light,
+    a clip plane and shadows); path tracing on gl fails in one line naming the CPU device."""
+    from PIL import Image as PILImage
+
+    from volumen.cli import main
+
+    argv = ["render", "phantom:head", "--size", "48x40", "--preset", "ct-skin-bone", "--shading", "shadows",
+            "--light", "pos=200,150,250", "--clip-plane", "point=0,0,0 normal=0,-1,0.3"]
+    pics = {}
+    for device in ("cpu", "gl"):
+        out = tmp_path / f"{device}.png"
+        assert main([*argv, "-o", str(out), "--device", device]) == 0
+        pics[device] = np.asarray(PILImage.open(out)).astype(float)
+    assert pics["cpu"].shape == (40, 48, 3) and pics["cpu"].max() > 100
+    assert np.abs(pics["cpu"] - pics["gl"]).mean() <= 1.0
+    capsys.readouterr()
+    assert main(["render", "phantom:sphere", "-o", str(tmp_path / "p.png"), "--size", "8x8", "--shading",
+                 "pathtrace", "--device", "gl"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()[-1]  # (a warning about the missing lights comes first)
+    assert err.startswith("volumen render: error: path tracing") and err.endswith("use --device cpu")
+
+
+def test_too_many_lights_for_one_pass_is_a_clear_error(gl):
+    from volumen.core import Light
+    from volumen.render.raster import MAX_LIGHTS
+
+    scene, cam, _ = reference_scenes.scenes()["head/composite/phong"]
+    lights = tuple(Light(position=(100.0 + i, 0.0, 0.0)) for i in range(MAX_LIGHTS + 1))
+    with pytest.raises(DeviceLimitError, match=f"{MAX_LIGHTS + 1} lights: .*at most {MAX_LIGHTS}"):
+        render(scene.with_(lights=lights), cam, (8, 8), device="gl")

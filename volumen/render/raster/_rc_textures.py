@@ -6,12 +6,18 @@
 * ``bflag`` (R8UI), ``bmin``, ``bmax`` (R32F): the block grids of empty-space skipping, read per texel;
 * ``lut``, ``sig``, ``glut``: one-row 2-D tables read at the nearest entry, ``pre``: the
   pre-integrated table (x: back value, y: front value);
-* ``lvd``: the illumination volumes' flat buffer as rows of ``width`` values (R32F), read per texel.
+* ``lvd``: the illumination volumes' flat buffer (every light's lattice of light rays,
+  ``raycast._lightvol``) as rows of ``width`` values (R32F), read per texel: the shader
+  interpolates the lattice exactly as the CPU does (bilinearly between four rays, linearly
+  between two slices), which a 3-D texture's filtering could not (the lattice's slices are
+  spaced along the light's rays, not on a grid), and any number of lights share one texture.
 
 The per-volume fields and ``lvd`` are kept while the same array objects come
 back (the CPU caches them on the volume), so a new frame of the same volume
 uploads only its small tables. :func:`check_limits` raises
-:class:`~volumen.errors.DeviceLimitError` for a volume past the context's 3-D texture size.
+:class:`~volumen.errors.DeviceLimitError` for a volume past the context's 3-D texture size
+(documented behaviour: a clear error naming the limit and the CPU device, no bricking), and
+so does an upload the driver cannot hold.
 """
 
 from __future__ import annotations
@@ -91,20 +97,36 @@ def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     return _filtered(ctx.texture((d.shape[0], 1), comps, d.tobytes(), dtype="f4"), False)
 
 
+def _upload(ctx, name, x, settings, width):
+    """:func:`_make`, with an out-of-memory answer of the driver turned into :class:`DeviceLimitError`."""
+    try:
+        return _make(ctx, name, x, settings, width)
+    except MemoryError as exc:
+        raise DeviceLimitError(f"the {name} texture ({x.nbytes >> 20} MB) does not fit in memory ({exc}); "
+                               "use --device cpu") from None
+    except Exception as exc:  # noqa: BLE001 - moderngl reports GL_OUT_OF_MEMORY and friends as plain Errors
+        raise DeviceLimitError(f"OpenGL could not hold the {name} texture ({x.nbytes >> 20} MB): {exc}; "
+                               "use --device cpu") from None
+
+
 class FrameTextures:
     """The textures of one frame: ``units[name]`` its texture unit; :meth:`release` frees the per-frame ones."""
 
     FIELDS = ("vol", "nrm", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
 
     def __init__(self, ctx, arrays, settings):
-        self.width = min(int(ctx.info["GL_MAX_TEXTURE_SIZE"]), 8192)
+        self.width = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
+        if arrays.lvd.size > self.width ** 2:
+            raise DeviceLimitError(f"illumination volumes of {arrays.lvd.size} values are past this OpenGL "
+                                   f"context's {self.width} x {self.width} 2-D texture limit; use a smaller "
+                                   "light_volume_scale, fewer lights, or --device cpu")
         self.own = []
         self.units = {}
         for unit, name in enumerate(self.FIELDS):
             x = getattr(arrays, name)
             tex = self._kept(name, x) if name in _KEPT else None
             if tex is None:
-                tex = _make(ctx, name, x, settings, self.width)
+                tex = _upload(ctx, name, x, settings, self.width)
                 if name in _KEPT:
                     old = _kept.pop(name, None)
                     if old is not None:

@@ -150,3 +150,37 @@ def test_too_many_lights_for_one_pass_is_a_clear_error(gl):
     lights = tuple(Light(position=(100.0 + i, 0.0, 0.0)) for i in range(MAX_LIGHTS + 1))
     with pytest.raises(DeviceLimitError, match=f"{MAX_LIGHTS + 1} lights: .*at most {MAX_LIGHTS}"):
         render(scene.with_(lights=lights), cam, (8, 8), device="gl")
+
+
+def test_data_written_in_place_is_sent_again_after_clear_cache(gl):
+    """An int16 volume drawn on gl, changed in place, then ``render.clear_cache(volume)``: the next gl picture
+    is the CPU's picture of the new data (the volume texture is not reused; a stale one differs by > 0.01)."""
+    from volumen.render import clear_cache
+
+    scene, cam, _ = reference_scenes.scenes()["head/mip"]
+    vol = Volume(scene.volume.data.astype(np.int16), spacing=scene.volume.spacing, modality="CT", units="HU")
+    scene = scene.with_(volume=vol)
+    before = render(scene, cam, (32, 32), device="gl")
+    vol.data[:, :, : vol.shape[2] // 2] = vol.data.min()
+    clear_cache(vol)
+    a, b = render(scene, cam, (32, 32)), render(scene, cam, (32, 32), device="gl")
+    assert np.abs(before.rgba - b.rgba).mean() > 0.01
+    d = np.abs(a.rgba - b.rgba)
+    assert d.mean() <= 1e-4 and d.max() <= 0.01  # float32 rounding at a table entry's edge, not stale data
+
+
+def test_every_frame_field_reaches_the_shader():
+    """Every field of the packed frame (``raycast.Settings``, ``raycast.Arrays``) is read by the gl ray caster:
+    a uniform or texture of raycast.glsl, or named here with where it goes (a new field fails until then)."""
+    from volumen.render.raster._rc_textures import FrameTextures
+    from volumen.render.raster._shaders import shader_source
+    from volumen.render.raycast import Arrays, Settings
+
+    src = shader_source("raycast") + shader_source("raycast_modes")
+    elsewhere = {"u0": "upload", "ufac": "upload", "vmin": "value read-back", "vscale": "value read-back",
+                 "bounces": "path tracing (not on gl)", "iso_r": "u_iso_rgb", "iso_g": "u_iso_rgb",
+                 "iso_b": "u_iso_rgb"}
+    missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
+    packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm"}
+    missing += [f for f in Arrays._fields if f not in FrameTextures.FIELDS and packed.get(f, "?") not in src]
+    assert not missing, missing

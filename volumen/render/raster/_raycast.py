@@ -130,7 +130,7 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     t = time.perf_counter()
     prog = program(ctx, "raycast", {"MODE": _MODES[type(f.mode).__name__], "LIGHT": _LIGHTS[type(f.light).__name__],
                                     "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES})
-    tex = FrameTextures(ctx, f.arrays, f.settings)
+    tex = FrameTextures(ctx, f.arrays, f.settings, f.prep)
     try:
         for name, unit in tex.units.items():
             set_uniform(prog, f"u_{name}", unit)

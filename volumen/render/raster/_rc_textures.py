@@ -13,7 +13,7 @@
   spaced along the light's rays, not on a grid), and any number of lights share one texture.
 
 The per-volume fields and ``lvd`` are kept while the same array objects come
-back (the CPU caches them on the volume), so a new frame of the same volume
+back from the same precomputations (the CPU caches them on the volume), so a new frame of the same volume
 uploads only its small tables. :func:`check_limits` raises
 :class:`~volumen.errors.DeviceLimitError` for a volume past the context's 3-D texture size
 (documented behaviour: a clear error naming the limit and the CPU device, no bricking), and
@@ -114,7 +114,7 @@ class FrameTextures:
 
     FIELDS = ("vol", "nrm", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
 
-    def __init__(self, ctx, arrays, settings):
+    def __init__(self, ctx, arrays, settings, prep):
         self.width = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
         if arrays.lvd.size > self.width ** 2:
             raise DeviceLimitError(f"illumination volumes of {arrays.lvd.size} values are past this OpenGL "
@@ -124,23 +124,25 @@ class FrameTextures:
         self.units = {}
         for unit, name in enumerate(self.FIELDS):
             x = getattr(arrays, name)
-            tex = self._kept(name, x) if name in _KEPT else None
+            tex = self._kept(name, x, prep) if name in _KEPT else None
             if tex is None:
                 tex = _upload(ctx, name, x, settings, self.width)
                 if name in _KEPT:
                     old = _kept.pop(name, None)
                     if old is not None:
                         old[1].release()
-                    _kept[name] = (weakref.ref(x), tex)
+                    _kept[name] = (weakref.ref(x), tex, weakref.ref(prep))
                 else:
                     self.own.append(tex)
             tex.use(location=unit)
             self.units[name] = unit
 
     @staticmethod
-    def _kept(name, x):
+    def _kept(name, x, prep):
+        """The kept texture of ``x``, while ``x`` and the volume's precomputations ``prep`` are the same objects
+        (``render.clear_cache`` after writing into the data makes a new ``prep``, so the data is sent again)."""
         e = _kept.get(name)
-        if e is None or e[0]() is not x:
+        if e is None or e[0]() is not x or e[2]() is not prep:
             return None
         return e[1]
 

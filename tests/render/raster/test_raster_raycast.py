@@ -184,3 +184,19 @@ def test_every_frame_field_reaches_the_shader():
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm"}
     missing += [f for f in Arrays._fields if f not in FrameTextures.FIELDS and packed.get(f, "?") not in src]
     assert not missing, missing
+
+
+def test_world_crop_box_and_several_planes(gl):
+    """A crop box in world mm and two clip planes (shadows cast by the clipped medium only): the CPU's picture."""
+    scene, cam, _ = reference_scenes.scenes()["torso/composite/shadows-fast"]
+    c = np.asarray(scene.volume.center)
+    lo, hi = c - 0.3 * scene.volume.diagonal, c + 0.25 * scene.volume.diagonal
+    clip = Clipping(crop=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]), crop_space="world",
+                    planes=(ClipPlane(point=tuple(c), normal=(0.0, 0.3, 1.0)),
+                            ClipPlane(point=tuple(c + 5.0), normal=(-1.0, 0.2, 0.0))))
+    for sc in (scene, scene.with_(mode="isosurface")):
+        sc = sc.with_(clipping=clip)
+        a, b = render(sc, cam, (64, 64)), render(sc, cam, (64, 64), device="gl")
+        assert a.alpha.mean() > 0.02, sc.mode
+        mean, p99, dd = compare(a, b)
+        assert mean <= MEAN_TOL and p99 <= P99_TOL and dd <= DEPTH_TOL, (sc.mode, mean, p99, dd)

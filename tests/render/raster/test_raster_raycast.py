@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from volumen.core import Clipping, ClipPlane, Shading, Volume
+from volumen.core import Camera, Clipping, ClipPlane, Shading, Volume
 from volumen.errors import DeviceLimitError
 from volumen.render import render, resolve_device
 
@@ -200,3 +200,20 @@ def test_world_crop_box_and_several_planes(gl):
         assert a.alpha.mean() > 0.02, sc.mode
         mean, p99, dd = compare(a, b)
         assert mean <= MEAN_TOL and p99 <= P99_TOL and dd <= DEPTH_TOL, (sc.mode, mean, p99, dd)
+
+
+def test_eye_inside_the_volume_and_gradient_opacity(gl):
+    """An endoscope-like camera inside the aorta's lumen (isosurface seen from inside: the first fall below the
+    threshold; composite with headlight and gradient opacity; a near plane): the CPU's picture."""
+    data = "aorta" if "aorta" in reference_scenes.volumes() else "head"
+    vol, tf, iso, _ = reference_scenes.volumes()[data]
+    scene = reference_scenes.scenes()[f"{data}/composite/headlight"][0]
+    c = np.asarray(vol.center)
+    cam = Camera(position=tuple(c), target=tuple(c + (0.0, 0.0, 40.0)), up=(0.0, 1.0, 0.0),
+                 fov=70.0, near=0.5)
+    grad = dataclasses.replace(tf, gradient_opacity=((0.0, 0.2), (50.0, 1.0)))
+    for sc in (scene.with_(mode="isosurface", isosurface=dataclasses.replace(scene.isosurface, value=iso)),
+               scene.with_(transfer=grad)):
+        a, b = render(sc, cam, (48, 48)), render(sc, cam, (48, 48), device="gl")
+        mean, p99, dd = compare(a, b)
+        assert a.alpha.mean() > 0.05 and mean <= MEAN_TOL and p99 <= P99_TOL and dd <= DEPTH_TOL, (sc.mode, mean)

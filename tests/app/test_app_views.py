@@ -280,8 +280,10 @@ def test_3d_view_ray_casts_on_gl_with_a_reduced_drag(make_window, qtbot):
     from volumen.app._frame import render_frame
 
     win = make_window()
-    qtbot.waitUntil(lambda: win.state.device in ("gl", "cpu") and win.render_panel.device.count() > 0,
-                    timeout=10000)
+    gl_item = win.render_panel.device.model().item(win.render_panel.device.findData("gl"))
+    # the worker's OpenGL probe has answered: the gl item is enabled, or disabled with the reason
+    qtbot.waitUntil(lambda: gl_item.isEnabled() or "checking" not in gl_item.toolTip(), timeout=10000)
+    qtbot.waitUntil(lambda: win.state.device == "gl" or not gl_item.isEnabled(), timeout=10000)
     if win.state.device != "gl":
         print(f"skipped: no OpenGL here ({win.statusBar().currentMessage()})")
         pytest.skip("no OpenGL context: the view stays on the CPU")

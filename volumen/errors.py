@@ -25,6 +25,7 @@ __all__ = [
     "LumenError",
     "UnexpectedReadError",
     "OutsideFolderError",
+    "DeviceLimitError",
 ]
 
 
@@ -123,3 +124,8 @@ class UnexpectedReadError(CorruptDataError):
 class OutsideFolderError(VolumeReadError):
     """A header names a data file outside its own folder and the caller did not allow it
     (``volumen.load(..., allow_outside=True)``)."""
+
+
+class DeviceLimitError(VolumenError, ValueError):
+    """A device cannot hold what a picture needs (a volume past the OpenGL 3-D texture size...). The message
+    names the limit, the size asked for, and the device to use instead."""

@@ -230,7 +230,8 @@ def test_cli_api_and_app_share_the_device_and_technique_names(qtbot):
             continue
         usable.append(device)
     enabled = [d for i, d in enumerate(DEVICES) if panel.device.model().item(i).isEnabled()]
-    assert panel.state.technique.name == "raycast" and enabled == usable == ["cpu", "cuda", "auto"]
+    assert panel.state.technique.name == "raycast" and usable == ["cpu", "cuda", "gl", "auto"]
+    assert enabled == ["cpu", "cuda", "auto"]  # gl is enabled once the render worker has found OpenGL
     with pytest.raises(ValueError, match="valid: cpu, cuda, gl, auto"):
         resolve_device("opengl")
 
@@ -260,10 +261,43 @@ def test_every_technique_and_mode_draws_a_picture(make_window):
                 assert getattr(win.state.technique.options, field) == box.currentText()
         assert win.wait_for_final(60) and win.last_error is None, win.last_error
     panel.technique.setCurrentIndex(panel.technique.findData("raycast"))
-    assert win.state.device == "cpu"
+    gl_ok = panel.technique.model().item(panel.technique.findData("slicing")).isEnabled()
+    assert win.state.device == ("gl" if gl_ok else "cpu")  # the modes below: the 3-D view's OpenGL ray caster
     for mode in MODES:
         win.state.update_scene(mode=mode)
         assert win.wait_for_final(60) and win.last_error is None, win.last_error
         pictures[mode] = _rgb(win)
     print("pictures of", sorted(pictures))
     assert np.abs(pictures["mip"] - pictures["composite"]).mean() > 5
+
+
+def test_3d_view_ray_casts_on_gl_with_a_reduced_drag(make_window, qtbot):
+    """Where the worker finds OpenGL (llvmpipe here) the 3-D view ray casts on ``gl``: reduced frames while
+    dragging, then the refined one, each drawn by the gl device; the final picture equals the CPU's
+    (mean |RGB diff| <= 2 of 255)."""
+    import dataclasses
+
+    from volumen.app._frame import render_frame
+
+    win = make_window()
+    gl_item = win.render_panel.device.model().item(win.render_panel.device.findData("gl"))
+    # the worker's OpenGL probe has answered: the gl item is enabled, or disabled with the reason
+    qtbot.waitUntil(lambda: gl_item.isEnabled() or "checking" not in gl_item.toolTip(), timeout=10000)
+    qtbot.waitUntil(lambda: win.state.device == "gl" or not gl_item.isEnabled(), timeout=10000)
+    if win.state.device != "gl":
+        print(f"skipped: no OpenGL here ({win.statusBar().currentMessage()})")
+        pytest.skip("no OpenGL context: the view stays on the CPU")
+    frames = []
+    win.worker.frame_ready.connect(frames.append)
+    v = win.view3d
+    qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(80, 80))
+    qtbot.mouseMove(v, QPoint(95, 85))
+    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=10000)
+    qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(95, 85))
+    assert win.wait_for_final(60)
+    reduced = [f for f in frames if not f.final]
+    assert reduced[0].fraction in (0.5, 0.25) and reduced[0].stats["renderer"]["device"] == "gl"
+    final = frames[-1]
+    assert final.final and final.stats["renderer"]["device"] == "gl"
+    cpu = render_frame(dataclasses.replace(win.frame_job(), device="cpu", camera=final.camera))
+    assert np.abs(cpu.rgb.astype(float) - final.rgb.astype(float)).mean() <= 2.0

@@ -43,8 +43,9 @@ def test_bad_names_and_options_list_the_valid_ones():
         Technique.from_dict({"name": "mesh", "device": "gl"})
     with pytest.raises(ValueError, match="unknown device 'gpu'; valid: cpu, cuda, gl, auto"):
         resolve_device("gpu")
-    with pytest.raises(ValueError, match="technique 'raycast' runs on cpu, cuda \\(or auto\\), not 'gl'"):
-        resolve_device("gl", "raycast")
+    with pytest.raises(ValueError, match="technique 'slicing' runs on gl \\(or auto\\), not 'cuda'"):
+        resolve_device("cuda", "slicing")
+    assert resolve_device("gl", "raycast") == "gl"  # the OpenGL ray caster (issue 15)
 
 
 def test_devices_resolve_per_technique():

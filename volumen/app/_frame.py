@@ -22,7 +22,7 @@ from ..render import Technique, resolve_device
 from ._stereo import Stereo, combine, eye_cameras, eye_size
 
 __all__ = ["FrameJob", "Frame", "render_frame", "progressive_frames", "to_rgb", "composite_mesh", "on_gl_thread",
-           "needs_gl"]
+           "raycast_device", "needs_gl"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -101,13 +101,22 @@ def composite_mesh(volume_image: Image, mesh_image: Image) -> Image:
     return Image(rgba=rgba, depth=np.minimum(v.depth, m.depth), stats=dict(v.stats))
 
 
+def raycast_device(job: FrameJob) -> str:
+    """The device that draws ``job``: its own, but the CPU for path tracing asked of ``gl`` (not done there)."""
+    s = job.scene
+    if (job.technique.name == "raycast" and resolve_device(job.device, "raycast") == "gl"
+            and s.shading.mode == "pathtrace" and s.mode == "composite"):
+        return "cpu"
+    return job.device
+
+
 def _render_one(job: FrameJob, camera: Camera, size, fraction: float) -> Image:
     from ..render.raster import render_reduced
 
     if job.mesh is not None and job.mesh_display == "instead":
         vol_img = None
     else:
-        vol_img = render_reduced(job.scene, camera, size, fraction, device=job.device,
+        vol_img = render_reduced(job.scene, camera, size, fraction, device=raycast_device(job),
                                  technique=job.technique)
     if job.mesh is None or job.mesh_display == "hidden":
         return vol_img
@@ -158,7 +167,7 @@ def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) ->
 def _progressive(job: FrameJob) -> bool:
     s = job.scene
     return (s.shading.mode == "pathtrace" and s.mode == "composite" and job.technique.name == "raycast"
-            and resolve_device(job.device, "raycast") == "cpu"
+            and resolve_device(raycast_device(job), "raycast") == "cpu"
             and job.stereo.mode == "off" and (job.mesh is None or job.mesh_display == "hidden"))
 
 

@@ -166,8 +166,16 @@ class MainWindow(QMainWindow):
         self.report_error("Rendering failed", message)
 
     def _raster_status(self, ok: bool, reason: str) -> None:
+        """OpenGL found (or not) by the worker: the 3-D view ray casts on ``gl`` when it can, else on the CPU."""
         self.render_panel.set_raster_available(ok, reason)
         self.segment_panel.set_raster_available(ok, reason)
+        st = self.state
+        if ok and st.device == "cpu" and st.technique.name == "raycast":
+            st.set_display(device="gl")
+            self.statusBar().showMessage("3-D view: OpenGL ray casting", 10000)
+        elif not ok and st.device == "gl":
+            st.set_display(device="cpu")
+            self.statusBar().showMessage(f"3-D view on the CPU: {reason}", 10000)
 
     # -- data -----------------------------------------------------------------
     def set_volume(self, volume, ref: str) -> None:

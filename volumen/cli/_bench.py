@@ -9,7 +9,8 @@ BENCHES = ("render", "techniques", "lighting", "mesh")
 
 def register(sub):
     p = sub.add_parser("bench", help="benchmarks: print a table and write it as JSON")
-    p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper; "
+    p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper "
+                   "(--device gl: the OpenGL ray caster vs VTK's GPU mapper); "
                    "techniques: meshes, ray casting and texture slicing along a camera path; "
                    "lighting: shadows and scattering in the seeds' experiment; "
                    "mesh: marching cubes on real scans vs VTK's flying edges and scikit-image")
@@ -41,6 +42,11 @@ def run(args):
         from volumen.bench._lighting import bench_lighting
 
         table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)
+    elif args.device == "gl":  # the OpenGL ray caster against VTK's GPU mapper on the same OpenGL
+        from volumen.bench._render_gl import GL_QUICK, bench_render_gl
+
+        kw = dict(GL_QUICK) if args.quick else {}
+        table = bench_render_gl(spv=args.spv, rounds=args.repeat, with_vtk=not args.no_vtk, **kw)
     else:
         from volumen.bench._render import QUICK, bench_render
 

@@ -6,9 +6,9 @@ device=..., technique=..., **options)``), the command line (``--device``,
 device and technique boxes):
 
 * :data:`DEVICES`: ``cpu`` (Numba), ``cuda`` (the same kernels on an NVIDIA
-  GPU), ``gl`` (OpenGL: the rasterized techniques today, an OpenGL ray caster
-  later) and ``auto`` (the technique's best usable device);
-* :data:`TECHNIQUES`: ``raycast`` (ray casting; cpu, cuda), ``slicing``
+  GPU), ``gl`` (OpenGL: the rasterized techniques and a fragment-shader ray
+  caster) and ``auto`` (the technique's best usable device);
+* :data:`TECHNIQUES`: ``raycast`` (ray casting; cpu, cuda, gl), ``slicing``
   (texture slicing; gl) and ``mesh`` (the isosurface as a marching-cubes mesh;
   gl), each with an options dataclass whose ``Literal`` fields are the choices
   the CLI and the app offer (:func:`option_choices`).
@@ -47,6 +47,10 @@ def _raycast(scene, camera, size, device, options):
         from .cuda import render_cuda  # numba.cuda loads here, not at import
 
         return render_cuda(scene, camera, size)
+    if device == "gl":
+        from .raster import render_raycast_gl  # moderngl loads here, not at import
+
+        return render_raycast_gl(scene, camera, size)
     from .raycast import render_cpu  # Numba loads here, not at import
 
     return render_cpu(scene, camera, size)
@@ -78,7 +82,7 @@ class TechniqueSpec:
 
 #: technique name -> TechniqueSpec (the only registry of renderers)
 TECHNIQUES: dict[str, TechniqueSpec] = {t.name: t for t in (
-    TechniqueSpec("raycast", ("cpu", "cuda"), RaycastOptions, _raycast,
+    TechniqueSpec("raycast", ("cpu", "cuda", "gl"), RaycastOptions, _raycast,
                   "ray casting: every mode and shading model of the Scene"),
     TechniqueSpec("slicing", ("gl",), SlicingOptions, _slicing,
                   "texture slicing: view-aligned planes through a 3-D texture (composite mode)"),

@@ -6,6 +6,8 @@
   adaptive plane distributions (:data:`ADAPTIVE`), Phong from gradients;
 * meshes (:func:`render_mesh`, :func:`render_isosurface_mesh`,
   :class:`MeshOptions`): Phong or Gouraud, any lights, ``Image.depth`` written;
+* ray casting (:func:`render_raycast_gl`): the CPU ray caster's packed frame marched
+  by a fragment shader, every mode and shading model but path tracing;
 * reduced viewport (:func:`render_reduced`) for any device and technique.
 
 Slicing and mesh are techniques of ``volumen.render.render`` on device ``gl``
@@ -17,11 +19,15 @@ OpenGL until a picture is drawn.
 from ._context import PRECISIONS, RasterUnavailable, context_info, get_context, on_gl_thread
 from ._mesh import MeshOptions, clear_mesh_cache, isosurface_mesh, render_isosurface_mesh, render_mesh
 from ._planes import ADAPTIVE, slab_boundaries, slice_polygons
+from ._raycast import MAX_LIGHTS, MAX_PLANES, render_raycast_gl
 from ._reduced import reduced_size, render_reduced, upscale
 from ._slicing import SlicingOptions, render_slicing
 from ._textures import clear_cache
 
 __all__ = [
+    "render_raycast_gl",
+    "MAX_LIGHTS",
+    "MAX_PLANES",
     "on_gl_thread",
     "render_slicing",
     "SlicingOptions",

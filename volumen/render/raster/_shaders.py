@@ -23,7 +23,7 @@ from importlib import resources
 __all__ = ["shader_source", "program", "SHADER_FILES"]
 
 #: the shader files of the package (without the ``.glsl`` suffix)
-SHADER_FILES = ("slicing", "mesh", "lighting")
+SHADER_FILES = ("slicing", "mesh", "lighting", "raycast", "raycast_modes")
 
 _programs: dict = {}
 

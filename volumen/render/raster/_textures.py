@@ -144,6 +144,9 @@ def tf_texture(ctx, tf, vmin: float, vmax: float):
 def clear_cache(volume=None) -> None:
     """Release the GPU copies of ``volume`` (or of every volume and transfer function)."""
     if volume is None:
+        from ._rc_textures import release_all
+
+        release_all()
         for e in _volumes.values():
             e.release()
         _volumes.clear()

@@ -1,0 +1,288 @@
+#version 330 core
+// Ray casting in a fragment shader: the CPU kernels' marching skeleton
+// (volumen/render/raycast/_march.py) with the same pieces, one pixel per fragment.
+// Every table and volume is built by the Python/Numba code (raycast.pack_frame) and only
+// read here; each formula below names the CPU function it mirrors.
+// Variants (#define): MODE (MODE_COMPOSITE, MODE_PREINT, MODE_MIP, MODE_MINIP, MODE_AVERAGE,
+// MODE_ISO), LIGHT (LIGHT_UNLIT, LIGHT_PHONG, LIGHT_SHADOWED, LIGHT_SCATTER), MAX_LIGHTS, MAX_PLANES.
+
+#define MODE_COMPOSITE 0
+#define MODE_PREINT 1
+#define MODE_MIP 2
+#define MODE_MINIP 3
+#define MODE_AVERAGE 4
+#define MODE_ISO 5
+#define LIGHT_UNLIT 0
+#define LIGHT_PHONG 1
+#define LIGHT_SHADOWED 2
+#define LIGHT_SCATTER 3
+
+#if defined VERTEX_SHADER
+
+in vec2 in_pos;
+void main() { gl_Position = vec4(in_pos, 0.0, 1.0); }
+
+#elif defined FRAGMENT_SHADER
+
+layout(location = 0) out vec4 o_rgba;  // premultiplied colour, opacity
+layout(location = 1) out vec4 o_aux;   // depth (mm, FAR: none), value (table units, FAR: none), samples
+
+const float FAR = 1e30;
+const float PI = 3.14159265358979;
+const float DEPTH_OPACITY = 0.5;   // _composite.DEPTH_OPACITY
+const float TAU_STOP = 14.0;       // _shadow.TAU_STOP
+const float NEAR_STEPS = 3.0;      // _params.NEAR_STEPS
+
+// volume and tables (fields of raycast.Arrays)
+uniform sampler3D u_vol;      // samples in table units, trilinear, clamped
+uniform sampler3D u_nrm;      // packed normals (gx, gy, gz, magnitude code)
+uniform sampler2D u_lut;      // (NLUT x 1) straight rgb, alpha per step
+uniform sampler2D u_pre;      // (NPRE x NPRE) pre-integrated, x = back value, y = front value
+uniform sampler2D u_glut;     // (128 x 1) gradient-opacity factor
+uniform sampler2D u_sig;      // (NLUT x 1) optical depth per reference step
+uniform usampler3D u_bflag;   // skip radius per block
+uniform sampler3D u_bmin;
+uniform sampler3D u_bmax;
+uniform sampler2D u_lvd;      // illumination-volume buffer, row-major rows of LVD_W values
+uniform int u_lvd_w;
+
+// camera (_geometry.pack_camera)
+uniform vec3 u_eye, u_right, u_up, u_fwd;
+uniform bool u_ortho;
+uniform float u_half, u_near, u_far;
+uniform vec2 u_wh;
+// region (_geometry.pack_geometry, pack_planes)
+uniform mat4 u_to_index;      // world -> voxel index (x, y, z)
+uniform vec3 u_box_lo, u_box_hi, u_wlo, u_whi;
+uniform int u_nplanes;
+uniform vec3 u_pp[MAX_PLANES];
+uniform vec3 u_pn[MAX_PLANES];
+// lights (_shade.pack_lights) and their illumination volumes (_lightvol meta rows)
+uniform int u_nlights;
+uniform vec3 u_lpos[MAX_LIGHTS];
+uniform vec3 u_ldir[MAX_LIGHTS];
+uniform vec3 u_lcol[MAX_LIGHTS];
+uniform float u_lexp[MAX_LIGHTS];
+uniform float u_lvm[MAX_LIGHTS * 16];
+uniform int u_lvoff[MAX_LIGHTS];
+// settings (raycast.Settings)
+uniform float u_ds, u_ds0, u_et, u_ka, u_kd, u_ks, u_shine, u_iso, u_pre_scale, u_sh_off, u_sh_step, u_kext;
+uniform float u_albedo, u_g;
+uniform vec3 u_iso_rgb;
+uniform bool u_nearest, u_jitter, u_skip, u_gradop;
+uniform int u_seed, u_block;
+
+ivec3 g_size;
+
+// ---- reconstruction (_sample) ----
+float sample_idx(vec3 p) {
+    if (u_nearest) return texelFetch(u_vol, clamp(ivec3(p + 0.5), ivec3(0), g_size - 1), 0).r;
+    return texture(u_vol, (p + 0.5) / vec3(g_size)).r;
+}
+
+vec4 normal_idx(vec3 p) {
+    ivec3 n = textureSize(u_nrm, 0);
+    if (u_nearest) return texelFetch(u_nrm, clamp(ivec3(p + 0.5), ivec3(0), n - 1), 0);
+    return texture(u_nrm, (p + 0.5) / vec3(n));
+}
+
+float jitter01(int x, int y, int seed) {   // _sample.jitter01, in 32-bit unsigned arithmetic
+    uint h = (uint(x) * 73856093u) ^ (uint(y) * 19349663u) ^ (uint(seed + 1) * 83492791u);
+    h = (h ^ 61u) ^ (h >> 16);
+    h = h + (h << 3);
+    h ^= h >> 4;
+    h = h * 0x27D4EB2Du;
+    h ^= h >> 15;
+    return float(h & 0xFFFFFFu) / 16777216.0;
+}
+
+// ---- geometry (_geometry) ----
+vec2 slab(float o, float d, float lo, float hi, vec2 t) {
+    if (d == 0.0) return (o < lo || o > hi) ? vec2(1.0, 0.0) : t;
+    float a = (lo - o) / d, b = (hi - o) / d;
+    return vec2(max(t.x, min(a, b)), min(t.y, max(a, b)));
+}
+
+vec2 region_interval(vec3 o, vec3 d, vec2 t) {
+    vec3 oi = (u_to_index * vec4(o, 1.0)).xyz;
+    vec3 di = (u_to_index * vec4(d, 0.0)).xyz;
+    for (int i = 0; i < 3; i++) t = slab(oi[i], di[i], u_box_lo[i], u_box_hi[i], t);
+    for (int i = 0; i < 3; i++) t = slab(o[i], d[i], u_wlo[i], u_whi[i], t);
+    for (int p = 0; p < u_nplanes; p++) {
+        float s = dot(o - u_pp[p], u_pn[p]);
+        float dn = dot(d, u_pn[p]);
+        if (dn == 0.0) { if (s < 0.0) return vec2(1.0, 0.0); }
+        else if (dn > 0.0) t.x = max(t.x, -s / dn);
+        else t.y = min(t.y, -s / dn);
+    }
+    return t;
+}
+
+// ---- one view ray (_ray.Ray) ----
+struct Ray { vec3 o, d, oi, di; float t0, t1, jit; int n; };
+Ray R;
+
+float sample_at(float t) { return sample_idx(R.oi + t * R.di); }
+
+bool begin_ray(int px, int py) {
+    float sx = (float(px) + 0.5 - 0.5 * u_wh.x) / (0.5 * u_wh.y) * u_half;
+    float sy = (0.5 * u_wh.y - float(py) - 0.5) / (0.5 * u_wh.y) * u_half;
+    if (u_ortho) { R.o = u_eye + sx * u_right + sy * u_up; R.d = u_fwd; }
+    else { R.o = u_eye; R.d = normalize(u_fwd + sx * u_right + sy * u_up); }
+    vec2 t = region_interval(R.o, R.d, vec2(u_near, u_far));
+    R.oi = (u_to_index * vec4(R.o, 1.0)).xyz;
+    R.di = (u_to_index * vec4(R.d, 0.0)).xyz;
+    R.t0 = t.x; R.t1 = t.y;
+    R.jit = u_jitter ? jitter01(px, py, u_seed) : 0.0;
+    R.n = 1;
+    if (t.y >= t.x) R.n = max(int(floor((t.y - t.x) / u_ds - R.jit + 1e-4)) + 1, 1);
+    return t.y >= t.x;
+}
+
+// ---- shadows (_shadow, _lightvol) ----
+float sig_at(vec3 p) {
+    int n = textureSize(u_sig, 0).x;
+    return texelFetch(u_sig, ivec2(clamp(int(sample_idx(p) + 0.5), 0, n - 1), 0), 0).r;
+}
+
+float shadow_transmittance(vec3 o, vec3 l, float smax) {
+    vec2 ab = region_interval(o, l, vec2(0.0, smax));
+    if (!(ab.y > ab.x)) return 1.0;
+    vec3 oi = (u_to_index * vec4(o, 1.0)).xyz;
+    vec3 di = (u_to_index * vec4(l, 0.0)).xyz;
+    float stop = TAU_STOP * u_ds0 / u_kext;
+    float sp = sig_at(oi + ab.x * di), acc = 0.0, t = ab.x;
+    int m = int((ab.y - ab.x) / u_sh_step);
+    for (int j = 1; j <= m; j++) {
+        t = ab.x + float(j) * u_sh_step;
+        float s = sig_at(oi + t * di);
+        acc += 0.5 * (sp + s) * u_sh_step;
+        sp = s;
+        if (acc > stop) return 0.0;
+    }
+    if (ab.y - t > 1e-6 * u_sh_step) acc += 0.5 * (sp + sig_at(oi + ab.y * di)) * (ab.y - t);
+    return exp(-u_kext * acc / u_ds0);
+}
+
+float lvd(int i) { return texelFetch(u_lvd, ivec2(i % u_lvd_w, i / u_lvd_w), 0).r; }
+float lvm(int li, int f) { return u_lvm[li * 16 + f]; }
+
+float slice_value(int base, int nv, int nu, float s, float pb, float pc, float ov, float ou, float h, float cb,
+                  float cc) {
+    float u = (pc + (cc - pc) / s - ou) / h;
+    float v = (pb + (cb - pb) / s - ov) / h;
+    if (!(u >= 0.0 && v >= 0.0 && u <= float(nu - 1) && v <= float(nv - 1))) return 1.0;
+    int u0 = min(int(u), nu - 2), v0 = min(int(v), nv - 2);
+    float fu = u - float(u0), fv = v - float(v0);
+    int i = base + v0 * nu + u0;
+    float r0 = mix(lvd(i), lvd(i + 1), fu);
+    float r1 = mix(lvd(i + nu), lvd(i + nu + 1), fu);
+    return mix(r0, r1, fv);
+}
+
+float pick(int ax, vec3 p) { return ax == 0 ? p.z : (ax == 1 ? p.y : p.x); }
+
+float lattice_transmittance(int li, vec3 p) {   // _lightvol.lattice_transmittance; meta fields LV_*
+    float ca = pick(int(lvm(li, 5)), p), cb = pick(int(lvm(li, 6)), p), cc = pick(int(lvm(li, 7)), p);
+    int nk = int(lvm(li, 2)), nv = int(lvm(li, 3)), nu = int(lvm(li, 4));
+    float pa = lvm(li, 8), kfar = lvm(li, 11), k0 = lvm(li, 12);
+    float kf = ca - k0;
+    bool low = pa < k0;
+    if (kf < 0.0) { if (low) return 1.0; kf = 0.0; }
+    if (kf > float(nk - 1)) { if (!low) return 1.0; kf = float(nk - 1); }
+    int i0 = min(int(kf), max(nk - 2, 0)), i1 = min(i0 + 1, nk - 1);
+    float w = kf - float(i0), inv = 1.0 / (kfar - pa);
+    float pb = lvm(li, 9), pc = lvm(li, 10), ov = lvm(li, 13), ou = lvm(li, 14), h = lvm(li, 15);
+    int off = u_lvoff[li];
+    float t0 = slice_value(off + i0 * nv * nu, nv, nu, (k0 + float(i0) - pa) * inv, pb, pc, ov, ou, h, cb, cc);
+    if (w <= 0.0 || i1 == i0) return t0;
+    float t1 = slice_value(off + i1 * nv * nu, nv, nu, (k0 + float(i1) - pa) * inv, pb, pc, ov, ou, h, cb, cc);
+    return t0 + w * (t1 - t0);
+}
+
+float light_visibility(int li, vec3 w, vec3 l, float dist) {   // _shade.light_visibility
+    float off = u_sh_off;
+    if (dist <= off) return 1.0;
+    vec3 y = w + off * l;
+    int kind = int(lvm(li, 0));
+    if (kind == 2) return shadow_transmittance(y, l, dist - off);
+    if (kind == 1) {
+        float near = min(NEAR_STEPS * u_ds0, dist - off);
+        float tr = shadow_transmittance(y, l, near);
+        if (near < dist - off && tr > 0.0) tr *= lattice_transmittance(li, (u_to_index * vec4(y + near * l, 1.0)).xyz);
+        return tr;
+    }
+    return 1.0;
+}
+
+// ---- lighting (_shade, optics) ----
+vec4 light_vector(int li, vec3 w) {   // (unit L toward the light, distance); spot factor separately
+    vec3 l = u_lpos[li] - w;
+    float d = length(l);
+    return vec4(d > 0.0 ? l / d : l, d);
+}
+
+float spot_factor(int li, vec3 l) {
+    if (u_lexp[li] == 0.0) return 1.0;
+    float c = dot(-l, u_ldir[li]);
+    return c <= 0.0 ? 0.0 : pow(c, u_lexp[li]);
+}
+
+// lighting factors: colour' = colour * f + alpha * s (f in .xyz of the first, s of the second)
+void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
+    f = vec3(1.0); s = vec3(0.0);
+#if LIGHT == LIGHT_PHONG || LIGHT == LIGHT_SHADOWED
+    float gl = length(g);
+    bool flat_ = gl < 1e-3;
+    vec3 n = flat_ ? vec3(0.0) : g / gl;
+    if (dot(n, v) < 0.0) n = -n;
+    f = vec3(u_ka);
+    for (int li = 0; li < u_nlights; li++) {
+        vec4 lv = light_vector(li, w);
+        float spot = spot_factor(li, lv.xyz);
+        if (spot <= 0.0) continue;
+        float diff = 1.0, spec = 0.0;
+        if (!flat_) {   // optics.phong_terms
+            float ndl = dot(n, lv.xyz);
+            diff = max(ndl, 0.0);
+            if (ndl > 0.0) {
+                float rdv = dot(2.0 * ndl * n - lv.xyz, v);
+                spec = rdv > 0.0 ? pow(rdv, u_shine) : 0.0;
+            }
+        }
+        if (diff <= 0.0) continue;
+        float wt = spot;
+#if LIGHT == LIGHT_SHADOWED
+        wt *= light_visibility(li, w, lv.xyz, lv.w);
+#endif
+        f += u_kd * diff * wt * u_lcol[li];
+        s += u_ks * spec * wt * u_lcol[li];
+    }
+#elif LIGHT == LIGHT_SCATTER
+    f = vec3(u_ka);
+    for (int li = 0; li < u_nlights; li++) {
+        vec4 lv = light_vector(li, w);
+        float spot = spot_factor(li, lv.xyz);
+        if (spot <= 0.0) continue;
+        float c = -dot(lv.xyz, v), g2 = u_g * u_g;   // _scatter.phase_weight: 4 pi HG
+        float wt = spot * (1.0 - g2) / pow(1.0 + g2 - 2.0 * u_g * c, 1.5);
+        wt *= light_visibility(li, w, lv.xyz, lv.w);
+        f += wt * u_lcol[li];
+    }
+    f = (u_ka + u_kd * (f - u_ka)) * u_albedo;
+#endif
+}
+
+#include "raycast_modes.glsl"
+
+void main() {
+    g_size = textureSize(u_vol, 0);
+    int px = int(gl_FragCoord.x);
+    int py = int(u_wh.y) - 1 - int(gl_FragCoord.y);
+    o_rgba = vec4(0.0);
+    o_aux = vec4(FAR, FAR, 0.0, 0.0);
+    if (!begin_ray(px, py)) return;
+    march();
+}
+
+#endif

@@ -77,7 +77,7 @@ def test_light_spec_words_and_shading_flags(tmp_path):
                  "scattering", "--light", "pos=100,100,100", "--sigma-a", "0.5", "--phase-g", "0.3",
                  "--save-settings", str(settings)]) == 0
     shading = json.loads(settings.read_text())["scene"]["shading"]
-    assert shading["mode"] == "scattering" and shading["sigma_a"] == 0.5 and shading["phase_g"] == 0.3
+    assert shading["mode"] == "scattering" and shading["scattering"] == {"sigma_a": 0.5, "sigma_s": 1.0, "phase_g": 0.3}
 
 
 def test_settings_keep_device_technique_and_reading_options(tmp_path):

@@ -42,28 +42,23 @@ def main() -> int:
     from volumen.core import Camera, Light, Scene, Shading, TransferFunction
     from volumen.data import phantom
     from volumen.render.cuda import _kernels
-    from volumen.render.raycast._lightvol import LV_AXA, LV_AXB, LV_AXC
-    from volumen.render.raycast._pack import pack_frame
-    from volumen.render.raycast._pathtrace import PathTracer
+    from volumen.render.raycast import LV_AXA, LV_AXB, LV_AXC, Outputs, PathTracer, Sweep, pack_frame
 
     vol = phantom("head", size=16)
     cam = Camera.orbit(vol)
     scene = Scene(volume=vol, transfer=TransferFunction.preset("ct-bone"), lights=(Light(position=(0, 300, 200)),),
                   shading=Shading(mode="shadows"))
     f = pack_frame(scene, cam, (8, 8))
-    out2 = np.zeros((8, 8), np.float32)
     ty = numba.typeof
-    sig = tuple(ty(a) for a in f.args()) + (ty(np.zeros((8, 8, 4), np.float32)), ty(out2), ty(out2),
-                                            ty(np.zeros((8, 8), np.int32)))
+    sig = (ty(f.arrays), ty(f.settings), ty(Outputs.empty(8, 8)), ty(f.mode), ty(f.light))
     pt = PathTracer(scene, cam, (8, 8))
     g = pt.frame
-    sig_paths = (numba.int64, numba.int64) + tuple(ty(a) for a in (g.cam, g.geo, g.planes, g.vol, g.lut, g.sig,
-                                                                   g.lights, g.prm, g.iprm)) + (numba.float64,
-                                                                                                ty(pt.acc))
-    m = f.lvm[0]
-    volt = np.transpose(f.vol, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
-    sig_sweep = (ty(volt), ty(f.sig), ty(np.zeros((3, 4))), ty(f.geo), ty(f.planes), numba.int64, ty(m),
-                 numba.float64, numba.float64, ty(np.zeros((2, 2, 2), np.float32)))
+    sig_paths = (numba.int64, numba.int64, ty(g.arrays), ty(g.settings), numba.float64, ty(pt.acc))
+    a = f.arrays
+    m = a.lvm[0]
+    volt = np.transpose(a.vol, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
+    sw = Sweep(volt, a.sig, np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
+    sig_sweep = (ty(sw), ty(np.zeros((2, 2, 2), np.float32)))
     failed = 0
     for name, kern, s in (("trace", _kernels.trace, sig), ("paths", _kernels.paths, sig_paths),
                           ("sweep", _kernels.sweep, sig_sweep)):

@@ -76,7 +76,7 @@ def test_lit_models_differ_so_the_comparison_means_something(simulated):
 def test_device_cache_uploads_only_what_changed(simulated):
     log = {label: (set(up), built) for label, up, built in json.loads(str(simulated["uploads"]))}
     first, built = log["first"]
-    assert {"vol", "lut", "sig", "cam", "lights", "prm", "iprm"} <= first and built == 1
+    assert {"vol", "lut", "sig", "cam", "lights"} <= first and built == 1  # settings go by value, not uploaded
     assert log["same"] == (set(), 0)  # the same frame again sends nothing and sweeps nothing
     assert log["camera"] == ({"cam"}, 0)  # world-fixed lights: their illumination volume is kept
     up, built = log["transfer"]

@@ -69,3 +69,57 @@ def test_sphere_radius_from_depth(sdf, projection, view):
     # no hits where the ray misses the sphere by more than a voxel
     far_miss = (~hit_true) & (np.sqrt(np.maximum(np.einsum("...i,...i", oc, oc) - b * b, 0)) > R + 1.5)
     assert np.all(np.isinf(im.depth[far_miss])) and np.all(im.rgba[..., 3][far_miss] == 0)
+
+
+# --- the eye's side (issue 12 item 1, issue 13 step 5): an eye inside a bright lumen sees its wall ---
+RT = 9.2  # tube radius, mm
+AXIS = np.array([30.3, 29.6])  # tube axis (x, y), world mm, along z
+
+
+@pytest.fixture(scope="module")
+def tube():
+    """A contrast-filled tube along z: 2000 inside radius RT, 200 outside (a wall darker than the lumen), edge
+    smoothed linearly over 2 mm so the 1100 level lies exactly at RT."""
+    nz, ny, nx = 40, 60, 60
+    k, j, i = np.mgrid[:nz, :ny, :nx].astype(np.float64)
+    rho = np.hypot(i - AXIS[0], j - AXIS[1])
+    data = 1100.0 + 900.0 * np.clip((RT - rho) / 1.0, -1.0, 1.0)
+    return Volume(data.astype(np.float32), spacing=(1.0, 1.0, 1.0))
+
+
+def _iso_scene(vol):
+    return Scene(volume=vol, mode="isosurface", isosurface=Isosurface(value=1100.0), shading=Shading(mode="headlight"),
+                 sampling=Sampling(samples_per_voxel=2.0, jitter=False))
+
+
+@pytest.mark.parametrize("direction", [(1.0, 0.0, 0.0), (0.6, -0.5, 0.62)])
+def test_eye_inside_bright_tube_sees_the_wall(tube, direction):
+    eye = np.array([AXIS[0] + 1.7, AXIS[1] - 2.1, 19.5])
+    d = np.asarray(direction) / np.linalg.norm(direction)
+    cam = Camera(position=tuple(eye), target=tuple(eye + 10 * d), up=(0, 0, 1) if abs(d[2]) < 0.9 else (0, 1, 0),
+                 fov=50.0)
+    size = (24, 20)
+    im = render(_iso_scene(tube), cam, size)
+    o, dirs = _rays(cam, size)
+    # analytic distance from the eye to the cylinder rho = RT along each ray (eye inside: the positive root)
+    px, py = eye[0] - AXIS[0], eye[1] - AXIS[1]
+    a = dirs[..., 0] ** 2 + dirs[..., 1] ** 2
+    b = px * dirs[..., 0] + py * dirs[..., 1]
+    c = px * px + py * py - RT * RT
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = (-b + np.sqrt(b * b - a * c)) / a
+    z = eye[2] + t * dirs[..., 2]
+    ok = (z > 1.0) & (z < 38.0)  # hits on the wall, not through the volume's ends
+    assert ok.sum() > 0.8 * ok.size
+    err = np.abs(im.depth[ok] - t[ok])
+    print(f"eye in a bright tube, direction {direction}: depth error mean {err.mean():.3f} mm, max {err.max():.3f} mm")
+    assert np.isfinite(im.depth[ok]).all() and err.max() <= 0.25
+    assert im.depth[ok].min() > 1.0  # not the near plane (the bug of issue 12)
+
+
+def test_eye_outside_the_tube_sees_its_outer_wall(tube):
+    """Eye inside the volume but in the dark region: the rising crossing, as before."""
+    eye = np.array([AXIS[0] + 22.0, AXIS[1], 20.0])
+    cam = Camera(position=tuple(eye), target=(AXIS[0], AXIS[1], 20.0), up=(0, 0, 1), fov=20.0)
+    im = render(_iso_scene(tube), cam, (9, 9))
+    assert abs(im.depth[4, 4] - (22.0 - RT)) <= 0.25, im.depth[4, 4]

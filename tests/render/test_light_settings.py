@@ -36,6 +36,23 @@ def test_light_and_shading_round_trip_and_old_files():
     assert s2.shading.shadow_method == "fast" and s2.shading.light_volume_scale == 2.0
 
 
+def test_shading_grouped_per_model_and_flat_files_still_load():
+    from volumen.core._lighting import PathTraceSettings, PhongSettings, ScatterSettings, ShadowSettings
+
+    sh = Shading(mode="scattering", phong=PhongSettings(ambient=0.3, gradient="sobel"),
+                 shadows=ShadowSettings(method="direct", step=0.5), scattering=ScatterSettings(phase_g=0.4),
+                 pathtrace=PathTraceSettings(samples=8))
+    d = json.loads(sh.to_json())
+    assert set(d) == {"mode", "phong", "shadows", "scattering", "pathtrace"} and d["shadows"]["method"] == "direct"
+    assert Shading.from_json(sh.to_json()) == sh and Shading.from_dict(d) == sh  # nested dicts load too
+    flat = {"mode": "scattering", "ambient": 0.3, "gradient": "sobel", "shadow_method": "direct", "shadow_step": 0.5,
+            "phase_g": 0.4, "pt_samples": 8}  # a settings file written before the grouping
+    assert Shading.from_dict(json.loads(json.dumps(flat))) == sh
+    assert Shading(**flat) == sh and sh.ambient == 0.3 and sh.pt_samples == 8  # flat names stand for the fields
+    with pytest.raises(ValueError, match="unknown Shading fields"):
+        Shading.from_dict({"mode": "phong", "ambiant": 0.2})
+
+
 @pytest.mark.parametrize("make,match", [
     (lambda: Light(kind="area"), "headlight"),
     (lambda: Light(attach="patient"), "camera"),

@@ -167,7 +167,7 @@ def progressive_frames(job: FrameJob, *, batch: int = 4,
     """The full-size picture of ``job``; for path tracing, one :class:`Frame` per ``batch`` samples per pixel.
 
     Path tracing (shading ``pathtrace``, composite mode, ray casting, mono)
-    accumulates up to ``scene.shading.pt_samples`` samples per pixel, yielding
+    accumulates up to ``scene.shading.pathtrace.samples`` samples per pixel, yielding
     a refined frame after each batch and stopping early when ``cancelled()``
     turns true; the last frame has ``final=True``. Anything else is one final frame.
     """
@@ -177,7 +177,7 @@ def progressive_frames(job: FrameJob, *, batch: int = 4,
     from ..render import PathTracer
 
     t = time.perf_counter()
-    total = job.scene.shading.pt_samples
+    total = job.scene.shading.pathtrace.samples
     tracer = PathTracer(job.scene, job.camera, job.size)
     while tracer.spp < total:
         n = min(batch, total - tracer.spp)

@@ -1,120 +1,232 @@
-"""``volumen bench render``: ray-casting speed per volume size, image size, mode and shading, against VTK.
+"""``volumen bench render``: ray casting on real scans and the phantoms, against VTK in the same process.
 
-For each case the table gives the median frame time, samples per second, and
-for composite modes the speed-up from empty-space skipping and early ray
-termination (the same frame rendered with both switched off). When ``vtk`` is
-installed, the composite cases are also rendered by VTK's fixed-point CPU
-mapper in the same run (same volume, camera, sample distance, transfer
-function, image size, all threads), with the time ratio ours / VTK and the
-mean absolute difference of the two pictures (RGB in [0, 1]).
+Data sets: the VMTK aorta CTA (``../shared/data/vmtk-aorta/aorta.mha``,
+scanner units 0..2570) resampled with ``scipy.ndimage.zoom`` to about
+244x202x224 and 366x303x336 voxels as int16, like a contrast abdominal CT
+(its transfer functions: the CT presets shifted by +1000, the scan's offset
+from Hounsfield units); an MRI template from ``volumen.data.sample`` where
+installed; the head and torso phantoms. Cases (issue 13's targets):
+composite ct-bone headlight, composite ct-skin-bone headlight (translucent),
+composite ct-bone unshaded, plus mip and isosurface.
+
+Timing: VTK's ``vtkFixedPointVolumeRayCastMapper`` renders the same scene
+(volume, camera, transfer-function points, sample distance, image size) with
+the same number of threads as Numba, in alternating rounds (ours, VTK, ours,
+VTK, ...), so both see the same machine load; the table gives each median and
+the ratio ours / VTK, and the mean |RGB diff| of the two pictures. The peak
+memory of a shaded render is measured in a fresh subprocess (``ru_maxrss``
+before loading the scan and after one shaded frame) and printed against the
+volume's own bytes.
 """
 
 from __future__ import annotations
 
+import os
+import resource
+import subprocess
+import sys
 import time
-from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
-from ._table import Table, median_time, resolve_device
+from ._table import Table, resolve_device
 from ._vtk import VtkScene, vtk_available
 
-__all__ = ["bench_render", "CASES", "VOLUMES", "IMAGES"]
+__all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "peak_memory"]
 
-#: (nz, ny, nx) of the head phantom
-VOLUMES = {"128^3": (128, 128, 128), "256^3": (256, 256, 256), "512x512x256": (256, 512, 512)}
-IMAGES = {"512x512": (512, 512), "782x415": (782, 415)}
+IMAGES = {"512x512": (512, 512)}
 #: (mode, shading, preset)
 CASES = [
-    ("composite", "none", "ct-bone"),
     ("composite", "headlight", "ct-bone"),
     ("composite", "headlight", "ct-skin-bone"),
+    ("composite", "none", "ct-bone"),
     ("mip", "none", None),
-    ("minip", "none", None),
-    ("average", "none", None),
     ("isosurface", "headlight", None),
 ]
-QUICK = {"volumes": {"64^3": (64, 64, 64)}, "images": {"128x128": (128, 128)}}
+#: data set name -> (kind, (nx, ny, nz) or None)
+DATASETS = {"aorta-244x202x224": ("aorta", (244, 202, 224)), "aorta-366x303x336": ("aorta", (366, 303, 336)),
+            "mri-template": ("mri", None), "head-phantom-256": ("head", (256, 256, 256)),
+            "torso-phantom-256": ("torso", (256, 256, 256))}
+QUICK = {"datasets": {"aorta-96x80x88": ("aorta", (96, 80, 88)), "head-phantom-64": ("head", (64, 64, 64))},
+         "images": {"128x128": (128, 128)}}
+#: CT presets are in HU; the VMTK scan is HU + 1000 (air 0, soft tissue ~1200, contrast lumen 1600-2200)
+AORTA_OFFSET = 1000.0
 
 
-def _scene(volume, mode, shading, preset, spv):
+def aorta_path() -> Path | None:
+    """The VMTK aorta (``$VOLUMEN_SHARED_DATA`` or ``../shared/data`` beside the checkout), or None."""
+    roots = [os.environ.get("VOLUMEN_SHARED_DATA", ""), Path(__file__).resolve().parents[3] / "shared" / "data",
+             "/work/shared/data"]
+    for r in roots:
+        p = Path(r) / "vmtk-aorta" / "aorta.mha"
+        if r and p.exists():
+            return p
+    return None
+
+
+def load_dataset(kind: str, shape):
+    """``(Volume, HU offset)`` of a data set; None where its source is missing."""
+    from volumen.core import Volume
+    from volumen.data import phantom
+
+    if kind in ("head", "torso"):
+        return phantom(kind, size=tuple(shape[::-1])), 0.0
+    if kind == "mri":
+        from volumen.data import sample
+
+        try:
+            return sample("mni-brain"), None
+        except Exception:  # noqa: BLE001 - the optional system package is missing: skip the data set
+            return None
+    path = aorta_path()
+    if path is None:
+        return None
+    from scipy import ndimage
+
+    from volumen.io import load
+
+    src = load(path)
+    nz, ny, nx = src.shape
+    factors = (shape[2] / nz, shape[1] / ny, shape[0] / nx)
+    data = ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1, output=np.float32)
+    data = np.rint(data).astype(np.int16)
+    aff = np.array(src.affine, float)
+    aff[:3, :3] = aff[:3, :3] * (np.array(src.shape[::-1], float) / np.array(data.shape[::-1], float))
+    spacing = tuple(s * n / m for s, n, m in zip(src.spacing, src.shape, data.shape, strict=True))
+    return Volume(data, spacing=spacing, affine=aff, modality="CT", units="HU+1000"), AORTA_OFFSET
+
+
+def _scene(volume, mode, shading, preset, offset, spv):
     from volumen.core import Isosurface, Sampling, Scene, Shading, TransferFunction
     from volumen.render import default_transfer
 
-    tf = TransferFunction.preset(preset) if preset else default_transfer(volume, mode)
-    return Scene(volume=volume, volume_ref="phantom:head", transfer=tf, mode=mode,
-                 shading=Shading(mode=shading), sampling=Sampling(samples_per_voxel=spv),
-                 isosurface=Isosurface(value=300.0))
+    if preset and offset is not None:
+        tf = TransferFunction.preset(preset).shifted(offset)
+    else:
+        tf = default_transfer(volume, "composite" if mode == "composite" else mode)
+    iso = 300.0 + (offset or 0.0) if offset is not None else float(np.percentile(volume.data[::4, ::4, ::4], 90))
+    return Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading),
+                 sampling=Sampling(samples_per_voxel=spv), isosurface=Isosurface(value=iso))
 
 
-def _rgb(image) -> np.ndarray:
-    return np.clip(image.rgba[..., :3], 0.0, 1.0)
+def _alternate(ours, theirs, rounds: int) -> tuple[float, float]:
+    """Median seconds of ``ours()`` and ``theirs()`` timed in alternating rounds."""
+    a, b = [], []
+    for _ in range(rounds):
+        t = time.perf_counter()
+        ours()
+        a.append(time.perf_counter() - t)
+        if theirs is not None:
+            t = time.perf_counter()
+            theirs()
+            b.append(time.perf_counter() - t)
+    return float(np.median(a)), (float(np.median(b)) if b else float("nan"))
 
 
-def bench_render(*, volumes=None, images=None, cases=None, spv: float = 1.0, repeat: int = 3,
-                 with_vtk: bool = True, backend: str = "cpu", progress=print) -> Table:
-    """Run the benchmark; returns the :class:`Table` (print ``table.render()``, save with ``table.save``).
+def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -> dict:
+    """Peak RSS of a fresh process rendering one ``shading`` frame (composite ct-bone) of a data set.
 
-    Parameters
-    ----------
-    volumes : dict name -> (nz, ny, nx), optional
-        Head phantom sizes (default :data:`VOLUMES`).
-    images : dict name -> (width, height), optional
-        Image sizes (default :data:`IMAGES`).
-    cases : list of (mode, shading, preset), optional
-    spv : float
-        Samples per voxel.
-    repeat : int
-        Timed frames per case (median reported) after one warm-up frame.
-    with_vtk : bool
-        Also render composite cases with VTK when it is installed.
-    backend : {"cpu", "cuda", "auto"}
-        Our renderer's backend; ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
+    Returns ``{"volume_bytes", "baseline_bytes" (after imports and a compile on a tiny volume), "peak_bytes"}``.
     """
-    from volumen.core import Camera
-    from volumen.data import phantom
+    code = (
+        "import resource, sys, numpy as np\n"
+        "from volumen.bench._render import load_dataset, _scene\n"
+        "from volumen.core import Camera\n"
+        "from volumen.data import phantom\n"
+        "from volumen.render import render\n"
+        "tiny = phantom('head', size=(16, 16, 16))\n"
+        f"render(_scene(tiny, 'composite', {shading!r}, 'ct-bone', 0.0, 1.0), Camera.orbit(tiny), (8, 8))\n"
+        "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        f"vol, off = load_dataset({kind!r}, {tuple(shape) if shape else None!r})\n"
+        "vol = type(vol)(np.ascontiguousarray(vol.data), affine=vol.affine, modality=vol.modality, units=vol.units)\n"
+        "import gc; gc.collect()\n"
+        f"render(_scene(vol, 'composite', {shading!r}, 'ct-bone', off, 1.0), Camera.orbit(vol), {tuple(size)!r})\n"
+        "peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "print('MEM', vol.data.nbytes, base * 1024, peak * 1024)\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=900)
+    line = [x for x in r.stdout.splitlines() if x.startswith("MEM")]
+    if not line:
+        raise RuntimeError(f"peak-memory run failed: {r.stderr[-2000:]}")
+    nbytes, base, peak = (int(x) for x in line[0].split()[1:])
+    return {"volume_bytes": nbytes, "baseline_bytes": base, "peak_bytes": peak}
+
+
+def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
     from volumen.render import render
 
-    volumes = volumes or VOLUMES
-    images = images or IMAGES
-    cases = cases or CASES
+    image = render(scene, camera, size, device=backend)  # warm-up: compile, per-volume caches
+    peer = None
+    if use_vtk and scene.mode == "composite":
+        peer = VtkScene(scene, camera, size, threads=threads)
+        theirs = peer.render()
+    ours_s, vtk_s = _alternate(lambda: render(scene, camera, size, device=backend),
+                               None if peer is None else peer.render_only, rounds)
+    row = table.add(**label, ms=ours_s * 1e3, msamples_s=float(image.stats.get("samples", 0)) / ours_s * 1e-6)
+    if peer is not None:
+        row.update(vtk_ms=vtk_s * 1e3, ratio_vtk=ours_s / vtk_s,
+                   diff_vtk=float(np.mean(np.abs(np.clip(image.rgba[..., :3], 0, 1) - theirs))))
+    return row
+
+
+def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, rounds: int = 5, repeat=None,
+                 with_vtk: bool = True, backend: str = "cpu", memory: bool = True, progress=print,
+                 volumes=None) -> Table:
+    """Run the benchmark; returns the :class:`Table` (print ``table.render()``, save with ``table.save``).
+
+    ``datasets``: name -> (kind, (nx, ny, nz)) (default :data:`DATASETS`); ``rounds`` alternating timed
+    rounds per case after a warm-up (``repeat``, the CLI's name, overrides it); ``memory``: also measure the
+    peak memory of a shaded render of each aorta size in a fresh process. ``volumes`` (older name): head
+    phantom sizes (nz, ny, nx).
+    """
+    import numba
+
+    from volumen.core import Camera
+
+    if volumes:
+        datasets = {f"head-phantom-{'x'.join(map(str, s[::-1]))}": ("head", s[::-1]) for s in volumes.values()}
+    datasets = datasets or DATASETS
+    rounds = int(repeat or rounds)
+    images, cases = images or IMAGES, cases or CASES
     backend, device = resolve_device(backend)
+    threads = numba.get_num_threads()
     use_vtk = with_vtk and vtk_available()
-    table = Table(f"volumen bench render ({device} ray casting; head phantom, anterior view)", [
-        ("volume", "volume", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
-        ("preset", "preset", "s"), ("ms", "ms/frame", ".1f"), ("fps", "fps", ".2f"),
-        ("msamples_s", "Msamples/s", ".0f"), ("skip_speedup", "ESS+ERT speed-up", ".2f"),
+    table = Table(f"volumen bench render ({device} ray casting vs VTK fixed-point, {threads} threads each)", [
+        ("data", "data", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
+        ("preset", "preset", "s"), ("ms", "ms/frame", ".1f"), ("msamples_s", "Msamples/s", ".0f"),
         ("vtk_ms", "VTK ms", ".1f"), ("ratio_vtk", "ours/VTK", ".2f"), ("diff_vtk", "mean |diff| vs VTK", ".4f"),
     ])
-    table.notes.append(f"samples per voxel {spv}; median of {repeat} frames after a warm-up frame; "
-                       "Numba kernels compiled before timing")
+    table.notes.append(f"samples per voxel {spv}; medians of {rounds} alternating rounds (ours, VTK) after a "
+                       f"warm-up; load average at start {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
     if not use_vtk:
-        table.notes.append("VTK not installed (pip install 'volumen[bench]'): no peer columns")
-    for vname, shape in volumes.items():
-        t0 = time.perf_counter()
-        vol = phantom("head", size=shape)
-        progress(f"[{vname}] head phantom {shape[::-1]} (x, y, z) in {time.perf_counter() - t0:.1f} s")
+        table.notes.append("VTK not installed (pip install 'volumen[bench]') or --no-vtk: no peer columns")
+    for dname, (kind, shape) in datasets.items():
+        loaded = load_dataset(kind, shape)
+        if loaded is None:
+            table.notes.append(f"{dname}: source missing, skipped")
+            continue
+        vol, offset = loaded
+        progress(f"[{dname}] {vol.shape[::-1]} (x, y, z) {vol.data.dtype}, {vol.data.nbytes / 2**20:.0f} MiB")
+        camera = Camera.orbit(vol, view="anterior")
         for iname, size in images.items():
-            camera = Camera.orbit(vol, view="anterior")
             for mode, shading, preset in cases:
-                scene = _scene(vol, mode, shading, preset, spv)
-                image = render(scene, camera, size, device=backend)  # warm-up: JIT, per-volume caches
-                ms = median_time(lambda: render(scene, camera, size, device=backend), repeat=repeat, warmup=0) * 1e3
-                samples = float(np.sum(image.stats.get("samples", 0)))
-                row = table.add(volume=vname, image=iname, mode=mode, shading=shading,
-                                preset=preset or "-", ms=ms, fps=1e3 / ms, msamples_s=samples / ms * 1e-3)
-                if mode in ("composite", "isosurface"):
-                    plain = replace(scene, sampling=replace(scene.sampling, skip_empty=False, early_termination=1.0))
-                    render(plain, camera, size, device=backend)
-                    ms_plain = median_time(lambda: render(plain, camera, size, device=backend), repeat=1,
-                                           warmup=0) * 1e3
-                    row["skip_speedup"] = ms_plain / ms
-                if use_vtk and mode == "composite":
-                    peer = VtkScene(scene, camera, size)
-                    theirs = peer.render()
-                    row["vtk_ms"] = median_time(peer.render_only, repeat=repeat, warmup=0) * 1e3
-                    row["ratio_vtk"] = ms / row["vtk_ms"]
-                    row["diff_vtk"] = float(np.mean(np.abs(_rgb(image) - theirs)))
-                progress(f"  {iname} {mode}/{shading}/{preset or '-'}: {ms:.1f} ms"
-                         + (f", VTK {row['vtk_ms']:.1f} ms" if "vtk_ms" in row else ""))
+                scene = _scene(vol, mode, shading, preset, offset, spv)
+                label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=preset or "-")
+                row = _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label)
+                progress(f"  {iname} {mode}/{shading}/{preset or '-'}: {row['ms']:.1f} ms"
+                         + (f", VTK {row['vtk_ms']:.1f} ms, ratio {row['ratio_vtk']:.2f}" if "vtk_ms" in row else ""))
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    table.notes.append(f"this process's peak RSS: {rss:.0f} MiB")
+    if memory:
+        for dname, (kind, shape) in datasets.items():
+            if kind != "aorta" or aorta_path() is None:
+                continue
+            m = peak_memory(kind, shape)
+            table.notes.append(
+                f"peak memory of a shaded render ({dname}, fresh process): {m['peak_bytes'] / 2**20:.0f} MiB = "
+                f"{m['peak_bytes'] / m['volume_bytes']:.1f}x the volume's {m['volume_bytes'] / 2**20:.0f} MiB; "
+                f"above the {m['baseline_bytes'] / 2**20:.0f} MiB baseline (imports, compiled kernels): "
+                f"{(m['peak_bytes'] - m['baseline_bytes']) / m['volume_bytes']:.1f}x")
+            progress(table.notes[-1])
     return table

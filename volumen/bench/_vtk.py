@@ -85,10 +85,10 @@ class VtkScene:
         sh = scene.shading
         if sh.mode == "headlight":
             prop.ShadeOn()
-            prop.SetAmbient(sh.ambient)
-            prop.SetDiffuse(sh.diffuse)
-            prop.SetSpecular(sh.specular)
-            prop.SetSpecularPower(sh.shininess)
+            prop.SetAmbient(sh.phong.ambient)
+            prop.SetDiffuse(sh.phong.diffuse)
+            prop.SetSpecular(sh.phong.specular)
+            prop.SetSpecularPower(sh.phong.shininess)
         else:
             prop.ShadeOff()
         actor = vtk.vtkVolume()

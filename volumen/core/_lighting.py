@@ -6,14 +6,15 @@ the renderers read them, nothing here computes light.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import Literal, get_args
 
 import numpy as np
 
 from ._jsondata import JsonData, _choice, _nonneg, _vec
 
-__all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "ShadingMode", "SHADINGS"]
+__all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "ShadingMode", "SHADINGS", "PhongSettings",
+           "ShadowSettings", "ScatterSettings", "PathTraceSettings"]
 
 ShadingMode = Literal["none", "headlight", "phong", "shadows", "scattering", "pathtrace"]
 LightKind = Literal["point", "spot", "headlight"]
@@ -92,9 +93,148 @@ class Light(JsonData):
         return np.asarray(self.position, float), d
 
 
+def _set(obj, **values) -> None:
+    for k, v in values.items():
+        object.__setattr__(obj, k, v)
+
+
+def _count(name: str, v, lo: int) -> int:
+    if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= lo):
+        raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+    return int(v)
+
+
+def _within(name: str, v, lo: float, hi: float, unit: str = "") -> float:
+    if not lo <= float(v) <= hi:
+        raise ValueError(f"{name} must be in [{lo}, {hi}]{unit}, got {v}")
+    return float(v)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PhongSettings(JsonData):
+    """Phong terms (``headlight``, ``phong``, ``shadows``; in ``scattering`` / ``pathtrace``, ``ambient`` is the
+    radiance of the uniform white environment and ``diffuse`` scales the lights).
+
+    Parameters
+    ----------
+    ambient, diffuse, specular : float >= 0
+    shininess : float >= 0
+        Specular exponent.
+    gradient : {"central", "sobel"}
+        How normals are estimated from the data (scaled by the voxel spacing
+        and the affine, so they are world-space directions).
+    """
+
+    ambient: float = 0.15
+    diffuse: float = 0.65
+    specular: float = 0.2
+    shininess: float = 20.0
+    gradient: Literal["central", "sobel"] = "central"
+
+    def __post_init__(self) -> None:
+        for name in ("ambient", "diffuse", "specular", "shininess"):
+            _set(self, **{name: _nonneg(f"Shading.phong.{name}", getattr(self, name))})
+        _choice("Shading.phong.gradient", self.gradient, ("central", "sobel"))
+
+
+@dataclass(frozen=True, kw_only=True)
+class ShadowSettings(JsonData):
+    """How the light reaching a sample is found (``shadows``, ``scattering``).
+
+    Parameters
+    ----------
+    method : {"fast", "direct"}
+        ``direct``: a shadow ray marched per sample per light (the reference);
+        ``fast``: a per-light illumination volume, built once per light /
+        transfer function / clip box, read with one interpolation per sample.
+    offset : float, reference steps (voxels)
+        Where the path to the light starts, away from the sample (no self-shadowing).
+    step : float in [0.05, 16], reference steps
+        Step of the direct shadow rays.
+    light_volume_scale : float in [0.05, 4]
+        Resolution of the illumination volumes: light rays per voxel along each
+        axis of the slices they are stored on (2: half-voxel spacing). Lowered
+        automatically so one light's volume holds at most 2**26 values (256 MB).
+    """
+
+    method: Literal["fast", "direct"] = "fast"
+    offset: float = 2.0
+    step: float = 1.0
+    light_volume_scale: float = 2.0
+
+    def __post_init__(self) -> None:
+        _choice("Shading.shadows.method", self.method, ("fast", "direct"))
+        _set(self, offset=_nonneg("Shading.shadows.offset", self.offset),
+             step=_within("Shading.shadows.step", self.step, 0.05, 16, " voxels"),
+             light_volume_scale=_within("Shading.shadows.light_volume_scale", self.light_volume_scale, 0.05, 4.0))
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScatterSettings(JsonData):
+    """The participating medium of ``scattering`` and ``pathtrace``.
+
+    Parameters
+    ----------
+    sigma_a, sigma_s : float >= 0, sum > 0
+        Absorption and scattering coefficients in units of the transfer
+        function's extinction ``-ln(1 - alpha) / ds0``: the medium has
+        ``sigma_t = (sigma_a + sigma_s) * extinction`` and single-scattering
+        albedo ``sigma_s / (sigma_a + sigma_s)`` (times the transfer function's colour).
+    phase_g : float in [-0.95, 0.95]
+        Henyey-Greenstein anisotropy (0 isotropic, > 0 forward scattering).
+    """
+
+    sigma_a: float = 0.0
+    sigma_s: float = 1.0
+    phase_g: float = 0.0
+
+    def __post_init__(self) -> None:
+        _set(self, sigma_a=_nonneg("Shading.scattering.sigma_a", self.sigma_a),
+             sigma_s=_nonneg("Shading.scattering.sigma_s", self.sigma_s),
+             phase_g=_within("Shading.scattering.phase_g", self.phase_g, -0.95, 0.95))
+        if self.sigma_a + self.sigma_s <= 0:
+            raise ValueError("Shading.scattering.sigma_a + sigma_s must be > 0")
+
+
+@dataclass(frozen=True, kw_only=True)
+class PathTraceSettings(JsonData):
+    """Progressive path tracing (``pathtrace``).
+
+    Parameters
+    ----------
+    samples : int >= 1
+        Samples per pixel of one ``render`` call.
+    bounces : int >= 1
+        Most scattering events per path (1 = single scattering, which converges
+        to the ``scattering`` picture).
+    """
+
+    samples: int = 64
+    bounces: int = 4
+
+    def __post_init__(self) -> None:
+        _set(self, samples=_count("Shading.pathtrace.samples", self.samples, 1),
+             bounces=_count("Shading.pathtrace.bounces", self.bounces, 1))
+
+
+#: the settings of each model: Shading field -> its class
+GROUPS = {"phong": PhongSettings, "shadows": ShadowSettings, "scattering": ScatterSettings,
+          "pathtrace": PathTraceSettings}
+#: the flat names of the settings before they were grouped (older scene files, keyword arguments)
+#: -> (group, field)
+FLAT = {"ambient": ("phong", "ambient"), "diffuse": ("phong", "diffuse"), "specular": ("phong", "specular"),
+        "shininess": ("phong", "shininess"), "gradient": ("phong", "gradient"),
+        "shadow_method": ("shadows", "method"), "shadow_offset": ("shadows", "offset"),
+        "shadow_step": ("shadows", "step"), "light_volume_scale": ("shadows", "light_volume_scale"),
+        "sigma_a": ("scattering", "sigma_a"), "sigma_s": ("scattering", "sigma_s"),
+        "phase_g": ("scattering", "phase_g"), "pt_samples": ("pathtrace", "samples"),
+        "pt_bounces": ("pathtrace", "bounces")}
+
+
 @dataclass(frozen=True, kw_only=True)
 class Shading(JsonData):
-    """Lighting of samples (DESIGN.md section 3): one ``mode``, all from the same kernels.
+    """Lighting of samples (DESIGN.md section 3): one ``mode``, all from the same kernels, and the settings of
+    each model grouped.
 
     Parameters
     ----------
@@ -109,77 +249,55 @@ class Shading(JsonData):
         scattering, soft shadows of area-like lights, the environment).
         In ``isosurface`` mode a surface has no medium: ``scattering`` and
         ``pathtrace`` light it as ``shadows`` does.
-    ambient, diffuse, specular : float
-        Phong coefficients. In ``scattering`` and ``pathtrace``, ``ambient`` is
-        the radiance of the uniform white environment (unshadowed in
-        ``scattering``) and ``diffuse`` scales the lights.
-    shininess : float
-        Specular exponent.
-    gradient : {"central", "sobel"}
-        How normals are estimated from the data (scaled by the voxel spacing
-        and the affine, so they are world-space directions).
-    shadow_method : {"fast", "direct"}
-        ``direct``: a shadow ray marched per sample per light (the reference);
-        ``fast``: a per-light illumination volume, built once per light /
-        transfer function / clip box, read with one interpolation per sample.
-    shadow_offset : float, reference steps (voxels)
-        Where the path to the light starts, away from the sample (no
-        self-shadowing).
-    shadow_step : float, reference steps (voxels)
-        Step of the direct shadow rays.
-    light_volume_scale : float in [0.05, 4]
-        Resolution of the illumination volumes: light rays per voxel along each
-        axis of the slices they are stored on (2: half-voxel spacing). Lowered
-        automatically so one light's volume holds at most 2**26 values (256 MB).
-    sigma_a, sigma_s : float
-        Absorption and scattering coefficients in units of the transfer
-        function's extinction ``-ln(1 - alpha) / ds0``: the medium has
-        ``sigma_t = (sigma_a + sigma_s) * extinction`` and single-scattering
-        albedo ``sigma_s / (sigma_a + sigma_s)`` (times the transfer function's
-        colour). ``scattering`` and ``pathtrace`` only.
-    phase_g : float in [-0.95, 0.95]
-        Henyey-Greenstein anisotropy (0 isotropic, > 0 forward scattering).
-    pt_samples : int
-        Samples per pixel of one ``render`` call in ``pathtrace`` mode.
-    pt_bounces : int
-        Most scattering events per path (1 = single scattering, which converges
-        to the ``scattering`` picture).
+    phong : PhongSettings
+    shadows : ShadowSettings
+    scattering : ScatterSettings
+    pathtrace : PathTraceSettings
+        Each may be given as a dict of its fields.
+
+    The flat names of :data:`FLAT` (``ambient``, ``shadow_method``,
+    ``pt_samples``, ...) are accepted as keyword arguments and in older scene
+    files (``from_dict``), and read as attributes, each standing for its
+    field of a group (``Shading(ambient=0.3)`` is
+    ``Shading(phong=PhongSettings(ambient=0.3))``).
     """
 
     mode: ShadingMode = "headlight"
-    ambient: float = 0.15
-    diffuse: float = 0.65
-    specular: float = 0.2
-    shininess: float = 20.0
-    gradient: Literal["central", "sobel"] = "central"
-    shadow_method: Literal["fast", "direct"] = "fast"
-    shadow_offset: float = 2.0
-    shadow_step: float = 1.0
-    light_volume_scale: float = 2.0
-    sigma_a: float = 0.0
-    sigma_s: float = 1.0
-    phase_g: float = 0.0
-    pt_samples: int = 64
-    pt_bounces: int = 4
+    phong: PhongSettings = field(default_factory=PhongSettings)
+    shadows: ShadowSettings = field(default_factory=ShadowSettings)
+    scattering: ScatterSettings = field(default_factory=ScatterSettings)
+    pathtrace: PathTraceSettings = field(default_factory=PathTraceSettings)
 
-    def __post_init__(self) -> None:
+    def __init__(self, *, mode: ShadingMode = "headlight", phong=None, shadows=None, scattering=None, pathtrace=None,
+                 **flat):
+        unknown = set(flat) - set(FLAT)
+        if unknown:
+            raise ValueError(f"unknown Shading fields {sorted(unknown)}; valid: "
+                             f"{sorted(['mode', *GROUPS, *FLAT])}")
+        given = {"phong": phong, "shadows": shadows, "scattering": scattering, "pathtrace": pathtrace}
+        for name, cls in GROUPS.items():
+            g = given[name]
+            g = cls() if g is None else (cls.from_dict(g) if isinstance(g, dict) else g)
+            if not isinstance(g, cls):
+                raise ValueError(f"Shading.{name} must be a {cls.__name__}, got {type(g).__name__}")
+            over = {FLAT[k][1]: v for k, v in flat.items() if FLAT[k][0] == name}
+            if over:
+                try:
+                    g = replace(g, **over)
+                except ValueError as exc:  # name the flat keyword the caller used
+                    used = ", ".join(k for k in flat if FLAT[k][0] == name)
+                    raise ValueError(f"{exc} (given as {used})") from None
+            _set(self, **{name: g})
+        _set(self, mode=mode)
         _choice("Shading.mode", self.mode, SHADINGS)
-        _choice("Shading.gradient", self.gradient, ("central", "sobel"))
-        _choice("Shading.shadow_method", self.shadow_method, ("fast", "direct"))
-        for name in ("ambient", "diffuse", "specular", "shininess", "shadow_offset", "sigma_a", "sigma_s"):
-            object.__setattr__(self, name, _nonneg(f"Shading.{name}", getattr(self, name)))
-        if not 0.05 <= float(self.shadow_step) <= 16:
-            raise ValueError(f"Shading.shadow_step must be in [0.05, 16] voxels, got {self.shadow_step}")
-        if not 0.05 <= float(self.light_volume_scale) <= 4.0:
-            raise ValueError(f"Shading.light_volume_scale must be in [0.05, 4], got {self.light_volume_scale}")
-        if not -0.95 <= float(self.phase_g) <= 0.95:
-            raise ValueError(f"Shading.phase_g must be in [-0.95, 0.95], got {self.phase_g}")
-        if self.sigma_a + self.sigma_s <= 0:
-            raise ValueError("Shading.sigma_a + Shading.sigma_s must be > 0")
-        for name, lo in (("pt_samples", 1), ("pt_bounces", 1)):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= lo):
-                raise ValueError(f"Shading.{name} must be an integer >= {lo}, got {v!r}")
-            object.__setattr__(self, name, int(v))
-        for name in ("shadow_step", "light_volume_scale", "phase_g"):
-            object.__setattr__(self, name, float(getattr(self, name)))
+
+    def __getattr__(self, name):
+        if name in FLAT:
+            group, key = FLAT[name]
+            return getattr(getattr(self, group), key)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    @classmethod
+    def from_dict(cls, d: dict):
+        """Inverse of :meth:`to_dict`; older flat files (``ambient``, ``pt_samples``, ...) load too."""
+        return cls(**d)

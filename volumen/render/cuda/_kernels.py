@@ -3,11 +3,14 @@
 Each kernel is the CUDA twin of a CPU ``prange`` driver and calls the same
 per-pixel / per-ray function (see :mod:`._target`):
 
-* :func:`trace`: ``raycast._trace.trace_pixel`` for pixel ``(px, py)`` (CPU: ``raycast._cpu.render_tiles``);
-* :func:`paths`: ``raycast._pathtrace.trace_path`` for samples ``s0 .. s1 - 1`` of a pixel
-  (CPU: ``raycast._pathtrace._trace_tiles``);
+* :func:`trace`: ``raycast.trace_pixel`` for pixel ``(px, py)``, specialised (like the CPU driver) for the
+  frame's mode and light tags;
+* :func:`paths`: ``raycast.trace_path`` for samples ``s0 .. s1 - 1`` of a pixel;
 * :func:`sweep`: one lattice ray of an illumination volume swept slice by slice with
-  ``raycast._lightsweep.lattice_step`` (CPU: ``raycast._lightsweep._sweep``, which runs rows of rays).
+  ``raycast.lattice_step``.
+
+Kernels take the frame's records (``raycast.Arrays``, ``raycast.Settings``,
+``raycast.Outputs``) whole; numba passes a tuple argument to a kernel field by field.
 
 This module imports numba's CUDA target: the other modules of the package
 import it inside the functions that launch kernels. The kernels compile on
@@ -18,9 +21,15 @@ from __future__ import annotations
 
 from numba import cuda
 
-from ..raycast._lightsweep import lattice_frame, lattice_ray, lattice_slice, lattice_step, lattice_transmittance_of
-from ..raycast._pathtrace import trace_path
-from ..raycast._trace import trace_pixel
+from ..raycast import (
+    lattice_frame,
+    lattice_ray,
+    lattice_slice,
+    lattice_step,
+    lattice_transmittance_of,
+    trace_path,
+    trace_pixel,
+)
 from ._target import device_function
 
 __all__ = ["trace", "paths", "sweep", "grid_2d", "BLOCK_2D"]
@@ -38,37 +47,37 @@ _transmittance = device_function(lattice_transmittance_of)
 
 
 @cuda.jit(fastmath=True)
-def trace(cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, lvm, lvd, sig, prm, iprm, rgba, depth,
-          value, nsamp):
-    """One thread per pixel of ``depth`` (H, W): ``trace_pixel``."""
+def trace(a, s, out, mode, light):
+    """One thread per pixel of ``out.depth`` (H, W): ``trace_pixel``."""
     px, py = cuda.grid(2)
-    if px < depth.shape[1] and py < depth.shape[0]:
-        _trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, lvm, lvd, sig, prm,
-                     iprm, rgba, depth, value, nsamp)
+    if px < out.depth.shape[1] and py < out.depth.shape[0]:
+        _trace_pixel(px, py, a, s, out, mode, light)
 
 
 @cuda.jit(fastmath=True)
-def paths(s0, s1, cam, geo, planes, vol, lut, sig, lights, prm, iprm, smaj, acc):
+def paths(s0, s1, a, s, smaj, acc):
     """One thread per pixel of ``acc`` (H, W, 5): ``trace_path`` for samples ``s0 .. s1 - 1``."""
     px, py = cuda.grid(2)
     if px < acc.shape[1] and py < acc.shape[0]:
-        for s in range(s0, s1):
-            _trace_path(px, py, s, cam, geo, planes, vol, lut, sig, lights, prm, iprm, smaj, acc)
+        for k in range(s0, s1):
+            _trace_path(px, py, k, a, s, smaj, acc)
 
 
 @cuda.jit(fastmath=True)
-def sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, out):
-    """One thread per lattice ray ``(v, u)`` of ``out`` (nk, nv, nu), swept over its slices nearest-first."""
+def sweep(sw, out):
+    """One thread per lattice ray ``(v, u)`` of ``out`` (nk, nv, nu), swept over its slices nearest-first;
+    ``sw`` is a ``raycast.Sweep``."""
     u, v = cuda.grid(2)
     if u < out.shape[2] and v < out.shape[1]:
-        pa, pb, pc, da, k0, nk, dsl, fwd = _frame(meta)
-        db, dc, t0, t1, length = _ray(aff, geo, planes, nplanes, meta, v, u)
-        scale = kext / ds0
+        pa, pb, pc, da, k0, nk, dsl, fwd = _frame(sw.meta)
+        db, dc, t0, t1, length = _ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
+        scale = sw.kext / sw.ds0
         acc = 0.0
         sp = -1.0
         for st in range(nk):
             i, k, s = _slice(st, nk, k0, pa, dsl, fwd)
-            acc, sp = _step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp)
+            acc, sp = _step((sw.volt, sw.sig, sw.u0, sw.ufac), k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc,
+                            sp)
             out[i, v, u] = _transmittance(acc, scale)
 
 

@@ -1,6 +1,6 @@
 """Illumination volumes built on the device: the same lattices as the CPU, swept one thread per lattice ray.
 
-The planning (:func:`volumen.render.raycast._lightvol.plan_lattice`), the
+The planning (:func:`volumen.render.raycast.plan_lattice`), the
 cache keys and the layout (meta rows, one flat float32 buffer) are those of
 the CPU; the sweep runs ``lattice_step`` (the shared per-ray step) in the
 ``sweep`` kernel, reading the normalized volume already on the device
@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from ..raycast._lightvol import (
+from ..raycast import (
     DIRECT,
     LATTICE,
     LV_AXA,
@@ -27,6 +27,7 @@ from ..raycast._lightvol import (
     LV_NV,
     LV_OFF,
     NMETA,
+    Sweep,
     plan_lattice,
 )
 from ._memory import device_volume, permuted
@@ -45,7 +46,7 @@ def _size(m) -> int:
 
 def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes, nplanes, ds0, kext, scale,
                          method: str):
-    """Like :func:`volumen.render.raycast._lightvol.light_volumes`, with the buffer ``lvd`` on the device.
+    """Like the CPU's illumination volumes (``raycast.pack_frame``'s default), with the buffer ``lvd`` on the device.
 
     Returns ``(lvm (n, NMETA) float64 host, lvd device float32, built)``.
     """
@@ -94,8 +95,9 @@ def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, 
             continue
         volt = permuted(d_u, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
         blocks, threads = _kernels.grid_2d(shape[2], shape[1])
-        _kernels.sweep[blocks, threads](volt, d_sig, d_aff, d_geo, d_planes, int(nplanes), cuda.to_device(m),
-                                        float(ds0), float(kext), lvd[o:o + size].reshape(shape))
+        sw = Sweep(volt, d_sig, d_aff, d_geo, d_planes, cuda.to_device(m), int(nplanes), float(ds0), float(kext),
+                   prep.u0, prep.ufac)
+        _kernels.sweep[blocks, threads](sw, lvd[o:o + size].reshape(shape))
         built += 1
     if built:
         cuda.synchronize()

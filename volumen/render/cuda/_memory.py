@@ -1,6 +1,6 @@
 """Device memory: each volume's arrays uploaded once and kept across frames, small tables only when they change.
 
-The cache lives on the volume's :class:`~volumen.render.raycast._cache.Prepared`
+The cache lives on the volume's prepared precomputations (``volumen.render.raycast.prepare``)
 (attribute ``device``), so it is keyed exactly like the CPU cache (the Volume
 object, its data array, shape, dtype and affine) and goes when that is
 rebuilt or cleared. Large arrays (normalized volume, normals, block grids)
@@ -37,7 +37,7 @@ class DeviceVolume:
         """Start counting uploads anew."""
         self.uploads = []
 
-    def put(self, name: str, host: np.ndarray, *, same_object: bool = False):
+    def put(self, name: str, host: np.ndarray, same_object: bool = False):
         """The device copy of ``host`` stored under ``name``, sent only when it changed.
 
         ``same_object``: ``host`` is a cached array that never changes in
@@ -83,10 +83,9 @@ def device_volume(prep) -> DeviceVolume:
 
 def clear_device_cache(volume=None) -> None:
     """Free the device arrays of ``volume`` (or of every cached volume); the CPU cache stays."""
-    from ..raycast._cache import _CACHE
+    from ..raycast import prepared_volumes
 
-    preps = list(_CACHE.values()) if volume is None else [p for p in (_CACHE.get(volume),) if p is not None]
-    for p in preps:
+    for p in prepared_volumes(volume):
         if getattr(p, "device", None) is not None:
             p.device = None
 

@@ -30,6 +30,9 @@ __all__ = ["device_function"]
 
 
 def _unwrap(a):
+    if isinstance(a, tuple):  # the frame's records (NamedTuples of arrays and scalars), tags, plain tuples
+        items = [_unwrap(x) for x in a]
+        return type(a)(*items) if hasattr(a, "_fields") else tuple(items)
     item = getattr(a, "_item", None)  # simulator: FakeWithinKernelCUDAArray -> FakeCUDAArray -> ndarray
     if item is not None and hasattr(item, "_ary"):
         return item._ary

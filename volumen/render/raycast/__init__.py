@@ -1,22 +1,49 @@
-"""CPU ray casting (Numba): kernels written once, see ``_trace.trace_pixel``.
+"""CPU ray casting (Numba), and the public interface the CUDA target builds on.
 
-Modules: ``_geometry`` (rays, clipping), ``_sample`` (reconstruction),
-``_shade`` (lights, every shading model), ``_shadow`` (direct shadow rays),
-``_lightvol`` (illumination volumes), ``_scatter`` (the scattering medium),
-``_trace`` (the marching loop), ``_pathtrace`` (progressive path tracing),
-``_precompute`` and ``_cache`` (per-volume arrays), ``_tables``
-(transfer-function tables), ``_params`` (packed parameter layouts), ``_pack``
-(scene -> arrays), ``_cpu`` (the parallel driver).
+One marching skeleton (``_march``) specialised per mode (``_composite``,
+``_project``, ``_iso``) and per shading model (``_shade``) through tags
+(``_pieces``); the frame's arrays and settings declared once (``_frame``).
+Other modules: ``_ray`` (a view ray), ``_geometry`` (rays, clipping),
+``_sample`` (reconstruction), ``_shadow`` (direct shadow rays), ``_lightvol``
+and ``_lightsweep`` (illumination volumes), ``_scatter`` (the scattering
+medium), ``_pathtrace`` (progressive path tracing), ``_precompute`` and
+``_cache`` (per-volume arrays), ``_tables`` (transfer-function tables),
+``_params`` (illumination-volume layout), ``_pack`` (scene -> Frame), ``_cpu``
+(the CPU driver).
+
+The CUDA backend (:mod:`volumen.render.cuda`) uses the names below only.
 """
 
-from ._cache import clear_cache
-from ._cpu import render_cpu
-from ._geometry import G_BOX, pack_geometry, to_index
-from ._pathtrace import PathTracer
-from ._sample import sample_value
-from ._trace import iso_refine
+from ._stamp import installed  # first: the Numba cache stamp, before any compiled function is defined
 
-# render_cpu, clear_cache and PathTracer serve volumen.render; the compiled pieces below are shared
-# with other packages (endoscopy's collision march) so no formula is written twice
+# isort: split
+from ._cache import clear_cache, prepare, prepared_volumes
+from ._cpu import frame_image, render_cpu
+from ._frame import FAR, PER_VOLUME, Arrays, Frame, Outputs, Settings
+from ._geometry import G_BOX, pack_geometry, to_index
+from ._iso import iso_refine
+from ._lightsweep import Sweep, lattice_frame, lattice_ray, lattice_slice, lattice_step, lattice_transmittance_of
+from ._lightvol import plan_lattice
+from ._march import trace_pixel
+from ._pack import pack_frame
+from ._params import (
+    DIRECT,
+    LATTICE,
+    LV_AXA,
+    LV_AXB,
+    LV_AXC,
+    LV_KIND,
+    LV_NK,
+    LV_NU,
+    LV_NV,
+    LV_OFF,
+    NMETA,
+)
+from ._pathtrace import PathTracer, trace_path
+from ._sample import sample_value
+
 __all__ = ["render_cpu", "clear_cache", "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
-           "iso_refine"]
+           "iso_refine", "prepare", "prepared_volumes", "pack_frame", "frame_image", "Frame", "Arrays", "Settings",
+           "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "lattice_frame", "lattice_ray",
+           "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
+           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed"]

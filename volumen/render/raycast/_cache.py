@@ -15,16 +15,20 @@ import numpy as np
 
 from ._precompute import NLUT, build_blocks, build_normals, normalize
 
-__all__ = ["Prepared", "prepare", "clear_cache"]
+__all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes"]
 
 
 class Prepared:
-    """Normalized samples of one volume and the lazily built normals and block grids.
+    """The samples of one volume as the kernels read them, and the lazily built normals and block grids.
 
     Attributes
     ----------
-    u : (nz, ny, nx) float32
-        Normalized samples, ``[vmin, vmax] -> [0, NLUT - 1]``.
+    u : (nz, ny, nx)
+        The samples: the volume's own data array when it is of an integer type
+        and C-contiguous (no copy), else a float32 copy normalized to table
+        units. Either way ``(u - u0) * ufac`` maps ``[vmin, vmax]`` onto
+        ``[0, NLUT - 1]``, the transfer-function table's index.
+    u0, ufac : float
     vmin, vmax : float
         Value range (data units) the table spans.
     scale : float
@@ -43,7 +47,11 @@ class Prepared:
             hi = lo + 1.0
         self.vmin, self.vmax = float(lo), float(hi)
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
-        self.u = normalize(volume.data, self.vmin, self.vmax)
+        data = volume.data
+        if data.dtype.kind in "iu" and data.flags.c_contiguous:  # sampled directly: no copy of the volume
+            self.u, self.u0, self.ufac = data, self.vmin, 1.0 / self.scale
+        else:  # floats (NaN to clear) and strided views: one normalized float32 copy
+            self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0
         self.affine = np.array(volume.affine, dtype=float)
         self._normals: dict[bool, tuple[np.ndarray, float]] = {}
         self._blocks: dict[int, tuple[np.ndarray, np.ndarray]] = {}
@@ -57,7 +65,7 @@ class Prepared:
         """``(normals (nz, ny, nx, 4) int16, gmax data units / mm)``; see :func:`build_normals`."""
         if sobel not in self._normals:
             t = time.perf_counter()
-            self._normals[sobel] = build_normals(self.u, self.affine, self.scale, sobel)
+            self._normals[sobel] = build_normals(self.u, self.affine, self.scale * self.ufac, sobel)
             self.timings["normals"] = time.perf_counter() - t
         return self._normals[sobel]
 
@@ -65,7 +73,11 @@ class Prepared:
         """``(bmin, bmax)`` float32 block grids in normalized units; see :func:`build_blocks`."""
         if block not in self._blocks:
             t = time.perf_counter()
-            self._blocks[block] = build_blocks(self.u, block)
+            bmin, bmax = build_blocks(self.u, block)
+            if self.u0 != 0.0 or self.ufac != 1.0:  # in table units
+                bmin = ((bmin - self.u0) * self.ufac).astype(np.float32)
+                bmax = ((bmax - self.u0) * self.ufac).astype(np.float32)
+            self._blocks[block] = bmin, bmax
             self.timings["blocks"] = time.perf_counter() - t
         return self._blocks[block]
 
@@ -96,3 +108,11 @@ def clear_cache(volume=None) -> None:
         _CACHE.clear()
     else:
         _CACHE.pop(volume, None)
+
+
+def prepared_volumes(volume=None) -> list:
+    """The cached :class:`Prepared` of ``volume`` (empty list when none), or of every volume."""
+    if volume is None:
+        return list(_CACHE.values())
+    p = _CACHE.get(volume)
+    return [] if p is None else [p]

@@ -1,9 +1,10 @@
-"""CPU backend: pack the scene into arrays, run ``trace_pixel`` over tiles in parallel (Numba).
+"""CPU backend: pack the scene into a :class:`~._frame.Frame`, run the specialised kernel over tiles (Numba).
 
-The driver is a thin ``prange`` over 16x16-pixel tiles taken in a scrambled
-order (so threads share the expensive middle of the picture evenly); each
-pixel is one call of :func:`._trace.trace_pixel`. ``pathtrace`` shading goes
-to the progressive path tracer (:mod:`._pathtrace`).
+The driver (``_march.render_tiles``) is a ``prange`` over 16x16-pixel tiles
+taken in a scrambled order (so threads share the expensive middle of the
+picture evenly); each pixel is one call of ``_march.trace_pixel`` specialised
+for the frame's mode and shading model. ``pathtrace`` shading goes to the
+progressive path tracer (:mod:`._pathtrace`).
 """
 
 from __future__ import annotations
@@ -11,30 +12,14 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from numba import njit, prange
 
+from ._frame import FAR, Outputs
+from ._march import render_tiles
 from ._pack import pack_frame
-from ._trace import FAR, trace_pixel
 
-__all__ = ["render_cpu", "render_tiles", "tile_order", "TILE"]
+__all__ = ["render_cpu", "tile_order", "TILE", "frame_image"]
 
 TILE = 16
-
-
-@njit(parallel=True, fastmath=True, cache=True)
-def render_tiles(order, tile, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, lvm, lvd, sig,
-                 prm, iprm, rgba, depth, value, nsamp):
-    """Trace every pixel of ``rgba`` (H, W, 4), tile by tile in ``order`` (tile indices, row-major)."""
-    h, w = depth.shape
-    ntx = (w + tile - 1) // tile
-    for n in prange(order.shape[0]):
-        t = order[n]
-        y0 = (t // ntx) * tile
-        x0 = (t % ntx) * tile
-        for py in range(y0, min(y0 + tile, h)):
-            for px in range(x0, min(x0 + tile, w)):
-                trace_pixel(px, py, cam, geo, planes, vol, nrm, lut, pre, glut, bflag, bmin, bmax, lights, lvm, lvd,
-                            sig, prm, iprm, rgba, depth, value, nsamp)
 
 
 def tile_order(w: int, h: int) -> np.ndarray:
@@ -43,32 +28,34 @@ def tile_order(w: int, h: int) -> np.ndarray:
     return np.random.default_rng(12345).permutation(n).astype(np.int64)
 
 
-def render_cpu(scene, camera, size: tuple[int, int]):
-    """Ray-cast ``scene`` seen by ``camera`` into an Image of ``size = (width, height)``; see ``volumen.render.render``."""
+def frame_image(scene, f, out: Outputs, timings: dict, stats: dict):
+    """The :class:`~volumen.core.Image` of host outputs ``out`` of frame ``f`` (FAR -> inf / NaN)."""
     from ...core import Image
 
+    rgba, depth, value, nsamp = out
+    depth[depth >= 0.5 * FAR] = np.inf
+    value[value >= 0.5 * FAR] = np.nan
+    w, h = f.size
+    mode = scene.mode
+    stats = {"timings": timings, "samples": int(nsamp.sum(dtype=np.int64)), "rays": w * h,
+             "rays_hit": int(np.count_nonzero(nsamp)), "mode": mode, "shading": scene.shading.mode,
+             "step_mm": f.ds, "reference_step_mm": f.ds0, "light_volumes_built": f.light_volumes_built, **stats}
+    return Image(rgba=rgba, depth=depth, stats=stats, value=value if mode in ("mip", "minip", "average") else None)
+
+
+def render_cpu(scene, camera, size: tuple[int, int]):
+    """Ray-cast ``scene`` seen by ``camera`` into an Image of ``size = (width, height)``; see
+    ``volumen.render.render``."""
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
         from ._pathtrace import PathTracer
 
-        return PathTracer(scene, camera, size).step(scene.shading.pt_samples)
+        return PathTracer(scene, camera, size).step(scene.shading.pathtrace.samples)
     t_start = time.perf_counter()
-    w, h = (int(s) for s in size)
-    f = pack_frame(scene, camera, (w, h))
-    timings = f.timings
-    rgba = np.empty((h, w, 4), np.float32)
-    depth = np.empty((h, w), np.float32)
-    value = np.empty((h, w), np.float32)
-    nsamp = np.empty((h, w), np.int32)
+    f = pack_frame(scene, camera, size)
+    w, h = f.size
+    out = Outputs.empty(w, h)
     t = time.perf_counter()
-    render_tiles(tile_order(w, h), TILE, *f.args(), rgba, depth, value, nsamp)
-    timings["kernel"] = time.perf_counter() - t
-    depth[depth >= 0.5 * FAR] = np.inf
-    value[value >= 0.5 * FAR] = np.nan
+    render_tiles(tile_order(w, h), TILE, f.arrays, f.settings, out, f.mode, f.light)
+    timings = dict(f.timings, kernel=time.perf_counter() - t)
     timings["total"] = time.perf_counter() - t_start
-    mode = scene.mode
-    stats = {"timings": timings, "samples": int(nsamp.sum(dtype=np.int64)), "rays": w * h,
-             "rays_hit": int(np.count_nonzero(nsamp)), "backend": "cpu", "mode": mode,
-             "shading": scene.shading.mode, "step_mm": f.ds, "reference_step_mm": f.ds0,
-             "light_volumes_built": f.light_volumes_built}
-    return Image(rgba=rgba, depth=depth, stats=stats,
-                 value=value if mode in ("mip", "minip", "average") else None)
+    return frame_image(scene, f, out, timings, {"backend": "cpu"})

@@ -31,7 +31,8 @@ _FAR = 1e30  # finite stand-in for infinity (the kernels use fastmath)
 
 
 def pack_camera(camera, size) -> np.ndarray:
-    """float64 (18,): eye, right, up, forward, ortho flag, half height (tan(fov/2) or parallel scale), W, H, near, far."""
+    """float64 (18,): eye, right, up, forward, ortho flag, half height (tan(fov/2) or parallel scale), W, H, near,
+    far."""
     w, h = size
     r, u, f = camera.basis()
     ortho = camera.projection == "orthographic"

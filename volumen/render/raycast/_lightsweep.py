@@ -9,6 +9,7 @@ kernel (one ray per thread) run the same code.
 from __future__ import annotations
 
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit, prange
@@ -31,7 +32,7 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
-from ._sample import sample_value
+from ._sample import sample_table
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of"]
@@ -48,14 +49,16 @@ def _to_world(aff, axa, axb, axc, ca, cb, cc, w):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _sig(volt, sig, ca, cb, cc):
-    v = sample_value(volt, cc, cb, ca, False)
+def _sig(field, ca, cb, cc):
+    volt, sig, u0, ufac = field
+    v = sample_table(volt, u0, ufac, cc, cb, ca, False)
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _sig_slice(volt, sig, k, cb, cc):
+def _sig_slice(field, k, cb, cc):
     """``_sig`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives."""
+    volt, sig, u0, ufac = field
     nb = volt.shape[1]
     nc = volt.shape[2]
     if cb <= 0.0:
@@ -74,7 +77,7 @@ def _sig_slice(volt, sig, k, cb, cc):
         i1, fc = i0 + 1, cc - i0
     r0 = volt[k, j0, i0] + fc * (volt[k, j0, i1] - volt[k, j0, i0])
     r1 = volt[k, j1, i0] + fc * (volt[k, j1, i1] - volt[k, j1, i0])
-    v = r0 + fb * (r1 - r0)
+    v = (r0 + fb * (r1 - r0) - u0) * ufac
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
@@ -132,7 +135,7 @@ def lattice_slice(st, nk, k0, pa, dsl, fwd):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
+def lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
     """Carry one lattice ray across slice ``k`` (at ``s``): returns its new ``(acc, sp)``.
 
     ``acc`` is the ray's optical depth so far (reference-step units x mm),
@@ -140,7 +143,7 @@ def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, a
     transmittance stored at the slice is :func:`lattice_transmittance_of`.
     """
     if t1 >= t0 and s >= t0 and s <= t1:
-        sg = _sig_slice(volt, sig, k, pb + db * s, pc + dc * s)
+        sg = _sig_slice(field, k, pb + db * s, pc + dc * s)
         if sp < 0.0:  # entering: the partial segment from the region's boundary
             acc += sg * (s - max(t0, s - dsl)) * length
         else:
@@ -152,7 +155,7 @@ def lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, a
                 q = sp
                 for j in range(1, m):
                     sj = s - dsl + j * sub
-                    r = _sig(volt, sig, pa + da * sj, pb + db * sj, pc + dc * sj)
+                    r = _sig(field, pa + da * sj, pb + db * sj, pc + dc * sj)
                     acc += 0.5 * (q + r) * sub * length
                     q = r
                 acc += 0.5 * (q + sg) * sub * length
@@ -168,22 +171,40 @@ def lattice_transmittance_of(acc, scale):
     return math.exp(-scale * acc) if acc > 0.0 else 1.0
 
 
+class Sweep(NamedTuple):
+    """What a lattice sweep reads (the CPU driver and the CUDA kernel take it whole)."""
+
+    volt: Any      #: the samples with their axes ordered (a, b, c), read as ``_sample.sample_table`` does
+    sig: Any       #: optical depth per reference step of each table entry
+    aff: Any       #: voxel -> world affine rows (3, 4)
+    geo: Any       #: packed region (``_geometry``)
+    planes: Any    #: clip planes (n, 6)
+    meta: Any      #: the light's meta row (``_params``)
+    nplanes: int
+    ds0: float     #: reference step, mm
+    kext: float    #: extinction scale
+    u0: float = 0.0    #: samples -> table units: (v - u0) * ufac
+    ufac: float = 1.0
+
+
 @njit(parallel=True, cache=True, fastmath=True)
-def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc, wsp, wlen, out):
+def _sweep(sw, work, out):
     """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u).
 
-    ``volt`` is the normalized volume with its axes ordered (a, b, c); the
-    work arrays (nv, nu) hold each ray's region interval in ``s``, its optical
-    depth so far, its last sample (-1 before the region, -2 after it) and its
-    length in mm per unit ``s``. Rows of rays (fixed v) run in parallel, each
-    swept slice by slice (the per-ray pieces are shared with the CUDA sweep).
+    The work arrays ``work[0..4]`` (nv, nu) hold each ray's region interval in
+    ``s``, its optical depth so far, its last sample (-1 before the region, -2
+    after it) and its length in mm per unit ``s``. Rows of rays (fixed v) run
+    in parallel, each swept slice by slice (the per-ray pieces are shared with
+    the CUDA sweep).
     """
     nk, nv, nu = out.shape
-    pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(meta)
-    scale = kext / ds0
+    pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(sw.meta)
+    scale = sw.kext / sw.ds0
+    wt0, wt1, wacc, wsp, wlen = work
+    field = (sw.volt, sw.sig, sw.u0, sw.ufac)
     for v in prange(nv):
         for u in range(nu):
-            _, _, t0, t1, length = lattice_ray(aff, geo, planes, nplanes, meta, v, u)
+            _, _, t0, t1, length = lattice_ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
             wt0[v, u] = t0
             wt1[v, u] = t1
             wacc[v, u] = 0.0
@@ -192,18 +213,19 @@ def _sweep(volt, sig, aff, geo, planes, nplanes, meta, ds0, kext, wt0, wt1, wacc
         for st in range(nk):
             i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
             for u in range(nu):
-                db, dc = lattice_offsets(meta, v, u)
-                acc, sp = lattice_step(volt, sig, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u],
-                                       wlen[v, u], wacc[v, u], wsp[v, u])
+                db, dc = lattice_offsets(sw.meta, v, u)
+                acc, sp = lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u], wlen[v, u],
+                                       wacc[v, u], wsp[v, u])
                 wacc[v, u] = acc
                 wsp[v, u] = sp
                 out[i, v, u] = lattice_transmittance_of(acc, scale)
 
 
-def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None) -> np.ndarray:
+def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None,
+                  norm=(0.0, 1.0)) -> np.ndarray:
     """Sweep one light's lattice: float32 ``(nk, nv, nu)`` transmittances (into ``out`` when given).
 
-    ``u`` is the normalized volume ``[z, y, x]``, ``sig`` the optical depth per
+    ``u`` is the volume ``[z, y, x]`` (table units ``(u - norm[0]) * norm[1]``), ``sig`` the optical depth per
     reference step of each table entry, ``affine`` the (4, 4) voxel -> world
     matrix, ``geo``/``planes`` the packed region, ``ds0`` the reference step
     (mm), ``kext`` the extinction scale.
@@ -213,7 +235,8 @@ def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: 
     volt = np.transpose(u, (a, b, c))
     if out is None:
         out = np.empty((nk, nv, nu), np.float32)
-    work = [np.empty((nv, nu), np.float64) for _ in range(5)]
-    _sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes, int(nplanes),
-           np.asarray(meta, np.float64), float(ds0), float(kext), *work, out)
+    work = tuple(np.empty((nv, nu), np.float64) for _ in range(5))
+    sw = Sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes,
+               np.asarray(meta, np.float64), int(nplanes), float(ds0), float(kext), float(norm[0]), float(norm[1]))
+    _sweep(sw, work, out)
     return out

@@ -53,9 +53,9 @@ from ._lightsweep import (
     lattice_transmittance_of,
 )
 
-__all__ = ["LV_KIND", "LATTICE", "DIRECT", "NMETA", "NEAR_STEPS", "plan_lattice", "build_lattice", "lattice_transmittance",
-           "light_volumes", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
-           "lattice_transmittance_of"]
+__all__ = ["LV_KIND", "LATTICE", "DIRECT", "NMETA", "NEAR_STEPS", "plan_lattice", "build_lattice",
+           "lattice_transmittance", "light_volumes", "lattice_frame", "lattice_offsets", "lattice_ray",
+           "lattice_slice", "lattice_step", "lattice_transmittance_of"]
 
 from ._params import (
     BUDGET,
@@ -110,17 +110,17 @@ def _slice_value(lvd, base, nv, nu, s, pb, pc, ov, ou, h, cb, cc):
 
 
 @njit(cache=True, fastmath=True)
-def lattice_transmittance(lvm, lvd, l, x, y, z):
-    """Transmittance toward light ``l`` at voxel-index position (x, y, z), from its lattice."""
-    ca = _pick(int(lvm[l, LV_AXA]), x, y, z)
-    cb = _pick(int(lvm[l, LV_AXB]), x, y, z)
-    cc = _pick(int(lvm[l, LV_AXC]), x, y, z)
-    nk = int(lvm[l, LV_NK])
-    nv = int(lvm[l, LV_NV])
-    nu = int(lvm[l, LV_NU])
-    pa = lvm[l, LV_PA]
-    kfar = lvm[l, LV_KFAR]
-    k0 = lvm[l, LV_K0]
+def lattice_transmittance(lvm, lvd, li, x, y, z):
+    """Transmittance toward light ``li`` at voxel-index position (x, y, z), from its lattice."""
+    ca = _pick(int(lvm[li, LV_AXA]), x, y, z)
+    cb = _pick(int(lvm[li, LV_AXB]), x, y, z)
+    cc = _pick(int(lvm[li, LV_AXC]), x, y, z)
+    nk = int(lvm[li, LV_NK])
+    nv = int(lvm[li, LV_NV])
+    nu = int(lvm[li, LV_NU])
+    pa = lvm[li, LV_PA]
+    kfar = lvm[li, LV_KFAR]
+    k0 = lvm[li, LV_K0]
     kf = ca - k0
     low = pa < k0  # light on the low-index side
     if kf < 0.0:
@@ -134,12 +134,12 @@ def lattice_transmittance(lvm, lvd, l, x, y, z):
     i0 = min(int(kf), max(nk - 2, 0))
     i1 = min(i0 + 1, nk - 1)
     w = kf - i0
-    off = int(lvm[l, LV_OFF])
-    pb = lvm[l, LV_PB]
-    pc = lvm[l, LV_PC]
-    ov = lvm[l, LV_OV]
-    ou = lvm[l, LV_OU]
-    h = lvm[l, LV_H]
+    off = int(lvm[li, LV_OFF])
+    pb = lvm[li, LV_PB]
+    pc = lvm[li, LV_PC]
+    ov = lvm[li, LV_OV]
+    ou = lvm[li, LV_OU]
+    h = lvm[li, LV_H]
     inv = 1.0 / (kfar - pa)
     t0 = _slice_value(lvd, off + i0 * nv * nu, nv, nu, (k0 + i0 - pa) * inv, pb, pc, ov, ou, h, cb, cc)
     if w <= 0.0 or i1 == i0:
@@ -246,7 +246,7 @@ def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes,
     old = getattr(prep, "light_set", None)
     if old is not None and old.keys == tuple(keys):
         return old.lvm, old.lvd, 0
-    olds = {} if old is None else dict(zip(old.keys, old.views))
+    olds = {} if old is None else dict(zip(old.keys, old.views, strict=True))
     metas = []
     off = 0
     for i in range(n):
@@ -274,7 +274,8 @@ def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes,
             if keys[i] in olds and olds[keys[i]][1] is not None:
                 view[...] = olds[keys[i]][1]
             else:
-                build_lattice(prep.u, sig, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view)
+                build_lattice(prep.u, sig, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view,
+                              norm=(prep.u0, prep.ufac))
                 built += 1
         views.append((m, view))
     if built:

@@ -13,43 +13,10 @@ import time
 import numpy as np
 
 from ._cache import prepare
+from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
-from ._lightvol import light_volumes
-from ._params import (
-    I_BLOCK,
-    I_BOUNCES,
-    I_GRADOP,
-    I_JITTER,
-    I_MODE,
-    I_MODEL,
-    I_NEAREST,
-    I_NLIGHTS,
-    I_NPLANES,
-    I_PREINT,
-    I_SEED,
-    I_SHADED,
-    I_SKIP,
-    MODEL_CODES,
-    N_IPRM,
-    N_PRM,
-    P_ALBEDO,
-    P_DS,
-    P_DS0,
-    P_ET,
-    P_G,
-    P_ISO,
-    P_ISO_R,
-    P_KA,
-    P_KD,
-    P_KEXT,
-    P_KS,
-    P_PRE_SCALE,
-    P_SH_OFF,
-    P_SH_STEP,
-    P_SHINE,
-    P_VMIN,
-    P_VSCALE,
-)
+from ._lightvol import NMETA, light_volumes
+from ._pieces import LIGHT_TAGS, MODE_TAGS
 from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
@@ -64,28 +31,109 @@ from ._tables import (
     preintegrated_table,
     skip_distance,
 )
-from ._trace import MODE_CODES
 
-__all__ = ["Frame", "pack_frame", "LIT_SHADINGS"]
+__all__ = ["pack_frame", "LIT_SHADINGS", "MODELS"]
 
 #: shading modes that use the scene's lights and need the medium's light paths
 LIT_SHADINGS = ("shadows", "scattering", "pathtrace")
-
-
-class Frame:
-    """The packed arrays of one frame (attributes named as the kernels' arguments) and timings."""
-
-    def args(self) -> tuple:
-        """The arguments of ``trace_pixel`` after the pixel coordinates, before the outputs."""
-        return (self.cam, self.geo, self.planes, self.vol, self.nrm, self.lut, self.pre, self.glut, self.bflag,
-                self.bmin, self.bmax, self.lights, self.lvm, self.lvd, self.sig, self.prm, self.iprm)
+#: Shading.mode -> lighting model (``_pieces.LIGHT_TAGS``); path tracing reads the scattering medium
+MODELS = {"none": "unlit", "headlight": "phong", "phong": "phong", "shadows": "shadows", "scattering": "scatter",
+          "pathtrace": "scatter"}
 
 
 def _light_keys(scene, lights, geo, planes, kext):
     tf = scene.transfer.to_json() if scene.mode != "isosurface" else f"iso:{scene.isosurface.value!r}"
     clip = geo.tobytes() + planes.tobytes()
-    scale = scene.shading.light_volume_scale
+    scale = scene.shading.shadows.light_volume_scale
     return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext) for i in range(len(lights))]
+
+
+def _model(scene) -> tuple[str, bool]:
+    """``(lighting model, lit as a medium)`` of the scene's shading and mode."""
+    sh, mode = scene.shading, scene.mode
+    if sh.mode == "none" or mode not in ("composite", "isosurface"):
+        return "unlit", False
+    medium_model = sh.mode in ("scattering", "pathtrace") and mode == "composite"
+    if sh.mode in ("scattering", "pathtrace") and not medium_model:
+        return "shadows", False  # a surface has no medium: lit as with shadows
+    return MODELS[sh.mode], medium_model
+
+
+def _skip_tables(scene, prep, lut, u_iso):
+    """``(skip, bflag, bmin, bmax)``: empty-space skipping and its block grids."""
+    smp, mode = scene.sampling, scene.mode
+    if not (smp.skip_empty and mode != "average"):
+        z = np.zeros((1, 1, 1), np.float32)
+        return False, np.zeros((1, 1, 1), np.uint8), z, z
+    bmin, bmax = prep.blocks(smp.block_size)
+    if mode == "composite":
+        bflag = skip_distance(block_visibility(lut[:, 3], bmin, bmax))
+    elif mode == "isosurface":
+        bflag = skip_distance(iso_visibility(u_iso, bmin, bmax))
+    else:  # mip / minip decide per ray from bmin / bmax
+        bflag = np.zeros(bmin.shape, np.uint8)
+    return True, bflag, bmin, bmax
+
+
+def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
+    """The transfer-function tables, normals and skipping grids of the frame (fields of :class:`Arrays`)."""
+    tf, mode, sh = scene.transfer, scene.mode, scene.shading
+    preint = scene.sampling.preintegrate and mode == "composite"
+    lut = color_table(tf, prep.vmin, prep.vmax, ratio * kext if (mode == "composite" and not preint) else None)
+    pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
+    gradop = tf.gradient_opacity is not None and mode == "composite"
+    if (model != "unlit" and not medium_model) or gradop:
+        nrm, gmax = prep.normals(sh.phong.gradient == "sobel")
+    else:
+        nrm, gmax = np.zeros((1, 1, 1, 4), np.int16), 0.0
+    glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
+    skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso)
+    if sh.mode not in LIT_SHADINGS or model == "unlit":
+        sig = np.zeros(1, np.float32)
+    elif mode == "isosurface":  # the drawn surface casts the shadows
+        sig = iso_extinction_table(u_iso)
+    else:
+        sig = extinction_table(tf, prep.vmin, prep.vmax)
+    return dict(lut=lut, pre=pre, nrm=nrm, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax, sig=sig, skip=skip,
+                gradop=gradop, preint=preint)
+
+
+def _lights(scene, camera, model):
+    if model == "unlit":
+        return np.zeros((1, 11), np.float64), 0
+    if scene.shading.mode == "headlight":
+        return headlight(camera), 1
+    return pack_lights(scene.lights, camera), len(scene.lights)
+
+
+def _light_volumes(scene, prep, t, lights, nlights, model, kext, build):
+    """``(lvm, lvd, built)``: the illumination volumes of the lit models that read them."""
+    sh = scene.shading
+    path_traced = sh.mode == "pathtrace" and scene.mode == "composite"  # ratio tracking, no light volumes
+    if model in ("unlit", "phong") or path_traced or not nlights:
+        return np.zeros((1, NMETA)), np.ones(1, np.float32), 0
+    geo, planes = t["geo"], t["planes"]
+    inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
+    pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
+    keys = _light_keys(scene, lights[:nlights], geo, planes, kext)
+    method = "fast" if sh.mode == "pathtrace" else sh.shadows.method
+    return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], t["sig"], geo, planes,
+                 len(scene.clipping.planes), float(min(scene.volume.spacing)), kext,
+                 sh.shadows.light_volume_scale, method)
+
+
+def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
+    sh, smp = scene.shading, scene.sampling
+    ph, shw = sh.phong, sh.shadows
+    c = scene.isosurface.color
+    return Settings(
+        ds=ds0 / smp.samples_per_voxel, ds0=ds0, et=smp.early_termination, ka=ph.ambient, kd=ph.diffuse,
+        ks=ph.specular, shine=ph.shininess, u0=prep.u0, ufac=prep.ufac, vmin=prep.vmin, vscale=prep.scale,
+        iso=u_iso, iso_r=c[0], iso_g=c[1], iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0,
+        sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
+        nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"],
+        block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
+        bounces=sh.pathtrace.bounces)
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:
@@ -96,101 +144,22 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     """
     volume = scene.volume
     w, h = (int(s) for s in size)
-    sh = scene.shading
-    mode = scene.mode
     prep = prepare(volume)
-    f = Frame()
-    f.prep = prep
     timings = dict(prep.timings)
-    smp = scene.sampling
-    tf = scene.transfer
     ds0 = float(min(volume.spacing))
-    ds = ds0 / smp.samples_per_voxel
-    ratio = ds / ds0
-    model = MODEL_CODES[sh.mode]
-    medium_model = sh.mode in ("scattering", "pathtrace") and mode == "composite"
-    if sh.mode in ("scattering", "pathtrace") and not medium_model:
-        model = MODEL_CODES["shadows"]  # a surface has no medium: lit as with shadows
-    kext, albedo = medium(sh) if medium_model else (1.0, 1.0)
-
-    t = time.perf_counter()
-    preint = smp.preintegrate and mode == "composite"
-    lut = color_table(tf, prep.vmin, prep.vmax, ratio * kext if (mode == "composite" and not preint) else None)
-    pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
-    shaded = sh.mode != "none" and mode in ("composite", "isosurface")
-    gradop = tf.gradient_opacity is not None and mode == "composite"
-    if (shaded and not medium_model) or gradop:
-        nrm, gmax = prep.normals(sh.gradient == "sobel")
-    else:
-        nrm, gmax = np.zeros((1, 1, 1, 4), np.int16), 0.0
-    glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
+    model, medium_model = _model(scene)
+    kext, albedo = medium(scene.shading) if medium_model else (1.0, 1.0)
     u_iso = prep.to_u(scene.isosurface.value)
-    skip = smp.skip_empty and mode != "average"
-    if skip:
-        bmin, bmax = prep.blocks(smp.block_size)
-        if mode == "composite":
-            bflag = skip_distance(block_visibility(lut[:, 3], bmin, bmax))
-        elif mode == "isosurface":
-            bflag = skip_distance(iso_visibility(u_iso, bmin, bmax))
-        else:  # mip / minip decide per ray from bmin / bmax
-            bflag = np.zeros(bmin.shape, np.uint8)
-    else:
-        bmin = bmax = np.zeros((1, 1, 1), np.float32)
-        bflag = np.zeros((1, 1, 1), np.uint8)
-    if sh.mode not in LIT_SHADINGS:
-        sig = np.zeros(1, np.float32)
-    elif mode == "isosurface":  # the drawn surface casts the shadows
-        sig = iso_extinction_table(u_iso)
-    else:
-        sig = extinction_table(tf, prep.vmin, prep.vmax)
-    timings["tables"] = time.perf_counter() - t
-
-    if not shaded:
-        lights, nlights = np.zeros((1, 11), np.float64), 0
-    elif sh.mode == "headlight":
-        lights, nlights = headlight(camera), 1
-    else:
-        lights, nlights = pack_lights(scene.lights, camera), len(scene.lights)
-    geo = pack_geometry(volume, scene.clipping)
-    planes = pack_planes(scene.clipping)
-    nplanes = len(scene.clipping.planes)
-    f.light_volumes_built = 0
-    path_traced = sh.mode == "pathtrace" and mode == "composite"  # ratio tracking, no light volumes
-    if shaded and model != MODEL_CODES["phong"] and not path_traced and nlights:
-        inv = np.linalg.inv(np.asarray(volume.affine, float))
-        pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
-        keys = _light_keys(scene, lights[:nlights], geo, planes, kext)
-        method = "fast" if sh.mode == "pathtrace" else sh.shadow_method
-        lvm, lvd, built = build_light_volumes(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], sig,
-                                        geo, planes, nplanes, ds0, kext, sh.light_volume_scale, method)
-        f.light_volumes_built = built
-    else:
-        from ._lightvol import NMETA
-
-        lvm, lvd = np.zeros((1, NMETA)), np.ones(1, np.float32)
+    t0 = time.perf_counter()
+    t = _tables(scene, prep, (ds0 / scene.sampling.samples_per_voxel) / ds0, kext, model, medium_model, u_iso)
+    t["geo"], t["planes"] = pack_geometry(volume, scene.clipping), pack_planes(scene.clipping)
+    timings["tables"] = time.perf_counter() - t0
+    lights, nlights = _lights(scene, camera, model)
+    lvm, lvd, built = _light_volumes(scene, prep, t, lights, nlights, model, kext, build_light_volumes)
     timings.update(prep.timings)
-
-    prm = np.zeros(N_PRM, np.float64)
-    prm[P_DS], prm[P_ET] = ds, smp.early_termination
-    prm[P_KA], prm[P_KD], prm[P_KS], prm[P_SHINE] = sh.ambient, sh.diffuse, sh.specular, sh.shininess
-    prm[P_VMIN], prm[P_VSCALE] = prep.vmin, prep.scale
-    prm[P_ISO] = u_iso
-    prm[P_ISO_R:P_ISO_R + 3] = scene.isosurface.color
-    prm[P_PRE_SCALE] = (NPRE - 1) / (NLUT - 1)
-    prm[P_DS0], prm[P_SH_OFF], prm[P_SH_STEP] = ds0, sh.shadow_offset * ds0, sh.shadow_step * ds0
-    prm[P_KEXT], prm[P_ALBEDO], prm[P_G] = kext, albedo, sh.phase_g
-    iprm = np.zeros(N_IPRM, np.int64)
-    iprm[I_MODE], iprm[I_NEAREST] = MODE_CODES[mode], int(smp.interpolation == "nearest")
-    iprm[I_JITTER], iprm[I_SEED] = int(smp.jitter), smp.seed
-    iprm[I_SKIP], iprm[I_BLOCK], iprm[I_PREINT] = int(skip), smp.block_size, int(preint)
-    iprm[I_NLIGHTS], iprm[I_GRADOP] = nlights, int(gradop)
-    iprm[I_NPLANES] = nplanes
-    iprm[I_SHADED] = int(shaded)
-    iprm[I_MODEL] = model
-    iprm[I_BOUNCES] = sh.pt_bounces
-
-    f.cam, f.geo, f.planes, f.vol, f.nrm = pack_camera(camera, (w, h)), geo, planes, prep.u, nrm
-    f.lut, f.pre, f.glut, f.bflag, f.bmin, f.bmax = lut, pre, glut, bflag, bmin, bmax
-    f.lights, f.lvm, f.lvd, f.sig, f.prm, f.iprm = lights, lvm, lvd, sig, prm, iprm
-    f.timings, f.ds, f.ds0, f.size = timings, ds, ds0, (w, h)
-    return f
+    arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
+                    lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
+                    lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"])
+    mode = "preintegrated" if t["preint"] else scene.mode
+    return Frame(arrays, _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights), MODE_TAGS[mode](),
+                 LIGHT_TAGS[model](), (w, h), prep, built, timings)

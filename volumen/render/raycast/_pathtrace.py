@@ -37,8 +37,7 @@ from numba import njit, prange
 from ._cpu import TILE, tile_order
 from ._geometry import primary_ray, ray_interval, region_interval, to_index
 from ._pack import pack_frame
-from ._params import I_BOUNCES, I_NLIGHTS, I_NPLANES, I_SEED, P_ALBEDO, P_DS0, P_G, P_KA, P_KD, P_KEXT, P_SH_OFF
-from ._sample import sample_value
+from ._sample import sample_table
 from ._scatter import phase_weight
 from ._shade import L_COL, L_RAD, light_vector
 
@@ -94,14 +93,15 @@ def sample_hg(g, dx, dy, dz, u1, u2):
 
 
 @njit(cache=True, fastmath=True)
-def _sigma(vol, sig, oi, oj, ok, di, dj, dk, t, scale):
-    v = sample_value(vol, oi + t * di, oj + t * dj, ok + t * dk, False)
+def _sigma(field, oi, oj, ok, di, dj, dk, t, scale):
+    vol, sig, u0, ufac = field
+    v = sample_table(vol, u0, ufac, oi + t * di, oj + t * dj, ok + t * dk, False)
     idx = min(max(int(v + 0.5), 0), sig.shape[0] - 1)
     return sig[idx] * scale, idx
 
 
 @njit(cache=True, fastmath=True)
-def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, scale, smaj, key, ctr):
+def _ratio_tracking(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, scale, smaj, key, ctr):
     """Unbiased transmittance estimate along ``o + s L``, s in [0, smax] within the region; returns (T, ctr)."""
     ta, tb = region_interval(geo, planes, nplanes, ox, oy, oz, lx, ly, lz, 0.0, smax)
     if not tb > ta:
@@ -115,7 +115,7 @@ def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
         ctr += 1
         if t >= tb:
             break
-        s, _ = _sigma(vol, sig, oi, oj, ok, di, dj, dk, t, scale)
+        s, _ = _sigma(field, oi, oj, ok, di, dj, dk, t, scale)
         tr *= 1.0 - s / smaj
         if tr < 0.05:  # Russian roulette keeps the estimate unbiased
             if rand01(key, ctr) < 0.5:
@@ -127,128 +127,135 @@ def _ratio_tracking(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
 
 
 @njit(cache=True, fastmath=True)
-def trace_path(px, py, sample, cam, geo, planes, vol, lut, sig, lights, prm, iprm, smaj, acc):
+def _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr):
+    """Delta (Woodcock) tracking from ``ta``: ``(hit, t, table index, ctr)`` of the first real collision."""
+    oi, oj, ok = to_index(a.geo, o[0], o[1], o[2], 1.0)
+    di, dj, dk = to_index(a.geo, d[0], d[1], d[2], 0.0)
+    t = ta
+    while True:
+        t -= math.log(1.0 - rand01(key, ctr)) / smaj
+        ctr += 1
+        if t >= tb:
+            return False, t, 0, ctr
+        sg, idx = _sigma((a.vol, a.sig, s.u0, s.ufac), oi, oj, ok, di, dj, dk, t, scale)
+        u = rand01(key, ctr)
+        ctr += 1
+        if u * smaj < sg:
+            return True, t, idx, ctr
+
+
+@njit(cache=True, fastmath=True)
+def _light_point(a, light, w, key, ctr):
+    """The event ``w`` shifted by a point of area-like light ``light``'s ball (itself for a point light)."""
+    rad = a.lights[light, L_RAD]
+    if not rad > 0.0:
+        return w, ctr
+    while True:
+        ax = 2.0 * rand01(key, ctr) - 1.0
+        ay = 2.0 * rand01(key, ctr + 1) - 1.0
+        az = 2.0 * rand01(key, ctr + 2) - 1.0
+        ctr += 3
+        if ax * ax + ay * ay + az * az <= 1.0:
+            return (w[0] - rad * ax, w[1] - rad * ay, w[2] - rad * az), ctr
+
+
+@njit(cache=True, fastmath=True)
+def _next_event(a, s, w, d, scale, smaj, key, ctr):
+    """Light reaching the event ``w`` (direction of travel ``d``) from every light, per unit throughput:
+    ``(r, g, b, ctr)``."""
+    lr = lg = lb = 0.0
+    off = s.sh_off
+    for li in range(s.nlights):
+        q, ctr = _light_point(a, li, w, key, ctr)
+        lx, ly, lz, dist, spot = light_vector(a.lights, li, q[0], q[1], q[2])
+        if spot <= 0.0 or dist <= off:
+            continue
+        ph = phase_weight(lx, ly, lz, -d[0], -d[1], -d[2], s.g)
+        vis, ctr = _ratio_tracking((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, w[0] + off * lx,
+                                   w[1] + off * ly, w[2] + off * lz, lx, ly, lz, dist - off, scale, smaj, key, ctr)
+        e = s.kd * spot * ph * vis
+        lr += e * a.lights[li, L_COL]
+        lg += e * a.lights[li, L_COL + 1]
+        lb += e * a.lights[li, L_COL + 2]
+    return lr, lg, lb, ctr
+
+
+@njit(cache=True, fastmath=True)
+def _roulette(tr, n, key, ctr):
+    """Russian roulette after 3 events: ``(survives, throughput, ctr)``."""
+    if n < 3:
+        return True, tr, ctr
+    q = max(tr[0], tr[1], tr[2])
+    if q >= 1.0:
+        return True, tr, ctr
+    if rand01(key, ctr) >= q:
+        return False, tr, ctr
+    return True, (tr[0] / q, tr[1] / q, tr[2] / q), ctr + 1
+
+
+@njit(cache=True, fastmath=True)
+def trace_path(px, py, sample, a, s, smaj, acc):
     """Add one path-traced sample of pixel (px, py) to ``acc[py, px]`` = (r, g, b, alpha, depth sum).
 
-    ``smaj`` is the majorant extinction (1/mm); the other arguments are the
-    packed frame (``_pack``). Radiance is premultiplied (transparent background).
+    ``smaj`` is the majorant extinction (1/mm); ``a``, ``s`` the packed frame
+    (``_frame``). Radiance is premultiplied (transparent background).
     """
-    w = int(cam[14])
-    key = path_key(iprm[I_SEED], py * w + px, sample)
+    key = path_key(s.seed, py * int(a.cam[14]) + px, sample)
     ctr = 0
-    ox, oy, oz, dx, dy, dz = primary_ray(cam, px, py)
-    ta, tb = ray_interval(cam, geo, planes, iprm[I_NPLANES], ox, oy, oz, dx, dy, dz)
+    ox, oy, oz, dx, dy, dz = primary_ray(a.cam, px, py)
+    o, d = (ox, oy, oz), (dx, dy, dz)
+    ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
     if not tb > ta:
         return
-    nplanes = iprm[I_NPLANES]
-    nlights = iprm[I_NLIGHTS]
-    bounces = iprm[I_BOUNCES]
-    scale = prm[P_KEXT] / prm[P_DS0]
-    albedo = prm[P_ALBEDO]
-    g = prm[P_G]
-    ka = prm[P_KA]
-    kd = prm[P_KD]
-    off = prm[P_SH_OFF]
-    tr_r = 1.0
-    tr_g = 1.0
-    tr_b = 1.0
-    lr = 0.0
-    lg = 0.0
-    lb = 0.0
+    scale = s.kext / s.ds0
+    tr = (1.0, 1.0, 1.0)
+    lr = lg = lb = 0.0
     n = 0
+    env = False  # the path ends seeing the environment (after a scattering event)
     while True:
-        oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
-        di, dj, dk = to_index(geo, dx, dy, dz, 0.0)
-        t = ta
-        hit = False
-        idx = 0
-        while True:  # delta tracking
-            t -= math.log(1.0 - rand01(key, ctr)) / smaj
-            ctr += 1
-            if t >= tb:
-                break
-            s, idx = _sigma(vol, sig, oi, oj, ok, di, dj, dk, t, scale)
-            u = rand01(key, ctr)
-            ctr += 1
-            if u * smaj < s:
-                hit = True
-                break
+        hit, t, idx, ctr = _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr)
         if not hit:
-            if n > 0:  # the environment, seen after a scattering event
-                lr += tr_r * ka
-                lg += tr_g * ka
-                lb += tr_b * ka
+            env = n > 0
             break
-        wx = ox + t * dx
-        wy = oy + t * dy
-        wz = oz + t * dz
+        w = (o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2])
         if n == 0:
             acc[py, px, 3] += 1.0
             acc[py, px, 4] += t
-        tr_r *= albedo * lut[idx, 0]
-        tr_g *= albedo * lut[idx, 1]
-        tr_b *= albedo * lut[idx, 2]
+        tr = (tr[0] * s.albedo * a.lut[idx, 0], tr[1] * s.albedo * a.lut[idx, 1], tr[2] * s.albedo * a.lut[idx, 2])
         n += 1
-        for l in range(nlights):  # next-event estimation
-            qx = wx
-            qy = wy
-            qz = wz
-            rad = lights[l, L_RAD]
-            if rad > 0.0:  # a point of the light's ball, seen from the event: shift the event instead
-                while True:
-                    ax = 2.0 * rand01(key, ctr) - 1.0
-                    ay = 2.0 * rand01(key, ctr + 1) - 1.0
-                    az = 2.0 * rand01(key, ctr + 2) - 1.0
-                    ctr += 3
-                    if ax * ax + ay * ay + az * az <= 1.0:
-                        break
-                qx -= rad * ax
-                qy -= rad * ay
-                qz -= rad * az
-            lx, ly, lz, dist, spot = light_vector(lights, l, qx, qy, qz)
-            if spot <= 0.0 or dist <= off:
-                continue
-            ph = phase_weight(lx, ly, lz, -dx, -dy, -dz, g)
-            vis, ctr = _ratio_tracking(vol, sig, geo, planes, nplanes, wx + off * lx, wy + off * ly, wz + off * lz,
-                                       lx, ly, lz, dist - off, scale, smaj, key, ctr)
-            e = kd * spot * ph * vis
-            lr += tr_r * e * lights[l, L_COL]
-            lg += tr_g * e * lights[l, L_COL + 1]
-            lb += tr_b * e * lights[l, L_COL + 2]
-        if bounces <= 1:  # single scattering: the unshadowed ambient term, then stop
-            lr += tr_r * ka
-            lg += tr_g * ka
-            lb += tr_b * ka
+        er, eg, eb, ctr = _next_event(a, s, w, d, scale, smaj, key, ctr)
+        lr, lg, lb = lr + tr[0] * er, lg + tr[1] * eg, lb + tr[2] * eb
+        if s.bounces <= 1:  # single scattering: the unshadowed ambient term, then stop
+            env = True
             break
-        if n >= bounces:
+        if n >= s.bounces:
             break
-        if n >= 3:
-            q = max(tr_r, tr_g, tr_b)
-            if q < 1.0:
-                if rand01(key, ctr) >= q:
-                    break
-                ctr += 1
-                tr_r /= q
-                tr_g /= q
-                tr_b /= q
-        nx, ny, nz = sample_hg(g, dx, dy, dz, rand01(key, ctr), rand01(key, ctr + 1))
+        alive, tr, ctr = _roulette(tr, n, key, ctr)
+        if not alive:
+            break
+        nx, ny, nz = sample_hg(s.g, d[0], d[1], d[2], rand01(key, ctr), rand01(key, ctr + 1))
         ctr += 2
         nl = math.sqrt(nx * nx + ny * ny + nz * nz)
-        ox, oy, oz, dx, dy, dz = wx, wy, wz, nx / nl, ny / nl, nz / nl
-        ta, tb = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 1e30)
+        o, d = w, (nx / nl, ny / nl, nz / nl)
+        ta, tb = region_interval(a.geo, a.planes, s.nplanes, o[0], o[1], o[2], d[0], d[1], d[2], 0.0, 1e30)
         if not tb > ta:
-            if n > 0:
-                lr += tr_r * ka
-                lg += tr_g * ka
-                lb += tr_b * ka
+            env = True
             break
+    if env:
+        lr, lg, lb = lr + tr[0] * s.ka, lg + tr[1] * s.ka, lb + tr[2] * s.ka
     acc[py, px, 0] += lr
     acc[py, px, 1] += lg
     acc[py, px, 2] += lb
 
 
+@njit(cache=True, fastmath=True, _nrt=False)
+def _trace_path_cpu(px, py, k, a, s, smaj, acc):
+    """``trace_path`` without reference counting (see ``_march._trace_pixel_cpu``)."""
+    trace_path(px, py, k, a, s, smaj, acc)
+
+
 @njit(parallel=True, fastmath=True, cache=True)
-def _trace_tiles(order, tile, s0, s1, cam, geo, planes, vol, lut, sig, lights, prm, iprm, smaj, acc):
+def _trace_tiles(order, tile, s0, s1, a, s, smaj, acc):
     h, w = acc.shape[0], acc.shape[1]
     ntx = (w + tile - 1) // tile
     for n in prange(order.shape[0]):
@@ -257,8 +264,8 @@ def _trace_tiles(order, tile, s0, s1, cam, geo, planes, vol, lut, sig, lights, p
         x0 = (t % ntx) * tile
         for py in range(y0, min(y0 + tile, h)):
             for px in range(x0, min(x0 + tile, w)):
-                for s in range(s0, s1):
-                    trace_path(px, py, s, cam, geo, planes, vol, lut, sig, lights, prm, iprm, smaj, acc)
+                for k in range(s0, s1):
+                    _trace_path_cpu(px, py, k, a, s, smaj, acc)
 
 
 class PathTracer:
@@ -290,7 +297,7 @@ class PathTracer:
         self.spp = 0
         self.seconds = 0.0
         f = self.frame
-        self.smaj = max(float(f.sig.max()) * f.prm[P_KEXT] / f.prm[P_DS0], 1e-9)
+        self.smaj = max(float(f.arrays.sig.max()) * f.settings.kext / f.settings.ds0, 1e-9)
 
     #: the ``stats["backend"]`` of the images
     backend = "cpu"
@@ -299,8 +306,7 @@ class PathTracer:
         """Add samples ``s0 .. s1 - 1`` of every pixel into ``self.acc`` (h, w, 5)."""
         f = self.frame
         w, h = f.size
-        _trace_tiles(tile_order(w, h), TILE, s0, s1, f.cam, f.geo, f.planes, f.vol, f.lut, f.sig, f.lights, f.prm,
-                     f.iprm, self.smaj, self.acc)
+        _trace_tiles(tile_order(w, h), TILE, s0, s1, f.arrays, f.settings, self.smaj, self.acc)
 
     def reset(self) -> None:
         """Forget the accumulated samples."""

@@ -78,19 +78,36 @@ def _grad_at(u, k, j, i, sobel):
     return gi, gj, gk
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _world_grad(u, m, k, j, i, sobel):
+    gi, gj, gk = _grad_at(u, k, j, i, sobel)
+    gx = m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk
+    gy = m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk
+    gz = m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk
+    return gx, gy, gz, np.sqrt(gx * gx + gy * gy + gz * gz)
+
+
 @njit(parallel=True, cache=True, fastmath=True)
-def _normals_kernel(u, m, sobel, out, mag):
-    """Unit world gradient x 32767 into out[..., :3]; |g| (u per mm) into mag."""
+def _max_gradient(u, m, sobel, slab_max):
+    """Largest |g| (u per mm) of each z slab into ``slab_max`` (nz,)."""
+    nz, ny, nx = u.shape
+    for k in prange(nz):
+        top = 0.0
+        for j in range(ny):
+            for i in range(nx):
+                top = max(top, np.float32(_world_grad(u, m, k, j, i, sobel)[3]))
+        slab_max[k] = top
+
+
+@njit(parallel=True, cache=True, fastmath=True)
+def _normals_kernel(u, m, sobel, inv_gmax, out):
+    """Unit world gradient x 32767 into out[..., :3], magnitude code ``127 sqrt(|g| / gmax)`` into out[..., 3]."""
     nz, ny, nx = u.shape
     for k in prange(nz):
         for j in range(ny):
             for i in range(nx):
-                gi, gj, gk = _grad_at(u, k, j, i, sobel)
-                gx = m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk
-                gy = m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk
-                gz = m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk
-                g = np.sqrt(gx * gx + gy * gy + gz * gz)
-                mag[k, j, i] = g
+                gx, gy, gz, g = _world_grad(u, m, k, j, i, sobel)
+                g = np.float32(g)  # the magnitude as the float32 array of the first version held it
                 if g > 1e-6:
                     s = 32767.0 / g
                     out[k, j, i, 0] = np.int16(np.rint(gx * s))
@@ -100,20 +117,11 @@ def _normals_kernel(u, m, sobel, out, mag):
                     out[k, j, i, 0] = 0
                     out[k, j, i, 1] = 0
                     out[k, j, i, 2] = 0
-
-
-@njit(parallel=True, cache=True, fastmath=True)
-def _magnitude_codes(mag, inv_gmax, out):
-    nz, ny, nx = mag.shape
-    for k in prange(nz):
-        for j in range(ny):
-            for i in range(nx):
-                c = 127.0 * np.sqrt(min(mag[k, j, i] * inv_gmax, 1.0))
-                out[k, j, i, 3] = np.int16(np.rint(c))
+                out[k, j, i, 3] = np.int16(np.rint(127.0 * np.sqrt(min(g * inv_gmax, 1.0))))
 
 
 def build_normals(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: bool) -> tuple[np.ndarray, float]:
-    """Packed normals of the normalized volume ``u``.
+    """Packed normals of the normalized volume ``u`` (two passes, no temporary volume).
 
     Parameters
     ----------
@@ -133,11 +141,11 @@ def build_normals(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
         Gradient magnitude (data units / mm) of magnitude code 127.
     """
     m = np.ascontiguousarray(np.linalg.inv(np.asarray(affine, float)[:3, :3]).T)
+    slab_max = np.zeros(u.shape[0], np.float32)
+    _max_gradient(u, m, bool(sobel), slab_max)
+    gmax = float(slab_max.max()) if slab_max.size else 0.0
     out = np.empty(u.shape + (4,), np.int16)
-    mag = np.empty(u.shape, np.float32)
-    _normals_kernel(u, m, bool(sobel), out, mag)
-    gmax = float(mag.max())
-    _magnitude_codes(mag, 1.0 / gmax if gmax > 0 else 0.0, out)
+    _normals_kernel(u, m, bool(sobel), 1.0 / gmax if gmax > 0 else 0.0, out)
     return out, gmax * value_scale
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_value", "sample_normal", "jitter01"]
+__all__ = ["sample_value", "sample_table", "sample_normal", "jitter01"]
 
 
 @njit(cache=True, fastmath=True)
@@ -45,6 +45,13 @@ def sample_value(vol, x, y, z, nearest):
     c0 = c00 + fy * (c01 - c00)
     c1 = c10 + fy * (c11 - c10)
     return np.float64(c0 + fz * (c1 - c0))
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def sample_table(vol, u0, ufac, x, y, z, nearest):
+    """The value at (x, y, z) in transfer-function table units: ``(v - u0) * ufac`` of the stored samples
+    (the raw data, or an already normalized copy with ``u0 = 0, ufac = 1``)."""
+    return (sample_value(vol, x, y, z, nearest) - u0) * ufac
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -30,8 +30,9 @@ __all__ = ["medium", "phase_weight"]
 
 def medium(shading) -> tuple[float, float]:
     """``(kext, albedo)`` of a :class:`~volumen.core.Shading`: extinction scale and single-scattering albedo."""
-    kext = float(shading.sigma_a + shading.sigma_s)
-    return kext, float(shading.sigma_s) / kext
+    m = shading.scattering
+    kext = float(m.sigma_a + m.sigma_s)
+    return kext, float(m.sigma_s) / kext
 
 
 @njit(cache=True, fastmath=True)

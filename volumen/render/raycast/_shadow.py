@@ -19,7 +19,7 @@ import math
 from numba import njit
 
 from ._geometry import region_interval, to_index
-from ._sample import sample_value
+from ._sample import sample_table
 
 __all__ = ["shadow_transmittance", "TAU_STOP"]
 
@@ -28,19 +28,21 @@ TAU_STOP = 14.0
 
 
 @njit(cache=True, fastmath=True)
-def _sig(vol, sig, x, y, z):
-    v = sample_value(vol, x, y, z, False)
+def _sig(field, x, y, z):
+    vol, sig, u0, ufac = field
+    v = sample_table(vol, u0, ufac, x, y, z, False)
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
 @njit(cache=True, fastmath=True)
-def shadow_transmittance(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0, kext):
+def shadow_transmittance(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0, kext):
     """Transmittance ``exp(-kext * tau)`` from world point ``o`` along unit ``L`` over ``[0, smax]`` mm.
 
     Parameters
     ----------
-    vol : (nz, ny, nx) float32, normalized samples
-    sig : (NLUT,) float32, optical depth per reference step of each table entry
+    field : (vol, sig, u0, ufac)
+        The samples ``[z, y, x]`` read as ``_sample.sample_table`` does, and the
+        optical depth per reference step of each table entry ``sig`` (NLUT,)
     geo, planes, nplanes : packed geometry (``_geometry``)
     ox, oy, oz : start, world mm; lx, ly, lz : unit direction toward the light
     smax : distance to the light, mm
@@ -53,18 +55,18 @@ def shadow_transmittance(vol, sig, geo, planes, nplanes, ox, oy, oz, lx, ly, lz,
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
     di, dj, dk = to_index(geo, lx, ly, lz, 0.0)
     stop = TAU_STOP * ds0 / kext
-    sp = _sig(vol, sig, oi + ta * di, oj + ta * dj, ok + ta * dk)
+    sp = _sig(field, oi + ta * di, oj + ta * dj, ok + ta * dk)
     acc = 0.0  # integral of sigma ds, sigma in reference-step units, s in mm
     t = ta
     m = int((tb - ta) / step)
     for j in range(1, m + 1):
         t = ta + j * step
-        s = _sig(vol, sig, oi + t * di, oj + t * dj, ok + t * dk)
+        s = _sig(field, oi + t * di, oj + t * dj, ok + t * dk)
         acc += 0.5 * (sp + s) * step
         sp = s
         if acc > stop:
             return 0.0
     if tb - t > 1e-6 * step:
-        s = _sig(vol, sig, oi + tb * di, oj + tb * dj, ok + tb * dk)
+        s = _sig(field, oi + tb * di, oj + tb * dj, ok + tb * dk)
         acc += 0.5 * (sp + s) * (tb - t)
     return math.exp(-kext * acc / ds0)

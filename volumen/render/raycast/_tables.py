@@ -25,8 +25,8 @@ from numba import njit
 from ..optics import correct_opacity, optical_depth
 from ._precompute import NLUT
 
-__all__ = ["NPRE", "color_table", "extinction_table", "preintegrated_table", "block_visibility", "iso_visibility", "skip_distance",
-           "gradient_table"]
+__all__ = ["NPRE", "color_table", "extinction_table", "preintegrated_table", "block_visibility", "iso_visibility",
+           "skip_distance", "gradient_table"]
 
 #: side of the pre-integrated table
 NPRE = 512
@@ -39,7 +39,8 @@ def _correct_column(alpha, ratio, out):
 
 
 def color_table(tf, vmin: float, vmax: float, ratio: float | None) -> np.ndarray:
-    """``(NLUT, 4)`` float32 table of ``tf`` over ``[vmin, vmax]``; alpha corrected to ``ratio = ds/ds0`` unless None."""
+    """``(NLUT, 4)`` float32 table of ``tf`` over ``[vmin, vmax]``; alpha corrected to ``ratio = ds/ds0`` unless
+    None."""
     lut = np.ascontiguousarray(tf.lut(vmin, vmax, NLUT), dtype=np.float32)
     if ratio is not None:
         a = lut[:, 3].astype(np.float64)

@@ -1,0 +1,175 @@
+"""The composite modes' pieces: emission-absorption, post-classified (``Composite``) or pre-integrated.
+
+Post-classified samples each stand for the part of ``[t0, t1]`` nearer to
+them than to their neighbours (``ds`` inside, less at the ends), opacity
+corrected to that length, so a ray's total length is exact whatever the step.
+Pre-integrated: sample ``k`` closes the segment ``[t_{k-1}, t_k]`` (from
+``t0`` for k = 0); :func:`_finish_pre` adds the last segment, to ``t1``.
+Depth = where the accumulated opacity first reaches 0.5 (``DEPTH_OPACITY``),
+inf if never. State: ``(r, g, b, alpha, depth, previous value, previous t)``.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from ..optics import composite, correct_opacity
+from ._frame import FAR
+from ._pieces import Composite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
+from ._ray import sample_at
+from ._sample import sample_normal
+
+__all__ = ["DEPTH_OPACITY", "lit"]
+
+DEPTH_OPACITY = 0.5
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def lit(light, r, a, s, t, c, gradop):
+    """Premultiplied sample ``c = (r, g, b, alpha)`` at ray parameter ``t``, modulated by the gradient opacity
+    (when ``gradop``) and lit by the light tag's model."""
+    cr, cg, cb, al = c
+    x = r.oi + t * r.di
+    y = r.oj + t * r.dj
+    z = r.ok + t * r.dk
+    gx = gy = gz = code = 0.0
+    if uses_normals(light) or gradop:
+        gx, gy, gz, code = sample_normal(a.nrm, x, y, z, s.nearest)
+    if gradop:
+        f = a.glut[min(int(code + 0.5), 127)]
+        cr, cg, cb, al = cr * f, cg * f, cb * f, al * f
+    if al > 0.0:
+        fr, fg, fb, sr, sg, sb = shade(light, a, s, (gx, gy, gz), (-r.dx, -r.dy, -r.dz),
+                                       (r.ox + t * r.dx, r.oy + t * r.dy, r.oz + t * r.dz))
+        cr, cg, cb = cr * fr + al * sr, cg * fg + al * sg, cb * fb + al * sb
+    return cr, cg, cb, al
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _corrected(c, seg, ds):
+    """``c`` with its opacity corrected from length ``ds`` to ``seg`` (colour scaled alike)."""
+    cr, cg, cb, al = c
+    if al > 0.0 and seg != ds:
+        a2 = correct_opacity(al, seg / ds)
+        f = a2 / al
+        return cr * f, cg * f, cb * f, a2
+    return c
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _accumulate(st, c, t, et):
+    """Composite ``c`` under the state's colour; ``(state, done)``."""
+    ar, ag, ab, aa, dep, vp, tp = st
+    cr, cg, cb, al = c
+    if al > 0.0:
+        ar, ag, ab, aa = composite(ar, ag, ab, aa, cr, cg, cb, al)
+        if dep == FAR and aa >= DEPTH_OPACITY:
+            dep = t
+    return (ar, ag, ab, aa, dep, vp, tp), aa >= et
+
+
+@init.register(Composite, Preintegrated)
+@njit(cache=True, fastmath=True, inline="always")
+def _init(light, r, a, s):
+    return (0.0, 0.0, 0.0, 0.0, FAR, 0.0, r.t0), 0, False, False
+
+
+@step.register(Composite)
+@njit(cache=True, fastmath=True, inline="always")
+def _step_post(light, r, a, s, st, k, t, v, have):
+    idx = int(v + 0.5)
+    al = a.lut[idx, 3]
+    c = (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al)
+    seg = s.ds
+    if k == 0 or k == r.n - 1:
+        seg = (r.t1 if k == r.n - 1 else t + 0.5 * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
+    c = _corrected(c, seg, s.ds)
+    if c[3] > 0.0:
+        c = lit(light, r, a, s, t, c, s.gradop)
+    st, done = _accumulate(st, c, t, s.et)
+    return st, 0, done
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _lookup_pre(pre, vf, vb, scale):
+    n = pre.shape[0] - 1
+    f = min(int(vf * scale + 0.5), n)
+    b = min(int(vb * scale + 0.5), n)
+    return pre[f, b, 0], pre[f, b, 1], pre[f, b, 2], pre[f, b, 3]
+
+
+@step.register(Preintegrated)
+@njit(cache=True, fastmath=True, inline="always")
+def _step_pre(light, r, a, s, st, k, t, v, have):
+    vp, tp = st[5], st[6]
+    extra = 0
+    if k == 0:
+        vp, tp = v, r.t0
+    elif not have:
+        tp = r.t0 + (k - 1 + r.jit) * s.ds
+        vp = sample_at(r, a, s, tp)
+        extra = 1
+    seg = t - tp if (k == 0 or k == r.n - 1) else s.ds
+    c = _corrected(_lookup_pre(a.pre, vp, v, s.pre_scale), seg, s.ds)
+    if c[3] > 0.0:
+        c = lit(light, r, a, s, t, c, s.gradop)
+    st, done = _accumulate(st, c, t, s.et)
+    return st[:5] + (v, t), extra, done
+
+
+@njit(cache=True, fastmath=True)
+def _last_segment(light, r, a, s, st, have):
+    """The pre-integrated segment from the last sample to the exit: ``(state, samples taken)``."""
+    vp, tp = st[5], st[6]
+    taken = 0
+    if not have:
+        tp = min(r.t0 + (r.n - 1 + r.jit) * s.ds, r.t1)
+        vp = sample_at(r, a, s, tp)
+        taken += 1
+    v = sample_at(r, a, s, r.t1)
+    c = _lookup_pre(a.pre, vp, v, s.pre_scale)
+    if c[3] > 0.0:
+        c = _corrected(lit(light, r, a, s, r.t1, c, False), r.t1 - tp, s.ds)
+        st = _accumulate(st, c, r.t1, s.et)[0]
+    return st, taken + 1
+
+
+@njit(cache=True, fastmath=True)
+def _write(st, taken, out, px, py):
+    out.nsamp[py, px] = taken
+    for c in range(4):
+        out.rgba[py, px, c] = min(st[c], 1.0)
+    out.depth[py, px] = st[4]
+
+
+@finish.register(Composite)
+@njit(cache=True, fastmath=True)
+def _finish_post(light, r, a, s, st, taken, have, out, px, py):
+    _write(st, taken, out, px, py)
+
+
+@finish.register(Preintegrated)
+@njit(cache=True, fastmath=True)
+def _finish_pre(light, r, a, s, st, taken, have, out, px, py):
+    if st[3] < s.et and r.t1 - st[6] > 1e-6 * s.ds:
+        st, extra = _last_segment(light, r, a, s, st, have)
+        taken += extra
+    _write(st, taken, out, px, py)
+
+
+@radius.register(Composite, Preintegrated)
+@njit(cache=True, fastmath=True, inline="always")
+def _radius(a, st, bk, bj, bi):
+    return int(a.bflag[bk, bj, bi])
+
+
+@eager.register(Composite)
+@njit(cache=True, inline="always")
+def _eager_yes():
+    return True
+
+
+@eager.register(Preintegrated)
+@njit(cache=True, inline="always")
+def _eager_no():
+    return False

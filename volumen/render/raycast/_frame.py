@@ -1,0 +1,131 @@
+"""What one frame hands the kernels, declared once: the per-frame arrays, the scalar settings, the outputs.
+
+Every kernel (CPU and CUDA, ray casting and path tracing) takes the three
+records below as whole arguments -- ``a`` (:class:`Arrays`), ``s``
+(:class:`Settings`), ``out`` (:class:`Outputs`) -- and reads fields by name
+(``a.vol``, ``s.ds``). Numba compiles a NamedTuple argument as a struct, so
+there are no positional lists to keep in step and no index constants: the
+field lists below generate the CPU driver's arguments, the CUDA uploads
+(:meth:`Frame.device_arrays` sends every field of :class:`Arrays`, and keeps
+the :data:`PER_VOLUME` ones on the device while they are the same object) and
+the compile cache keys (Numba keys compiled code by these records' types).
+
+Adding a per-frame setting touches its declaration and its use only: a field
+here, with its default (``Settings``) -- set from the scene in ``_pack`` when
+the default does not do -- and ``s.<name>`` where a kernel reads it
+(``tests/render/test_frame.py`` checks that every field reaches both targets).
+Compile-time choices (the mode and the shading model) are not settings but
+tags (:mod:`._pieces`), which pick the pieces a kernel is built from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+
+__all__ = ["Arrays", "Settings", "Outputs", "Frame", "PER_VOLUME", "FAR"]
+
+#: "infinitely far" inside the kernels, which are compiled with fastmath (no inf/NaN semantics);
+#: the drivers turn depth >= FAR into inf and value >= FAR into NaN.
+FAR = 1e30
+
+
+class Arrays(NamedTuple):
+    """The per-frame arrays (see the modules named for their layouts)."""
+
+    cam: np.ndarray     #: packed camera, float64 (18,) (``_geometry.pack_camera``)
+    geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
+    planes: np.ndarray  #: clip planes (n, 6): point, unit normal
+    vol: np.ndarray     #: samples [z, y, x]: the data itself (integer types) or a normalized float32 copy
+    nrm: np.ndarray     #: packed normals [z, y, x, 4] int16 (``_precompute``), (1, 1, 1, 4) when unused
+    lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
+    pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
+    glut: np.ndarray    #: gradient-opacity factor per magnitude code (128,)
+    bflag: np.ndarray   #: skip distance per block (uint8, Chebyshev radius in blocks)
+    bmin: np.ndarray    #: block minima (normalized units)
+    bmax: np.ndarray    #: block maxima
+    lights: np.ndarray  #: packed lights (n, NLCOL) (``_shade``)
+    lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
+    lvd: np.ndarray     #: illumination-volume buffer (float32)
+    sig: np.ndarray     #: optical depth per reference step of each table entry (NLUT,)
+
+
+#: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
+PER_VOLUME = ("vol", "nrm", "bmin", "bmax")
+
+
+class Settings(NamedTuple):
+    """The scalar settings of a frame (lengths in mm, values in the table's normalized units)."""
+
+    ds: float = 1.0          #: sample step
+    ds0: float = 1.0         #: reference step (smallest voxel spacing) the opacities are defined for
+    et: float = 0.98         #: early ray termination opacity
+    ka: float = 0.15         #: ambient (scattering: environment radiance)
+    kd: float = 0.65         #: diffuse (scattering: light scale)
+    ks: float = 0.2          #: specular
+    shine: float = 20.0      #: specular exponent
+    u0: float = 0.0          #: stored sample -> table units: ``(v - u0) * ufac`` (``Arrays.vol`` may be raw data)
+    ufac: float = 1.0
+    vmin: float = 0.0        #: data value of normalized 0
+    vscale: float = 1.0      #: data units per normalized unit
+    iso: float = 0.0         #: isosurface threshold (normalized)
+    iso_r: float = 1.0       #: isosurface colour
+    iso_g: float = 1.0
+    iso_b: float = 1.0
+    pre_scale: float = 1.0   #: normalized value -> pre-integrated table index
+    sh_off: float = 2.0      #: light paths start this far off the sample (no self-shadowing)
+    sh_step: float = 1.0     #: direct shadow-ray step
+    kext: float = 1.0        #: extinction scale: sigma_t = kext * (-ln(1 - alpha)) / ds0
+    albedo: float = 1.0      #: single-scattering albedo
+    g: float = 0.0           #: Henyey-Greenstein anisotropy
+    nearest: bool = False    #: nearest-neighbour instead of trilinear reconstruction
+    jitter: bool = False     #: jitter each ray's first sample
+    seed: int = 0            #: jitter / path-tracing seed
+    skip: bool = False       #: empty-space skipping
+    block: int = 8           #: block size of the skipping grids (voxels)
+    gradop: bool = False     #: gradient-magnitude opacity modulation
+    nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)
+    nplanes: int = 0         #: clip planes in use
+    bounces: int = 1         #: path tracing: most scattering events per path
+
+
+class Outputs(NamedTuple):
+    """What a ray-casting kernel writes per pixel."""
+
+    rgba: Any   #: (H, W, 4) float32 premultiplied
+    depth: Any  #: (H, W) float32 mm, FAR where nothing was hit
+    value: Any  #: (H, W) float32 projected value (data units), FAR where none
+    nsamp: Any  #: (H, W) int32 samples taken
+
+    @classmethod
+    def empty(cls, w: int, h: int, alloc=np.empty) -> Outputs:
+        return cls(alloc((h, w, 4), np.float32), alloc((h, w), np.float32), alloc((h, w), np.float32),
+                   alloc((h, w), np.int32))
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One packed frame: the kernels' records, the compile-time tags, and what the drivers report."""
+
+    arrays: Arrays
+    settings: Settings
+    mode: Any            #: mode tag (``_pieces``)
+    light: Any           #: shading-model tag (``_pieces``)
+    size: tuple[int, int]
+    prep: Any            #: the volume's cached precomputations (``_cache.Prepared``)
+    light_volumes_built: int = 0
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def ds(self) -> float:
+        return self.settings.ds
+
+    @property
+    def ds0(self) -> float:
+        return self.settings.ds0
+
+    def device_arrays(self, put) -> Arrays:
+        """:class:`Arrays` with each field replaced by ``put(name, array, same_object)`` (a device copy)."""
+        return Arrays(*(put(n, x, n in PER_VOLUME) for n, x in zip(Arrays._fields, self.arrays, strict=True)))

@@ -1,0 +1,124 @@
+"""The marching skeleton: one loop for every mode, specialised by the mode's pieces at compile time.
+
+``trace_pixel(px, py, a, s, out, mode, light)`` casts the ray of one pixel:
+:func:`begin_ray` finds its interval and sample grid, then the mode's
+pieces (:mod:`._pieces`: ``init``, ``step``, ``finish``, and ``radius`` /
+``eager`` for empty-space skipping) run in the loop below. ``mode`` and
+``light`` are tags, so each (mode, shading model) pair compiles to its own
+kernel with no branch on either at run time.
+
+Sampling. The ray's drawn interval ``[t0, t1]`` (``_geometry``) is sampled
+at ``t_k = t0 + (k + j) ds``, ``k = 0 .. n-1``, with ``j`` in [0, 1) the
+pixel's jitter (0 without jitter) and ``n`` the number of such points in
+``[t0, t1]`` (at least 1). With jitter off, the first sample is at the exact
+entry and, when the length is a whole number of steps, the last at the
+exact exit.
+
+Empty-space skipping: when a sample falls in a block that cannot contribute
+(the mode's ``radius``: composite -- no visible value in the block's range;
+isosurface -- threshold outside it; mip -- block max <= current max; minip --
+block min >= current min) and so did the previous sample (or at once, for the
+``eager`` modes, which need no neighbouring sample to classify), the loop
+jumps to the first sample past the block -- past the whole cube of empty
+blocks around it when the block array holds the Chebyshev distance (in
+blocks) to the nearest block that can contribute -- keeping the same sample
+grid, so skipping changes no pixel.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit, prange
+
+from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
+from ._frame import FAR
+from ._pieces import eager, finish, init, radius, step
+from ._ray import begin_ray, sample_at
+
+__all__ = ["trace_pixel", "render_tiles"]
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _box_exit(x, d, b, rad, size):
+    """Distance along the index ray from coordinate x to the far side of blocks b - rad + 1 .. b + rad - 1."""
+    if d > 0.0:
+        return ((b + rad) * size - x) * (1.0 / d)
+    if d < 0.0:
+        return ((b - rad + 1) * size - x) * (1.0 / d)
+    return FAR
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _jump(mode, r, a, s, st, k, t, prev_skip):
+    """Empty-space skipping at sample ``k``: ``(next k, jumped, prev_skip)``."""
+    gz, gy, gx = a.bflag.shape
+    x = r.oi + t * r.di
+    y = r.oj + t * r.dj
+    z = r.ok + t * r.dk
+    b = s.block
+    inv_b = 1.0 / b
+    bi = min(max(int(x * inv_b), 0), gx - 1)
+    bj = min(max(int(y * inv_b), 0), gy - 1)
+    bk = min(max(int(z * inv_b), 0), gz - 1)
+    rad = radius(mode, a, st, bk, bj, bi)
+    if rad <= 0:
+        return k, False, False
+    if not (prev_skip or eager(mode)):
+        return k, False, True
+    dt = min(_box_exit(x, r.di, bi, rad, b), _box_exit(y, r.dj, bj, rad, b), _box_exit(z, r.dk, bk, rad, b))
+    kn = int(math.ceil((t + dt - r.t0) / s.ds - r.jit))
+    return max(kn, k + 1), True, True
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _clear(out, px, py):
+    for c in range(4):
+        out.rgba[py, px, c] = 0.0
+    out.depth[py, px] = FAR
+    out.value[py, px] = FAR
+    out.nsamp[py, px] = 0
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def trace_pixel(px, py, a, s, out, mode, light):
+    """Cast the ray of pixel (px, py); write ``out.rgba / depth / value / nsamp`` there."""
+    _clear(out, px, py)
+    r = begin_ray(px, py, a, s)
+    if not r.t1 >= r.t0:
+        return
+    st, taken, done, have = init(mode, light, r, a, s)
+    prev_skip = False
+    k = 0
+    while k < r.n and not done:
+        t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
+        if s.skip:
+            k, jumped, prev_skip = _jump(mode, r, a, s, st, k, t, prev_skip)
+            if jumped:
+                have = False
+                continue
+        st, extra, done = step(mode, light, r, a, s, st, k, t, sample_at(r, a, s, t), have)
+        taken += 1 + extra
+        have = True
+        k += 1
+    finish(mode, light, r, a, s, st, taken, have, out, px, py)
+
+
+@njit(cache=True, fastmath=True, _nrt=False)
+def _trace_pixel_cpu(px, py, a, s, out, mode, light):
+    """``trace_pixel`` compiled without reference counting (nothing in it allocates): reading an array from the
+    records then costs no atomic increments, which threads sharing the arrays would contend for."""
+    trace_pixel(px, py, a, s, out, mode, light)
+
+
+@njit(parallel=True, fastmath=True, cache=True)
+def render_tiles(order, tile, a, s, out, mode, light):
+    """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles in parallel."""
+    h, w = out.depth.shape
+    ntx = (w + tile - 1) // tile
+    for n in prange(order.shape[0]):
+        y0 = (order[n] // ntx) * tile
+        x0 = (order[n] % ntx) * tile
+        for py in range(y0, min(y0 + tile, h)):
+            for px in range(x0, min(x0 + tile, w)):
+                _trace_pixel_cpu(px, py, a, s, out, mode, light)

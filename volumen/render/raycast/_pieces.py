@@ -1,0 +1,112 @@
+"""Compile-time specialization: tags for the mode and the shading model, and pieces chosen by tag.
+
+A kernel takes a *mode tag* and a *light tag*: empty NamedTuple instances
+whose classes Numba sees as distinct types. A :func:`piece` is a generic
+function whose implementation is picked by the class of its first argument
+when the caller is compiled, so ``step(mode, ...)`` inside the marching loop
+compiles to the composite step for a ``Composite()`` tag and to the MIP step
+for a ``Mip()`` tag -- one skeleton, one specialised kernel per (mode, light),
+each compiled on its first use (and cached: the tags' types pickle by class),
+with no branch on the mode at run time.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from numba.extending import overload
+
+__all__ = ["piece", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS", "LIGHT_TAGS",
+           "Composite", "Preintegrated", "Mip", "Minip", "Average",
+           "Isosurface", "Unlit", "Phong", "Shadowed", "Scatter"]
+
+
+class Composite(NamedTuple):
+    """Emission-absorption compositing, post-classified."""
+
+
+class Preintegrated(NamedTuple):
+    """Emission-absorption compositing of pre-integrated segments."""
+
+
+class Mip(NamedTuple):
+    """Maximum intensity projection."""
+
+
+class Minip(NamedTuple):
+    """Minimum intensity projection."""
+
+
+class Average(NamedTuple):
+    """Mean along the ray."""
+
+
+class Isosurface(NamedTuple):
+    """First threshold crossing seen from the eye's side."""
+
+
+class Unlit(NamedTuple):
+    """No lighting (emission-absorption only)."""
+
+
+class Phong(NamedTuple):
+    """Phong, every light fully visible (headlight and phong)."""
+
+
+class Shadowed(NamedTuple):
+    """Phong with each light weighted by its visibility (shadows; scattering on surfaces)."""
+
+
+class Scatter(NamedTuple):
+    """Single scattering in the medium (no normals)."""
+
+
+#: Scene.mode (and pre-integration) -> mode tag class
+MODE_TAGS = {"composite": Composite, "preintegrated": Preintegrated, "mip": Mip, "minip": Minip,
+             "average": Average, "isosurface": Isosurface}
+#: lighting model name -> light tag class
+LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "shadows": Shadowed, "scatter": Scatter}
+
+
+def piece(name: str, params: str, doc: str = ""):
+    """A generic function ``f(tag, <params>)`` calling the implementation registered for ``type(tag)``.
+
+    ``params`` names the arguments after the tag (comma-separated: the arity is
+    fixed, so Numba can inline the chosen implementation into its caller).
+    ``@f.register(TagA, TagB)`` above an ``@njit`` function registers it for
+    those tags; the implementation gets the arguments after the tag.
+    """
+    impls: dict[type, object] = {}
+    args = ", ".join(p.strip() for p in params.split(",") if p.strip())
+    sep = ", " if args else ""
+    ns: dict = {"impls": impls}
+    exec(f"def stub(tag{sep}{args}):\n    raise NotImplementedError('called from compiled code only')\n"
+         f"def choose(tag{sep}{args}):\n    fn = impls[tag.instance_class]\n"
+         f"    def impl(tag{sep}{args}):\n        return fn({args})\n    return impl\n", ns)
+    stub = ns["stub"]
+    stub.__name__ = stub.__qualname__ = name
+    stub.__doc__ = doc
+    overload(stub, target="generic", inline="always")(ns["choose"])
+
+    def register(*tags):
+        def deco(fn):
+            for t in tags:
+                impls[t] = fn
+            return fn
+
+        return deco
+
+    stub.register = register
+    stub.impls = impls
+    return stub
+
+
+# the pieces of the marching skeleton (``_march``), implemented per mode tag in ``_composite``,
+# ``_project`` and ``_iso``, and the lighting piece, implemented per light tag in ``_shade``
+init = piece("init", "light, r, a, s", "-> (state, samples taken, done, previous sample usable)")
+step = piece("step", "light, r, a, s, st, k, t, v, have", "-> (state, extra samples taken, done)")
+finish = piece("finish", "light, r, a, s, st, taken, have, out, px, py", "write the pixel")
+radius = piece("radius", "a, st, bk, bj, bi", "-> skip radius in blocks (0: take the sample)")
+eager = piece("eager", "", "-> True when one skippable block suffices to jump")
+shade = piece("shade", "a, s, n, v, w", "-> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")
+uses_normals = piece("uses_normals", "", "-> whether shading reads the gradient")

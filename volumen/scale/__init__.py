@@ -1,0 +1,13 @@
+"""Beyond one machine's memory and one machine: bricked out-of-core rendering of chunked (OME-Zarr) volumes,
+sort-last compositing, bricks and batches of studies on Dask distributed.
+
+Modules: ``_bricks`` (cutting a volume into bricks drawn apart, visibility
+order), ``_composite`` (the associative over / max / min), ``_outofcore``
+(bricks through a bounded chunk cache), ``_distributed`` (bricks on Dask
+workers), ``_batch`` (a manifest of studies on a Dask cluster).
+"""
+
+from ._composite import Partial, combine
+from ._outofcore import ChunkCache, parse_bytes, pick_level, render_bricked
+
+__all__ = ["render_bricked", "ChunkCache", "pick_level", "parse_bytes", "Partial", "combine"]

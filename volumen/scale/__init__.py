@@ -7,7 +7,10 @@ order), ``_composite`` (the associative over / max / min), ``_outofcore``
 workers), ``_batch`` (a manifest of studies on a Dask cluster).
 """
 
+from ._batch import read_manifest, run_batch, run_study
 from ._composite import Partial, combine
+from ._distributed import render_distributed
 from ._outofcore import ChunkCache, parse_bytes, pick_level, render_bricked
 
-__all__ = ["render_bricked", "ChunkCache", "pick_level", "parse_bytes", "Partial", "combine"]
+__all__ = ["render_bricked", "render_distributed", "run_batch", "run_study", "read_manifest", "ChunkCache",
+           "pick_level", "parse_bytes", "Partial", "combine"]

@@ -36,7 +36,7 @@ from ._bricks import (
 )
 from ._composite import MODES, Partial, combine, empty_partial
 
-__all__ = ["render_bricked", "ChunkCache", "open_source", "pick_level", "parse_bytes"]
+__all__ = ["render_bricked", "draw_brick", "plan", "ChunkCache", "open_source", "pick_level", "parse_bytes"]
 
 
 def parse_bytes(text) -> int:
@@ -122,6 +122,31 @@ def _chunk_range(src, brick):
     return float(src.cmin[sl].min()), float(src.cmax[sl].max())
 
 
+def draw_brick(src, data, b, scene, camera, size, vr, device=None) -> Partial | None:
+    """Brick ``b`` of ``data`` drawn alone (a full-size partial picture), None when it cannot show anything."""
+    rng = _chunk_range(src, b)
+    clip = brick_clipping(b, src.affine, scene.clipping)
+    if clip is None or (rng is not None and not brick_visible(scene, *rng, vr)):
+        return None
+    block = np.asarray(data[b.read_slices])
+    if rng is None and not brick_visible(scene, float(block.min()), float(block.max()), vr):
+        return None
+    vol = brick_volume(b, block, src, vr)
+    return Partial.of(render(brick_scene(scene, vol, clip), camera, size, device=device))
+
+
+def plan(source, scene, camera, *, level: int = 0, brick: int | None = None, value_range=None):
+    """``(source info, value range, bricks front to back, brick edge)`` of a bricked drawing."""
+    if scene.mode not in MODES:
+        raise ValueError(f"bricked rendering draws modes {list(MODES)}, got {scene.mode!r}")
+    src = open_source(source, level)
+    vr = _range_of(src, value_range)
+    size_b = int(brick or src.chunk)
+    pad = 1 if needs_gradients(scene) else 0
+    bricks = visibility_order(brick_grid(src.data.shape, size_b, pad), src.affine, size_b, camera)
+    return src, vr, bricks
+
+
 def render_bricked(source, scene, camera, size=(512, 512), *, memory="4GB", level: int = 0, brick: int | None = None,
                    value_range=None, device: str | None = None) -> Image:
     """Draw ``scene`` (its own ``volume`` ignored) with the volume of ``source`` read brick by brick.
@@ -144,35 +169,21 @@ def render_bricked(source, scene, camera, size=(512, 512), *, memory="4GB", leve
         ``stats``: ``bricks``, ``bricks_drawn``, ``bricks_skipped`` (empty), ``chunk_reads`` (from the store),
         ``cache_peak_bytes``, ``timings``.
     """
-    if scene.mode not in MODES:
-        raise ValueError(f"out-of-core rendering draws modes {list(MODES)}, got {scene.mode!r}")
     t0 = time.perf_counter()
-    src = open_source(source, level)
-    vr = _range_of(src, value_range)
+    src, vr, bricks = plan(source, scene, camera, level=level, brick=brick, value_range=value_range)
     data, cache = src.data, None
     if is_chunked(data):
         cache = ChunkCache(data.source, parse_bytes(memory))
         data = ChunkedArray(cache, data.perm, data.start, data.step, data.shape)
-    size_b = int(brick or src.chunk)
-    bricks = visibility_order(brick_grid(data.shape, size_b, 1 if needs_gradients(scene) else 0), src.affine,
-                              size_b, camera)
     w, h = (int(s) for s in size)
     acc, drawn, skipped = empty_partial(w, h), 0, 0
     for b in bricks:
-        rng = _chunk_range(src, b)
-        clip = brick_clipping(b, src.affine, scene.clipping)
-        if clip is None or (rng is not None and not brick_visible(scene, *rng, vr)):
+        part = draw_brick(src, data, b, scene, camera, (w, h), vr, device)
+        if part is None:
             skipped += 1
             continue
-        block = np.asarray(data[b.read_slices])
-        if rng is None and not brick_visible(scene, float(block.min()), float(block.max()), vr):
-            skipped += 1
-            continue
-        vol = brick_volume(b, block, src, vr)
-        img = render(brick_scene(scene, vol, clip), camera, (w, h), device=device)
-        acc = combine(acc, Partial.of(img), scene.mode)
+        acc = combine(acc, part, scene.mode)
         drawn += 1
-        del vol, block, img
     stats = {"bricks": len(bricks), "bricks_drawn": drawn, "bricks_skipped": skipped, "level": level,
              "chunk_reads": cache.misses if cache else 0, "cache_peak_bytes": cache.peak if cache else 0,
              "timings": {"total": time.perf_counter() - t0}, "mode": scene.mode}

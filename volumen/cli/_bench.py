@@ -4,14 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting")
+BENCHES = ("render", "techniques", "lighting", "scale")
 
 
 def register(sub):
     p = sub.add_parser("bench", help="benchmarks: print a table and write it as JSON")
     p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper; "
                    "techniques: meshes, ray casting and texture slicing along a camera path; "
-                   "lighting: shadows and scattering in the seeds' experiment")
+                   "lighting: shadows and scattering in the seeds' experiment; scale: out-of-core vs in-memory ray "
+                   "casting (OME-Zarr) and batch throughput on Dask")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
@@ -32,7 +33,11 @@ def run(args):
         from volumen.bench._techniques import main
 
         return main(args)
-    if args.what == "lighting":
+    if args.what == "scale":
+        from volumen.bench._scale import bench_scale
+
+        table = bench_scale(quick=args.quick, repeat=args.repeat)
+    elif args.what == "lighting":
         from volumen.bench._lighting import bench_lighting
 
         table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)

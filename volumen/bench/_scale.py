@@ -41,14 +41,14 @@ def _scene(v, mode):
 
 
 def _render_rows(table, tmp: Path, edge, chunk, memory, size, repeat):
-    import volumen
-    from volumen.core import Camera, Volume
-    from volumen.render import render
-    from volumen.scale import render_bricked
+    from ..core import Camera, Volume
+    from ..io import save
+    from ..render import render
+    from ..scale import render_bricked
 
     v = Volume(_blob(edge))
     path = tmp / "blob.ome.zarr"
-    volumen.save(v, path, chunks=chunk)
+    save(v, path, chunks=chunk)
     cam = Camera.orbit(v, azimuth=30, elevation=20)
     for mode in ("composite", "mip"):
         scene = _scene(v, mode)
@@ -65,9 +65,9 @@ def _render_rows(table, tmp: Path, edge, chunk, memory, size, repeat):
 
 
 def _batch_row(table, tmp: Path, studies, edge, workers):
-    import volumen
-    from volumen.core import Volume
-    from volumen.scale import run_batch
+    from ..core import Volume
+    from ..io import save
+    from ..scale import run_batch
 
     z, y, x = np.indices((edge, edge, edge))
     man = tmp / "manifest.csv"
@@ -78,7 +78,7 @@ def _batch_row(table, tmp: Path, studies, edge, workers):
             d = np.where((x - edge / 2) ** 2 + (y - edge / 2) ** 2 + (z - edge / 2) ** 2 < (edge / 4 + n % 7) ** 2,
                          1000, -1000).astype(np.int16)
             p = tmp / f"s{n}.nii.gz"
-            volumen.save(Volume(d, modality="CT", units="HU"), p)
+            save(Volume(d, modality="CT", units="HU"), p)
             w.writerow([f"s{n}", str(p), '{"size": [256, 256], "views": [[0, 0], [90, 0]]}', "png;slices"])
     t0 = time.perf_counter()
     rows = run_batch(man, tmp / "results", workers=workers, progress=False)

@@ -91,13 +91,13 @@ def _atomic(path: Path, write) -> None:
 
 
 def _load(path: str):
-    import volumen
+    from ..io import load
 
     if path.startswith("phantom:"):
         from ..data import phantom
 
         return phantom(path.split(":", 1)[1])
-    return volumen.load(path)
+    return load(path)
 
 
 def _render_kw(s: dict) -> dict:

@@ -112,3 +112,23 @@ def test_peak_memory_under_cache_plus_overhead(tmp_path):
     assert out.stats["cache_peak_bytes"] <= cache
     assert peak <= cache + overhead
     assert peak < v.data.nbytes / 2
+
+
+def test_coarse_level_while_interacting(zarr_blob):
+    """pick_level: one voxel per pixel or fewer while interacting, full resolution when idle; the coarse level
+    drawn out of core equals the in-memory render of that level."""
+    from volumen.io import open_levels
+    from volumen.scale import pick_level
+
+    v, p = zarr_blob
+    levels, _ = open_levels(p)
+    assert [lv.shape for lv in levels] == [(50, 44, 38), (25, 22, 19), (13, 11, 10)]  # down to one chunk of 16
+    assert pick_level(levels, (32, 32), interacting=True) == 1
+    assert pick_level(levels, (64, 64), interacting=True) == 0
+    assert pick_level(levels, (32, 32), interacting=False) == 0
+    coarse = volumen.load(p, level=1)
+    c = Volume(np.asarray(coarse.data), spacing=coarse.spacing, affine=coarse.affine)
+    scene = _scene(c, "mip")
+    cam = Camera.orbit(v, azimuth=30, elevation=20)
+    out = render_bricked(p, scene, cam, (48, 48), level=1, brick=8)
+    np.testing.assert_allclose(out.rgba, render(scene, cam, (48, 48)).rgba, atol=TOL)

@@ -12,8 +12,9 @@ kinds, default ``png``):
 - ``mesh``: the isosurface at settings ``iso`` (``mesh.ply``);
 - ``mp4``: an orbit of settings ``frames`` pictures (default 24, ``orbit.mp4``).
 
-Every output is written to a temporary name in its folder and renamed into
-place, so an output either exists whole or not at all. A re-run skips the
+Every output is written to a temporary name in its folder (``.tmp-*``) and
+renamed into place, so an output either exists whole or not at all (the
+temporary files a killed worker leaves are removed when the batch ends). A re-run skips the
 studies whose outputs all exist. A study whose task dies with its worker is
 rescheduled by Dask on another worker (up to ``distributed.scheduler.allowed-failures``);
 an error in a study (unreadable file, bad settings) is caught and recorded in
@@ -36,6 +37,7 @@ __all__ = ["read_manifest", "run_study", "run_batch", "study_outputs", "OUTPUT_K
 
 OUTPUT_KINDS = ("png", "slices", "mesh", "mp4")
 RESULT_FIELDS = ("id", "status", "seconds", "outputs", "error")
+TMP_PREFIX = ".tmp-"  #: outputs being written; what a killed worker leaves is swept when the batch ends
 
 
 def read_manifest(path) -> list[dict]:
@@ -80,7 +82,7 @@ def study_outputs(row: dict, out_dir) -> list[Path]:
 
 def _atomic(path: Path, write) -> None:
     """``write(tmp)`` to a temporary file beside ``path``, then rename it into place."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f"{TMP_PREFIX}{path.stem}-", suffix=path.suffix, dir=path.parent)
     os.close(fd)
     try:
         write(tmp)
@@ -205,5 +207,7 @@ def run_batch(manifest, out_dir, *, client=None, scheduler: str | None = None, w
         if cluster is not None:
             client.close()
             cluster.close()
+    for stale in out.glob(f"*/{TMP_PREFIX}*"):  # every task is over: these are from workers killed mid-write
+        stale.unlink(missing_ok=True)
     _write_results(out, results)
     return list(results.values())

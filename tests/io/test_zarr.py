@@ -70,3 +70,14 @@ def test_not_zarr_is_a_typed_error(tmp_path):
     (p / "zarr.json").write_text("{not json")
     with pytest.raises(CorruptDataError, match="bad.zarr"):
         volumen.load(p)
+
+
+def test_in_memory_renderer_refuses_a_chunked_volume(tmp_path):
+    from volumen.core import Camera, Scene
+    from volumen.render import render
+
+    volumen.save(_volume(), tmp_path / "t.ome.zarr", chunks=16)
+    w = volumen.load(tmp_path / "t.ome.zarr")
+    with pytest.raises(ValueError, match="render_bricked"):
+        render(Scene(volume=w), Camera.orbit(w), (8, 8))
+    assert w.data.stats["chunk_reads"] == 0

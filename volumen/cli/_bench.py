@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting", "mesh")
+BENCHES = ("render", "techniques", "lighting", "mesh", "scale")
 
 
 def register(sub):
@@ -13,7 +13,8 @@ def register(sub):
                    "(--device gl: the OpenGL ray caster vs VTK's GPU mapper); "
                    "techniques: meshes, ray casting and texture slicing along a camera path; "
                    "lighting: shadows and scattering in the seeds' experiment; "
-                   "mesh: marching cubes on real scans vs VTK's flying edges and scikit-image")
+                   "mesh: marching cubes on real scans vs VTK's flying edges and scikit-image; "
+                   "scale: out-of-core vs in-memory ray casting (OME-Zarr) and batch throughput on Dask")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
@@ -38,6 +39,10 @@ def run(args):
         from volumen.bench._mesh import bench_mesh
 
         table = bench_mesh(quick=args.quick, with_vtk=not args.no_vtk)
+    elif args.what == "scale":
+        from volumen.bench._scale import bench_scale
+
+        table = bench_scale(quick=args.quick, repeat=args.repeat)
     elif args.what == "lighting":
         from volumen.bench._lighting import bench_lighting
 

@@ -1,4 +1,5 @@
-"""``volumen convert IN OUT``: read any supported format, write NIfTI, NRRD, MHA/MHD or NPY/NPZ."""
+"""``volumen convert IN OUT``: read any supported format, write NIfTI, NRRD, MHA/MHD, NPY/NPZ or an OME-Zarr
+pyramid (``scan.ome.zarr``)."""
 
 from __future__ import annotations
 
@@ -6,9 +7,12 @@ from ._common import add_load_options, load_from_args
 
 
 def register(sub):
-    p = sub.add_parser("convert", help="convert a volume to .nii/.nii.gz/.nrrd/.mha/.mhd/.npy/.npz")
+    p = sub.add_parser("convert", help="convert a volume to .nii/.nii.gz/.nrrd/.mha/.mhd/.npy/.npz/.ome.zarr")
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("output", help="output file; the suffix picks the format")
+    p.add_argument("--chunks", type=int, default=64, help="OME-Zarr: chunk edge in voxels (default 64)")
+    p.add_argument("--zarr-format", type=int, choices=(2, 3), default=3,
+                   help="OME-Zarr: 3 (OME-NGFF 0.5, default) or 2 (0.4)")
     add_load_options(p)
     return p
 
@@ -17,7 +21,9 @@ def run(args):
     import volumen
 
     vol = load_from_args(args)
-    volumen.save(vol, args.output)
+    opts = dict(chunks=args.chunks, zarr_format=args.zarr_format) if str(args.output).rstrip("/").endswith(".zarr") \
+        else {}
+    volumen.save(vol, args.output, **opts)
     z, y, x = vol.shape
     print(f"wrote {args.output} ({x} x {y} x {z} voxels, {vol.dtype})")
     for w in vol.meta.get("warnings", []):

@@ -58,9 +58,9 @@ _LABELS = {"series_uid": "series_uid", "n_files": "n_files", "transfer_syntax": 
 
 def _series_listing(args) -> tuple[list, list[str]] | None:
     """The series of a DICOM folder and the skip notes; ``None`` for anything else."""
-    from volumen.io import list_series
+    from volumen.io import detect_format, list_series
 
-    if str(args.input).startswith("phantom:") or not Path(args.input).is_dir():
+    if str(args.input).startswith("phantom:") or not Path(args.input).is_dir() or detect_format(args.input) != "dicom":
         return None
     notes: list[str] = []
     return list_series(args.input, notes), notes

@@ -26,6 +26,10 @@ def register(sub):
     p.add_argument("-o", "--out", required=True, help="output PNG")
     p.add_argument("--settings", help="scene JSON written by --save-settings; flags given override it")
     p.add_argument("--save-settings", help="write the settings that reproduce this picture to a JSON file")
+    o = p.add_argument_group("out of core (chunked OME-Zarr input)")
+    o.add_argument("--memory", default="4GB", help="chunk cache bound, e.g. 4GB (default); a Zarr volume is drawn "
+                   "brick by brick through it (composite, mip, minip)")
+    o.add_argument("--level", type=int, default=0, help="pyramid level drawn (0: full resolution)")
     g = p.add_argument_group("look")
     g.add_argument("--preset", choices=PRESETS, help="transfer function preset")
     g.add_argument("--tf", help="transfer function JSON file (TransferFunction.to_json)")
@@ -231,7 +235,13 @@ def run(args):
     out_dir = Path(args.out).resolve().parent
     if not out_dir.is_dir():
         raise ValueError(f"{args.out}: folder {out_dir} does not exist")
-    image = render(scene, camera, size, device=device, technique=technique)
+    if volume.meta.get("format") == "zarr":
+        from volumen.scale import render_bricked
+
+        image = render_bricked(volume.meta["source"], scene, camera, size, memory=args.memory, level=args.level,
+                               device=device)
+    else:
+        image = render(scene, camera, size, device=device, technique=technique)
     dt = time.perf_counter() - t0
     image.save(args.out, background=background)
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}) in {dt * 1000:.0f} ms")

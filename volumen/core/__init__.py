@@ -9,13 +9,14 @@ from ._image import Image
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
 from ._slices import PLANES, WINDOW_PRESETS, Window, canonical, montage, slice_at, slice_image, window_to_uint8
 from ._transfer import PRESETS, TransferFunction
-from ._volume import Volume, axis_codes
+from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
     "gestures",
     "display",
     "Volume",
     "axis_codes",
+    "is_chunked",
     "Camera",
     "VIEWS",
     "TransferFunction",

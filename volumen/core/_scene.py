@@ -50,6 +50,12 @@ class Sampling(JsonData):
         Edge in voxels of the empty-space blocks.
     preintegrate : bool
         Pre-integrated classification (composite mode).
+    lattice : bool
+        Sample every ray at ``t = (m + jitter) * ds`` from its origin (m whole,
+        entry <= t < exit), each sample standing for a full step, instead of
+        from the ray's entry: the samples fall at the same points whatever box
+        is drawn, so bricks of a volume drawn one by one and composited equal
+        the whole volume drawn at once (:mod:`volumen.scale`).
     """
 
     samples_per_voxel: float = 1.0
@@ -60,6 +66,7 @@ class Sampling(JsonData):
     skip_empty: bool = True
     block_size: int = 8
     preintegrate: bool = False
+    lattice: bool = False
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.samples_per_voxel) and 0.01 <= self.samples_per_voxel <= 64):
@@ -76,6 +83,7 @@ class Sampling(JsonData):
         object.__setattr__(self, "jitter", bool(self.jitter))
         object.__setattr__(self, "skip_empty", bool(self.skip_empty))
         object.__setattr__(self, "preintegrate", bool(self.preintegrate))
+        object.__setattr__(self, "lattice", bool(self.lattice))
 
 
 @dataclass(frozen=True, kw_only=True)

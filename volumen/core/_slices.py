@@ -19,7 +19,7 @@ from typing import Literal
 
 import numpy as np
 
-from ._volume import Volume, axis_codes
+from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "montage", "slice_at", "slice_image", "window_to_uint8"]
 
@@ -114,7 +114,7 @@ def canonical(volume: Volume) -> Volume:
     axes = [2 - src_axis[2 - ax] for ax in range(3)] + ([3] if volume.is_color else [])
     data = np.transpose(volume.data, axes)
     slicer = tuple(slice(None, None, -1) if flip[2 - ax] else slice(None) for ax in range(3))
-    data = np.ascontiguousarray(data[slicer])
+    data = data[slicer] if is_chunked(data) else np.ascontiguousarray(data[slicer])  # chunked: a lazy view
     spacing = tuple(float(np.linalg.norm(affine[:3, a])) for a in (2, 1, 0))
     return Volume(data, spacing=spacing, affine=affine, modality=volume.modality, units=volume.units,
                   name=volume.name, meta=dict(volume.meta))

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Volume", "axis_codes", "LUMA_WEIGHTS"]
+__all__ = ["Volume", "axis_codes", "is_chunked", "LUMA_WEIGHTS"]
 
 #: Rec. 601 luma weights of (R, G, B): the grey value of a colour sample.
 LUMA_WEIGHTS = (0.299, 0.587, 0.114)
@@ -57,6 +57,12 @@ def _default_affine(spacing) -> np.ndarray:
     return np.diag([dx, dy, dz, 1.0])
 
 
+def is_chunked(data) -> bool:
+    """Whether ``data`` is a lazy chunked array (``volumen.io``'s ``ChunkedArray``): kept as it is by a Volume,
+    read chunk by chunk (NumPy-style indexing returns arrays, basic slices and transposes lazy views)."""
+    return bool(getattr(type(data), "__volumen_chunked__", False))
+
+
 @dataclass(eq=False)
 class Volume:
     """A scalar or colour volume in physical units and patient (RAS+) space.
@@ -65,6 +71,8 @@ class Volume:
     ----------
     data : (nz, ny, nx) or (nz, ny, nx, 3) array
         Samples indexed ``[z, y, x]``; kept C-contiguous (copied only if it is not).
+        A lazy chunked array (``is_chunked``, e.g. an OME-Zarr level) is kept
+        as it is: slices read only the chunks they need.
         A trailing axis of 3 holds colour (R, G, B; channel last): see ``is_color``.
     spacing : (3,) float, mm
         ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``.
@@ -91,14 +99,14 @@ class Volume:
     meta: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        data = np.asarray(self.data)
+        data = self.data if is_chunked(self.data) else np.asarray(self.data)
         if not (data.ndim == 3 or (data.ndim == 4 and data.shape[3] == 3)):
             raise ValueError(f"Volume data must be 3-D [z, y, x] or colour [z, y, x, 3], got shape {data.shape}")
         if min(data.shape) < 1:
             raise ValueError(f"Volume data has an empty axis: shape {data.shape}")
         if data.dtype == np.bool_:
             data = data.view(np.uint8)
-        self.data = np.ascontiguousarray(data)
+        self.data = data if is_chunked(data) else np.ascontiguousarray(data)
         spacing = tuple(float(s) for s in np.asarray(self.spacing, dtype=float).ravel())
         if len(spacing) != 3 or not all(np.isfinite(spacing)) or min(spacing) <= 0:
             raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {self.spacing}")

@@ -17,7 +17,7 @@ from typing import Literal
 
 import numpy as np
 
-from ..core import Volume
+from ..core import Volume, is_chunked
 from ..errors import (
     DataSizeError,
     MissingPathError,
@@ -40,8 +40,9 @@ READ_FORMATS: dict[str, tuple[str, tuple[str, ...]]] = {
     "vtk": ("_vtk", (".vtk",)),
     "numpy": ("_numpy", (".npy", ".npz")),
     "raw": ("_raw", (".raw", ".bin")),
+    "zarr": ("_zarr", (".zarr",)),
 }
-WRITE_FORMATS = ("nifti", "nrrd", "metaimage", "numpy")
+WRITE_FORMATS = ("nifti", "nrrd", "metaimage", "numpy", "zarr")
 
 NonFinitePolicy = Literal["error", "keep", "zero", "min"]
 
@@ -66,7 +67,8 @@ def _is_dicom_file(path: Path) -> bool:
 def detect_format(path) -> str:
     """Name of the format of ``path`` (a file, a folder, or a list of files).
 
-    A folder, a list of files and a file with the ``DICM`` preamble are DICOM;
+    A folder named ``*.zarr`` or holding Zarr metadata is Zarr; another folder,
+    a list of files and a file with the ``DICM`` preamble are DICOM;
     otherwise the suffix decides. Raises :class:`UnknownFormatError` listing the
     known suffixes.
     """
@@ -74,7 +76,8 @@ def detect_format(path) -> str:
         return "dicom"
     p = Path(path)
     if p.is_dir():
-        return "dicom"
+        return "zarr" if _suffix(p) == ".zarr" or (p / "zarr.json").exists() or (p / ".zgroup").exists() \
+            or (p / ".zarray").exists() else "dicom"
     suf = _suffix(p)
     for name, (_mod, suffixes) in READ_FORMATS.items():
         if suf in suffixes:
@@ -92,7 +95,7 @@ def _module(fmt: str):
 
 def _apply_nonfinite(vol: Volume, policy: NonFinitePolicy, path) -> Volume:
     d = vol.data
-    if not np.issubdtype(d.dtype, np.floating):
+    if not np.issubdtype(d.dtype, np.floating) or is_chunked(d):  # a chunked volume is read as it is asked for
         return vol
     bad = ~np.isfinite(d)
     n_bad = int(bad.sum())
@@ -159,7 +162,8 @@ def load(path: str | os.PathLike | Sequence[str | os.PathLike], *, format: str |
     ----------
     path : path or list of paths
         A volume file (``.nii``, ``.nii.gz``, ``.nrrd``, ``.nhdr``, ``.mha``, ``.mhd``,
-        ``.vtk``, ``.npy``, ``.npz``, ``.raw``), a DICOM file, a folder holding one DICOM
+        ``.vtk``, ``.npy``, ``.npz``, ``.raw``), an OME-Zarr / Zarr folder (read lazily;
+        ``level=`` picks the pyramid level), a DICOM file, a folder holding one DICOM
         series, or a list of DICOM files.
     format : str, optional
         Force a format (one of ``READ_FORMATS``) instead of detecting it.
@@ -224,7 +228,7 @@ def save(volume: Volume, path: str | os.PathLike, *, format: str | None = None, 
         format = next((n for n in WRITE_FORMATS if suf in READ_FORMATS[n][1]), None)
         if format is None:
             raise VolumeWriteError(p, f"cannot write {suf or '(no suffix)'!r}; volumen writes .nii, .nii.gz, "
-                                      ".nrrd, .mha, .mhd, .npy and .npz")
+                                      ".nrrd, .mha, .mhd, .npy, .npz and .zarr (OME-Zarr)")
     if format not in WRITE_FORMATS:
         raise VolumeWriteError(p, f"cannot write format {format!r}; choose one of {list(WRITE_FORMATS)}")
     if not p.parent.exists():

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import warnings
 
-from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction
+from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction, is_chunked
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
@@ -83,6 +83,9 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     if scene.volume is None:
         raise ValueError("scene.volume is None: attach the Volume (Scene(volume=...) or "
                          "Scene.from_dict(d, volume=...))")
+    if is_chunked(scene.volume.data):
+        raise ValueError("scene.volume is chunked (OME-Zarr, read lazily): draw it out of core with "
+                         "volumen.scale.render_bricked, or read it into memory first (volume.data[...])")
     try:
         w, h = (int(s) for s in size)
     except (TypeError, ValueError):

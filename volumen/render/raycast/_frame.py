@@ -82,6 +82,7 @@ class Settings(NamedTuple):
     g: float = 0.0           #: Henyey-Greenstein anisotropy
     nearest: bool = False    #: nearest-neighbour instead of trilinear reconstruction
     jitter: bool = False     #: jitter each ray's first sample
+    lattice: bool = False    #: samples at t = (m + jitter) ds from the ray's origin, not from its entry (``_ray``)
     seed: int = 0            #: jitter / path-tracing seed
     skip: bool = False       #: empty-space skipping
     block: int = 8           #: block size of the skipping grids (voxels)

@@ -131,7 +131,8 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         ks=ph.specular, shine=ph.shininess, u0=prep.u0, ufac=prep.ufac, vmin=prep.vmin, vscale=prep.scale,
         iso=u_iso, iso_r=c[0], iso_g=c[1], iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0,
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
-        nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"],
+        nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), lattice=smp.lattice, seed=int(smp.seed),
+        skip=t["skip"],
         block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces)
 

@@ -34,6 +34,13 @@ class Ray(NamedTuple):
     n: int      #: samples on the grid
 
 
+@njit(cache=True, fastmath=False)
+def _lattice_index(t, ds, jit):
+    """The first whole m with (m + jit) ds >= t (strict IEEE arithmetic: a box face shared by two bricks gives
+    both the same m)."""
+    return int(math.ceil(t / ds - jit))
+
+
 @njit(cache=True, fastmath=True, inline="always")
 def begin_ray(px, py, a, s):
     """The :class:`Ray` of pixel (px, py); its ``t1 < t0`` when it misses the drawn region."""
@@ -43,7 +50,11 @@ def begin_ray(px, py, a, s):
     di, dj, dk = to_index(a.geo, dx, dy, dz, 0.0)
     jit = jitter01(px, py, s.seed) if s.jitter else 0.0
     n = 1
-    if t1 >= t0:
+    if t1 >= t0 and s.lattice:  # t = (m + jit) ds, t0 <= t < t1; r.t0 / r.t1 half a step around them
+        m0 = _lattice_index(t0, s.ds, jit)
+        n = _lattice_index(t1, s.ds, jit) - m0
+        t0, t1, jit = (m0 + jit - 0.5) * s.ds, (m0 + jit + n - 0.5) * s.ds, 0.5
+    elif t1 >= t0:
         n = max(int(math.floor((t1 - t0) / s.ds - jit + 1e-4)) + 1, 1)
     return Ray(ox, oy, oz, dx, dy, dz, oi, oj, ok, di, dj, dk, t0, t1, jit, n)
 

@@ -1,0 +1,58 @@
+"""Sort-last compositing of partial pictures: the associative "over" (composite), max (MIP), min (MinIP).
+
+A :class:`Partial` is what one brick (or a run of consecutive bricks) drew:
+premultiplied RGBA, depth, and the projected value (projection modes). The
+operators are associative, so partials may be combined in any grouping as long
+as their front-to-back order is kept (a tree of workers, or one by one):
+
+- composite: ``front + (1 - front.alpha) * back``; depth: the nearest;
+- mip / minip: per pixel the partial with the larger / smaller value (ties:
+  the front one, as the ray caster keeps the first extreme it meets).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Partial", "combine", "empty_partial", "MODES"]
+
+MODES = ("composite", "mip", "minip")
+
+
+@dataclass
+class Partial:
+    """rgba (H, W, 4) float32 premultiplied, depth (H, W) mm (inf: none), value (H, W) (NaN: none)."""
+
+    rgba: np.ndarray
+    depth: np.ndarray
+    value: np.ndarray
+
+    @classmethod
+    def of(cls, image) -> Partial:
+        h, w = image.depth.shape
+        value = image.value if image.value is not None else np.full((h, w), np.nan, np.float32)
+        return cls(image.rgba, image.depth, value)
+
+
+def empty_partial(w: int, h: int) -> Partial:
+    return Partial(np.zeros((h, w, 4), np.float32), np.full((h, w), np.inf, np.float32),
+                   np.full((h, w), np.nan, np.float32))
+
+
+def _pick(front: Partial, back: Partial, take_back: np.ndarray) -> Partial:
+    return Partial(np.where(take_back[..., None], back.rgba, front.rgba), np.where(take_back, back.depth, front.depth),
+                   np.where(take_back, back.value, front.value))
+
+
+def combine(front: Partial, back: Partial, mode: str) -> Partial:
+    """``front`` composited over ``back`` with the mode's operator (see the module docstring)."""
+    if mode == "composite":
+        rgba = front.rgba + (1.0 - front.rgba[..., 3:4]) * back.rgba
+        return Partial(rgba.astype(np.float32), np.minimum(front.depth, back.depth), front.value)
+    if mode not in ("mip", "minip"):
+        raise ValueError(f"sort-last compositing takes modes {list(MODES)}, got {mode!r}")
+    fv, bv = front.value, back.value
+    beats = bv > fv if mode == "mip" else bv < fv
+    return _pick(front, back, ~np.isnan(bv) & (np.isnan(fv) | beats))

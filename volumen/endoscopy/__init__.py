@@ -18,6 +18,9 @@
 Numba kernels compile (or load from Numba's cache) on first use, not at import.
 """
 
+from ._stamp import stamped as stamped  # first: our kernels inline the ray caster's sampling, cached on its sources
+
+# isort: split
 from ._centerline import Centerline, compute_centerline
 from ._collision import Collider, MoveResult
 from ._cpr import CPR, cross_section, curved_reformation

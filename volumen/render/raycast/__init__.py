@@ -14,7 +14,7 @@ medium), ``_pathtrace`` (progressive path tracing), ``_precompute`` and
 The CUDA backend (:mod:`volumen.render.cuda`) uses the names below only.
 """
 
-from ._stamp import installed  # first: the Numba cache stamp, before any compiled function is defined
+from ._stamp import installed, stamp_sources  # first: the Numba cache stamp, before any compiled function is defined
 
 # isort: split
 from ._cache import clear_cache, prepare, prepared_volumes
@@ -46,4 +46,5 @@ __all__ = ["render_cpu", "clear_cache", "PathTracer", "G_BOX", "pack_geometry", 
            "iso_refine", "prepare", "prepared_volumes", "pack_frame", "frame_image", "Frame", "Arrays", "Settings",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
-           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed"]
+           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed",
+           "stamp_sources"]

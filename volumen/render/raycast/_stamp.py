@@ -7,7 +7,9 @@ change to a piece would leave the cached kernel stale. The locators below
 (registered before any ``@njit(cache=True)`` function of the package is
 defined) give every function of ``volumen.render.raycast`` and
 ``volumen.render.optics`` one source stamp: the modification times and sizes
-of all those files, so editing any of them recompiles them all.
+of all those files, so editing any of them recompiles them all. Packages whose
+own kernels call the ray caster's functions (endoscopy's collision march)
+add their sources with :func:`stamp_sources` before defining them.
 """
 
 from __future__ import annotations
@@ -17,10 +19,18 @@ from pathlib import Path
 
 from numba.core import caching
 
-__all__ = ["install", "installed"]
+__all__ = ["install", "installed", "stamp_sources"]
 
 _HERE = Path(__file__).resolve().parent
 _FILES = sorted(_HERE.glob("*.py")) + [_HERE.parent / "optics.py"]
+
+
+def stamp_sources(folder) -> None:
+    """Key the cached kernels of every ``.py`` file in ``folder`` on the ray caster's sources and theirs: their
+    kernels inline ray-caster functions, which Numba's own check (the calling file only) would not see change."""
+    for f in sorted(Path(folder).resolve().glob("*.py")):
+        if f not in _FILES:
+            _FILES.append(f)
 
 
 def _ours(py_file) -> bool:

@@ -23,6 +23,7 @@ __all__ = [
     "VolumeWriteError",
     "SampleDataMissingError",
     "LumenError",
+    "LabelError",
     "UnexpectedReadError",
     "OutsideFolderError",
 ]
@@ -123,3 +124,8 @@ class UnexpectedReadError(CorruptDataError):
 class OutsideFolderError(VolumeReadError):
     """A header names a data file outside its own folder and the caller did not allow it
     (``volumen.load(..., allow_outside=True)``)."""
+
+
+class LabelError(VolumeReadError, ValueError):
+    """A segmentation that cannot be used: a names table that does not match its label map, labels whose grid
+    does not overlap the scan, a DICOM SEG that segments another series. The message names the file."""

@@ -132,3 +132,77 @@ def test_label_map_dataclass_defaults():
     assert lm.names == {2: "label_2", 7: "label_7"} and set(lm.colors) == {2, 7}
     with pytest.raises(KeyError, match="label_2"):
         lm.value_of("liver")
+
+
+def _seg_from_series(files, mask, fractional, tmp_path, name="seg.dcm"):
+    """A DICOM SEG written with highdicom over ``files`` (the source slices, in ``mask``'s slice order)."""
+    import highdicom as hd
+    import pydicom
+    from pydicom.sr.codedict import codes
+
+    sources = [pydicom.dcmread(str(f)) for f in files]
+    for ds in sources:  # the patient / study module highdicom copies (empty: the factory writes no identity)
+        for kw in ("PatientName", "PatientID", "PatientBirthDate", "PatientSex", "StudyDate", "StudyTime",
+                   "StudyID", "AccessionNumber", "ReferringPhysicianName"):
+            if kw not in ds:
+                setattr(ds, kw, "")
+    desc = [hd.seg.SegmentDescription(
+        segment_number=i + 1, segment_label=label, segmented_property_category=codes.SCT.Organ,
+        segmented_property_type=codes.SCT.Organ, algorithm_type=hd.seg.SegmentAlgorithmTypeValues.MANUAL)
+        for i, label in enumerate(["liver", "kidney"])]
+    pixels = np.stack([m.astype(np.float32 if fractional else np.uint8) for m in mask], axis=-1)
+    seg = hd.seg.Segmentation(
+        source_images=sources, pixel_array=pixels,
+        segmentation_type=hd.seg.SegmentationTypeValues.FRACTIONAL if fractional
+        else hd.seg.SegmentationTypeValues.BINARY,
+        segment_descriptions=desc, series_instance_uid=hd.UID(), series_number=2, sop_instance_uid=hd.UID(),
+        instance_number=1, manufacturer="volumen tests", manufacturer_model_name="test",
+        software_versions="0", device_serial_number="0", omit_empty_frames=False)
+    seg.save_as(str(tmp_path / name))
+    return tmp_path / name
+
+
+@pytest.mark.parametrize("fractional", [False, True])
+def test_dicom_seg_round_trip(tmp_path, fractional):
+    from dicom_factory import oblique_cosines, stack_positions, write_series
+
+    n = 12
+    row, col = oblique_cosines()
+    pos = stack_positions((-20.0, 10.0, 5.0), row, col, np.arange(n) * 2.0)
+    z, y, x = np.mgrid[:n, :16, :14]
+    raw = (100 * ((x - 7) ** 2 + (y - 8) ** 2 < 30)).astype(np.int16)
+    files = write_series(tmp_path / "ct", raw, row_dir=row, col_dir=col, positions=pos, shuffle_seed=None)
+    liver = ((x - 6) ** 2 + (y - 7) ** 2 + (z - 5) ** 2) < 16
+    kidney = (x > 10) & (y < 4) & (z > 6)
+    scan = volumen.load(tmp_path / "ct")
+    f = _seg_from_series(files, [liver, kidney], fractional, tmp_path)
+    got = load_labels(f, like=scan)
+    assert got.names == {1: "liver", 2: "kidney"}
+    np.testing.assert_allclose(got.affine, scan.affine, atol=1e-6)
+    # each written mask voxel, placed in the world from its slice's position (DICOM's own geometry), lands on
+    # a voxel of the read labels that carries its segment
+    for value, m in ((1, liver), (2, kidney)):
+        k, r, c = np.nonzero(m)
+        lps = pos[k] + (c * 0.6)[:, None] * row + (r * 0.8)[:, None] * col
+        ijk = np.linalg.inv(got.affine) @ np.c_[lps * (-1, -1, 1), np.ones(len(k))].T
+        idx = np.round(ijk[:3]).astype(int)
+        assert np.abs(ijk[:3] - idx).max() < 1e-6
+        assert (got.data[idx[2], idx[1], idx[0]] == value).all()
+    assert got.counts() == {1: int(liver.sum()), 2: int(kidney.sum())}
+
+
+def test_dicom_seg_of_another_series(tmp_path):
+    from dicom_factory import stack_positions, write_series
+
+    row, col = np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
+    raw = np.zeros((4, 8, 8), np.int16)
+    pos = stack_positions((0, 0, 0), row, col, np.arange(4) * 2.0)
+    files = write_series(tmp_path / "a", raw, row_dir=row, col_dir=col, positions=pos, shuffle_seed=None)
+    write_series(tmp_path / "b", raw, row_dir=row, col_dir=col, positions=pos, series_uid="1.2.3.4.5",
+                 shuffle_seed=None)
+    m = np.zeros((4, 8, 8), bool)
+    m[1:3, 2:5, 2:5] = True
+    f = _seg_from_series(files, [m, m[::-1]], False, tmp_path)
+    with pytest.raises(LabelError, match="segments another series") as e:
+        load_labels(f, like=volumen.load(tmp_path / "b"))
+    assert "\n" not in str(e.value)

@@ -50,8 +50,11 @@ def resample_labels(data: np.ndarray, affine, shape, target_affine) -> np.ndarra
     ijk_to_ijk = np.linalg.inv(np.asarray(affine, float)) @ np.asarray(target_affine, float)
     perm = np.eye(4)[[2, 1, 0, 3]]  # (i, j, k) <-> (z, y, x)
     zyx = perm @ ijk_to_ijk @ perm
-    return ndimage.affine_transform(data, zyx[:3, :3], offset=zyx[:3, 3], output_shape=tuple(shape),
-                                    order=0, mode="constant", cval=0)
+    # one voxel of zeros around, read with mode "nearest": a centre a rounding error off the edge keeps the edge
+    # voxel (scipy's "constant" mode would drop it), whatever lies further out reads 0
+    padded = np.pad(data, 1)
+    return ndimage.affine_transform(padded, zyx[:3, :3], offset=zyx[:3, 3] + 1.0, output_shape=tuple(shape),
+                                    order=0, mode="nearest")
 
 
 def labels_on_grid(labels: LabelMap, volume: Volume) -> LabelMap:

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import LumenError
 from ..io import MASK_SUFFIXES as _SUFFIXES
-from ..io import resample_labels
+from ..io import load, resample_labels
 
 __all__ = ["load_lumen_mask", "resample_mask", "check_points_in_mask"]
 
@@ -65,12 +65,10 @@ def load_lumen_mask(file, volume, label=None) -> np.ndarray:
     LumenError
         No such label or structure, or the mask does not overlap the scan.
     """
-    import volumen
-
     file = Path(file)
     if file.is_dir():
         file, label = _structure_file(file, label), None
-    seg = volumen.load(file)
+    seg = load(file)
     data = np.asarray(seg.data)
     if label is None:
         m = data != 0

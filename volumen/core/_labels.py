@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["LabelMap", "default_color"]
+__all__ = ["LabelMap", "LabelLayer", "default_color"]
 
 # a qualitative palette (linear RGB, 0..1) for structures whose file gives no colour
 _PALETTE = np.array([
@@ -120,3 +120,51 @@ class LabelMap:
     def __repr__(self) -> str:
         names = ", ".join(self.names.values())[:80]
         return f"LabelMap(shape(z,y,x)={self.shape}, {len(self.names)} structures: {names})"
+
+
+@dataclass(eq=False)
+class LabelLayer:
+    """How a label map classifies a scan's samples in the ray caster (the scene's ``labels``).
+
+    Parameters
+    ----------
+    labels : LabelMap
+        On the scan's grid (:func:`volumen.io.labels_on_grid`).
+    show : sequence of str or int, optional
+        The structures drawn (all by default); the others are hidden (transparent).
+    opacity : float or dict name -> float
+        Opacity per reference step of each shown structure (0..1).
+    colors : dict name -> (3,) float, optional
+        Linear RGB overrides of the label map's colours.
+    textured : bool
+        False: each structure is a solid of its colour and opacity. True: its opacity follows the scan's
+        transfer function (times ``opacity``), so the scan's texture shows through the structure's colour.
+    scan : {"preset", "hidden"}
+        Unlabelled voxels: drawn with the scan's own transfer function, or not at all.
+    """
+
+    labels: LabelMap
+    show: tuple | None = None
+    opacity: float | dict = 1.0
+    colors: dict = field(default_factory=dict)
+    textured: bool = False
+    scan: str = "preset"
+
+    def __post_init__(self) -> None:
+        if self.scan not in ("preset", "hidden"):
+            raise ValueError(f"LabelLayer.scan must be 'preset' or 'hidden', got {self.scan!r}")
+        shown = self.labels.values if self.show is None else [self.labels.value_of(n) for n in self.show]
+        self.show = tuple(shown)
+
+    def table(self) -> np.ndarray:
+        """``(max value + 1, 5)`` float32 rows ``(r, g, b, opacity, textured)`` per label value; row 0 is the
+        unlabelled scan (``r = -1``: the transfer function's own colour and opacity; opacity 0: hidden)."""
+        n = max(self.labels.values, default=0) + 1
+        t = np.zeros((n, 5), np.float32)
+        t[0] = (-1.0, -1.0, -1.0, 1.0 if self.scan == "preset" else 0.0, 1.0)
+        for v in self.show:
+            name = self.labels.names[v]
+            op = self.opacity.get(name, 1.0) if isinstance(self.opacity, dict) else self.opacity
+            rgb = self.colors.get(name, self.labels.colors[v])
+            t[v] = (*rgb, float(op), 1.0 if self.textured else 0.0)
+        return t

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from urllib.parse import parse_qsl
 
-__all__ = ["add_label_options", "labels_from_args", "shown_values"]
+__all__ = ["add_label_options", "labels_from_args", "shown_values", "add_label_render_options",
+           "label_layer_from_args"]
 
 
 def add_label_options(p, required: bool = False) -> None:
@@ -45,3 +46,28 @@ def shown_values(args, labels) -> list[int]:
         return [labels.value_of(n.strip()) for n in args.show.split(",") if n.strip()]
     except KeyError as e:
         raise ValueError(f"--show: {e.args[0]}") from None
+
+
+def add_label_render_options(p) -> None:
+    """``--labels`` plus how the ray caster draws the structures."""
+    add_label_options(p)
+    g = p.add_argument_group("labels in the picture")
+    g.add_argument("--label-opacity", type=float, default=1.0,
+                   help="opacity per voxel step of the shown structures, 0..1 (default 1)")
+    g.add_argument("--label-style", choices=["solid", "textured"], default="solid",
+                   help="solid colours, or the scan's transfer function tinted by each structure (default solid)")
+    g.add_argument("--label-scan", choices=["preset", "hidden"], default="preset",
+                   help="unlabelled voxels: the scan's transfer function, or hidden (default preset)")
+
+
+def label_layer_from_args(args, volume):
+    """The scene's :class:`~volumen.core.LabelLayer` from the flags, or None without ``--labels``."""
+    from volumen.core import LabelLayer
+
+    labels = labels_from_args(args, volume)
+    if labels is None:
+        return None
+    if not 0.0 <= args.label_opacity <= 1.0:
+        raise ValueError(f"--label-opacity must lie in 0..1, got {args.label_opacity}")
+    return LabelLayer(labels, show=tuple(shown_values(args, labels)), opacity=args.label_opacity,
+                      textured=args.label_style == "textured", scan=args.label_scan)

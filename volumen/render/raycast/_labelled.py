@@ -6,8 +6,9 @@ scan, ``r < 0`` meaning the transfer function's own colour; see ``core.LabelLaye
 ``s.nlab`` > 0 turns it on.
 
 Smooth boundaries: the sample's classification is the trilinear blend of the classifications
-of the 8 surrounding voxels' labels -- the per-label indicator fields interpolated, without
-storing them: ``C = sum_i w_i a_i c_i``, ``A = sum_i w_i a_i`` (premultiplied), where a label
+of the 8 surrounding voxels' labels (``Sampling.interpolation`` nearest: the nearest voxel's)
+-- the per-label indicator fields interpolated, without storing them: ``C = sum_i w_i a_i c_i``,
+``A = sum_i w_i a_i`` (premultiplied), where a label
 with ``textured`` takes ``a_i = opacity * alpha_tf(v)``, else ``a_i = opacity`` (corrected to
 the step). A hidden structure (opacity 0) fades out over one voxel instead of a staircase.
 """
@@ -41,9 +42,15 @@ def _corner(a, k, j, i, w, idx, acc):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def classify(r, a, t, idx):
-    """Premultiplied ``(r, g, b, alpha)`` of the sample at ray parameter ``t`` (table index ``idx``)."""
+def classify(r, a, t, idx, nearest):
+    """Premultiplied ``(r, g, b, alpha)`` of the sample at ray parameter ``t`` (table index ``idx``); the nearest
+    voxel's label alone when ``nearest`` (the raw voxel staircase)."""
     nz, ny, nx = a.lab.shape
+    if nearest:
+        i = min(max(int(r.oi + t * r.di + 0.5), 0), nx - 1)
+        j = min(max(int(r.oj + t * r.dj + 0.5), 0), ny - 1)
+        k = min(max(int(r.ok + t * r.dk + 0.5), 0), nz - 1)
+        return _corner(a, k, j, i, 1.0, idx, (0.0, 0.0, 0.0, 0.0))
     i0, i1, fx = _cell(r.oi + t * r.di, nx)
     j0, j1, fy = _cell(r.oj + t * r.dj, ny)
     k0, k1, fz = _cell(r.ok + t * r.dk, nz)

@@ -4,14 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting")
+BENCHES = ("render", "techniques", "lighting", "labels")
 
 
 def register(sub):
     p = sub.add_parser("bench", help="benchmarks: print a table and write it as JSON")
     p.add_argument("what", choices=BENCHES, help="render: ray casting vs VTK's fixed-point CPU mapper; "
                    "techniques: meshes, ray casting and texture slicing along a camera path; "
-                   "lighting: shadows and scattering in the seeds' experiment")
+                   "lighting: shadows and scattering in the seeds' experiment; "
+                   "labels: label-aware composite against plain composite")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
@@ -36,6 +37,10 @@ def run(args):
         from volumen.bench._lighting import bench_lighting
 
         table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)
+    elif args.what == "labels":
+        from volumen.bench._labels import bench_labels
+
+        table = bench_labels(quick=args.quick, repeat=args.repeat, device=args.device)
     else:
         from volumen.bench._render import QUICK, bench_render
 

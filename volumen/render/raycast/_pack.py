@@ -15,7 +15,7 @@ import numpy as np
 from ._cache import prepare
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
-from ._labelled import label_blocks, label_table
+from ._labelled import label_blocks, label_table, packed_labels
 from ._lightvol import NMETA, light_volumes
 from ._pieces import LIGHT_TAGS, MODE_TAGS
 from ._precompute import NLUT
@@ -112,7 +112,7 @@ def _labels(scene, ratio):
     if layer.labels.shape != scene.volume.shape:
         raise ValueError(f"the labels' grid {layer.labels.shape} differs from the volume's {scene.volume.shape}: "
                          "put them on it first (volumen.io.labels_on_grid)")
-    return layer.labels.data, label_table(layer, ratio)
+    return packed_labels(layer.labels.data), label_table(layer, ratio)
 
 
 def _lights(scene, camera, model):

@@ -9,7 +9,8 @@ from __future__ import annotations
 from .core import Volume
 from .errors import VolumenError, VolumeReadError, VolumeWriteError
 
-__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "save", "show", "__version__"]
+__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "load_labels", "save", "show",
+           "__version__"]
 __version__ = "0.1.0"
 
 
@@ -18,6 +19,14 @@ def load(path, **options) -> Volume:
     from .io import load as _load
 
     return _load(path, **options)
+
+
+def load_labels(path, **options):
+    """Read a segmentation (label map + names, .seg.nrrd, DICOM SEG, folder of masks); see
+    :func:`volumen.io.load_labels`."""
+    from .io import load_labels as _load_labels
+
+    return _load_labels(path, **options)
 
 
 def save(volume: Volume, path, **options) -> None:

@@ -23,6 +23,7 @@ __all__ = [
     "VolumeWriteError",
     "SampleDataMissingError",
     "LumenError",
+    "LabelError",
     "UnexpectedReadError",
     "OutsideFolderError",
     "DeviceLimitError",
@@ -129,3 +130,8 @@ class OutsideFolderError(VolumeReadError):
 class DeviceLimitError(VolumenError, ValueError):
     """A device cannot hold what a picture needs (a volume past the OpenGL 3-D texture size...). The message
     names the limit, the size asked for, and the device to use instead."""
+
+
+class LabelError(VolumeReadError, ValueError):
+    """A segmentation that cannot be used: a names table that does not match its label map, labels whose grid
+    does not overlap the scan, a DICOM SEG that segments another series. The message names the file."""

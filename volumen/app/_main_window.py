@@ -34,6 +34,7 @@ from ..core import VIEWS, WINDOW_PRESETS, Camera
 from ._clip_panel import ClipPanel
 from ._endo_panel import EndoscopyPanel
 from ._frame import FrameJob
+from ._labels_panel import LabelsPanel
 from ._light_panel import LightPanel, add_light_at_camera
 from ._recent import RecentFiles
 from ._render_panel import RenderPanel, cycle_shading
@@ -93,10 +94,11 @@ class MainWindow(QMainWindow):
         self.clip_panel = ClipPanel(st)
         self.segment_panel = SegmentPanel(st, self)
         self.endo_panel = EndoscopyPanel(st, self)
+        self.labels_panel = LabelsPanel(st, self)
         tabs = QTabWidget()
         for w, name in ((self.render_panel, "Render"), (self.tf_editor, "Transfer"), (self.light_panel, "Lights"),
                         (self.clip_panel, "Clipping"), (self.segment_panel, "Segment"),
-                        (self.endo_panel, "Endoscopy")):
+                        (self.labels_panel, "Structures"), (self.endo_panel, "Endoscopy")):
             tabs.addTab(w, name)
         self.tabs = tabs
         dock = QDockWidget("Controls", self)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting", "mesh", "scale")
+BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels")
 
 
 def register(sub):
@@ -14,7 +14,8 @@ def register(sub):
                    "techniques: meshes, ray casting and texture slicing along a camera path; "
                    "lighting: shadows and scattering in the seeds' experiment; "
                    "mesh: marching cubes on real scans vs VTK's flying edges and scikit-image; "
-                   "scale: out-of-core vs in-memory ray casting (OME-Zarr) and batch throughput on Dask")
+                   "scale: out-of-core vs in-memory ray casting (OME-Zarr) and batch throughput on Dask; "
+                   "labels: label-aware composite against plain composite")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
@@ -47,6 +48,10 @@ def run(args):
         from volumen.bench._lighting import bench_lighting
 
         table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)
+    elif args.what == "labels":
+        from volumen.bench._labels import bench_labels
+
+        table = bench_labels(quick=args.quick, repeat=args.repeat, device=args.device)
     elif args.device == "gl":  # the OpenGL ray caster against VTK's GPU mapper on the same OpenGL
         from volumen.bench._render_gl import GL_QUICK, bench_render_gl
 

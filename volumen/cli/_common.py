@@ -89,6 +89,10 @@ def load_phantom(ref: str):
             except ValueError:
                 params[key] = val
     try:
+        if name == "organs":  # the abdomen with ground-truth labels (its labels: --labels phantom:organs)
+            from volumen.data import organ_phantom
+
+            return organ_phantom(**params)[0]
         return phantom(name, **params)
     except TypeError as exc:
         raise ValueError(str(exc)) from None

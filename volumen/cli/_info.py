@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ._common import add_load_options, load_from_args
+from ._labels_opts import add_label_options, labels_from_args, shown_values
 
 
 def register(sub):
@@ -21,7 +22,17 @@ def register(sub):
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     add_load_options(p)
+    add_label_options(p)
     return p
+
+
+def structures(labels, values) -> list[dict]:
+    """Per structure: value, name, voxels, volume (mL), surface area (mm^2, smoothed marching cubes)."""
+    from volumen.surface import label_areas
+
+    ml, counts, areas = labels.volumes_ml(), labels.counts(), label_areas(labels)
+    return [{"value": v, "name": labels.names[v], "voxels": counts[v], "volume_ml": round(ml[v], 3),
+             "area_mm2": round(areas[v], 1)} for v in values]
 
 
 def describe(volume) -> dict:
@@ -87,6 +98,10 @@ def run(args):
         return 0
     vol = load_from_args(args)
     facts = describe(vol)
+    labels = labels_from_args(args, vol)
+    if labels is not None:
+        facts["structures"] = structures(labels, shown_values(args, labels))
+        facts["warnings"] += labels.meta["warnings"]
     if listing is not None:
         facts["series"] = [asdict(s) for s in listing[0]]
     if args.json:
@@ -114,6 +129,11 @@ def run(args):
     for key, label in _LABELS.items():
         if facts.get(key):
             lines.append(f"{label + ':':14}{facts[key]}")
+    if "structures" in facts:
+        lines.append(f"structures:   {len(facts['structures'])} ({args.labels})")
+        lines.append(f"  {'value':>5}  {'name':<24} {'voxels':>9} {'volume mL':>10} {'area mm^2':>10}")
+        lines += [f"  {r['value']:>5}  {r['name']:<24} {r['voxels']:>9} {r['volume_ml']:>10.2f} {r['area_mm2']:>10.1f}"
+                  for r in facts["structures"]]
     for w in facts["warnings"]:
         lines.append(f"warning:      {w}")
     print("\n".join(lines))

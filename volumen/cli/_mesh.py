@@ -5,13 +5,15 @@ from __future__ import annotations
 from pathlib import Path
 
 from ._common import add_load_options, load_from_args
+from ._labels_opts import add_label_options, labels_from_args, shown_values
 
 
 def register(sub):
-    p = sub.add_parser("mesh", help="extract a surface mesh (marching cubes) and write STL, OBJ or PLY")
+    p = sub.add_parser("mesh", help="extract a surface mesh (marching cubes) and write STL, OBJ or PLY "
+                                       "(--labels: a coloured scene, .glb)")
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("-o", "--out", required=True, help="output mesh file: .stl, .obj or .ply (world RAS+ mm)")
-    what = p.add_argument_group("surface (at least one)")
+    what = p.add_argument_group("surface (at least one, or --labels)")
     what.add_argument("--iso", type=float, help="iso level in the data's units (HU for CT), e.g. 300 for bone")
     what.add_argument("--mask", help="mask volume on the same grid: its boundary is meshed "
                                      "(with --iso: only the isosurface inside the mask)")
@@ -21,7 +23,22 @@ def register(sub):
     p.add_argument("--step", type=int, default=1, help="marching-cubes step in voxels (default 1)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_load_options(p)
+    add_label_options(p)
     return p
+
+
+def _label_scene(args, volume, out: Path) -> int:
+    """``--labels``: one coloured, smoothed (and decimated) mesh per structure in one scene file."""
+    from volumen.surface import label_meshes, write_label_scene
+
+    labels = labels_from_args(args, volume)
+    meshes = label_meshes(labels, shown_values(args, labels), smooth_iterations=args.smooth,
+                          target_triangles=args.target_triangles)
+    path = write_label_scene(meshes, labels, out)
+    print(f"{path}: {len(meshes)} structures")
+    for v, m in meshes.items():
+        print(f"  {labels.names[v]:<24} {m.n_faces:>8} triangles  area {m.area():.1f} mm^2")
+    return 0
 
 
 def run(args):
@@ -29,6 +46,8 @@ def run(args):
 
     from volumen.surface import MESH_FORMATS, extract_mesh, write_mesh
 
+    if args.labels:
+        return _label_scene(args, load_from_args(args), Path(args.out))
     if args.iso is None and args.mask is None:
         raise ValueError("give --iso LEVEL (data units) or --mask MASK (or both)")
     if args.step < 1:

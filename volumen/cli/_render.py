@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from ._common import _floats, add_load_options, load_from_args, parse_point
+from ._labels_opts import add_label_render_options, label_layer_from_args
 from ._technique import add_technique_options, technique_from_args
 
 SETTINGS_VERSION = 1
@@ -26,6 +27,7 @@ def register(sub):
     p.add_argument("-o", "--out", required=True, help="output PNG")
     p.add_argument("--settings", help="scene JSON written by --save-settings; flags given override it")
     p.add_argument("--save-settings", help="write the settings that reproduce this picture to a JSON file")
+    add_label_render_options(p)
     o = p.add_argument_group("out of core (chunked OME-Zarr input)")
     o.add_argument("--memory", default="4GB", help="chunk cache bound, e.g. 4GB (default); a Zarr volume is drawn "
                    "brick by brick through it (composite, mip, minip)")
@@ -227,6 +229,9 @@ def run(args):
     source = args.input or base["scene"]["volume"]
     volume = load_from_args(args, path=source)
     scene, camera, size, background, orbit = build(args, base, volume)
+    layer = label_layer_from_args(args, volume)
+    if layer is not None:
+        scene = scene.with_(labels=layer)
     t0 = time.perf_counter()
     if scene.shading.mode in ("phong", "shadows", "scattering", "pathtrace") and not scene.lights:
         print(f"warning: shading {scene.shading.mode!r} without --light: only the ambient term lights the picture "

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from ._common import add_load_options, load_from_args, parse_point, parse_window
+from ._labels_opts import add_label_options, labels_from_args, shown_values
 
 
 def register(sub):
@@ -14,7 +17,50 @@ def register(sub):
     p.add_argument("--window", help="bone, soft-tissue, lung, brain, or LEVEL,WIDTH in data units")
     p.add_argument("--at", help="world point X,Y,Z in RAS mm the planes pass through (default: centre)")
     add_load_options(p)
+    add_label_options(p)
     return p
+
+
+def _named_outlines(gray, lab, labels, values):
+    """RGB PIL image: the slice with each structure's outline in its colour and its name at its centre."""
+    from PIL import Image as PILImage
+    from PIL import ImageDraw
+
+    from volumen.core import outline_overlay
+
+    img = PILImage.fromarray(outline_overlay(gray, lab, labels, values, fill=0.15))
+    draw = ImageDraw.Draw(img)
+    for v in values:
+        rows, cols = np.nonzero(lab == v)
+        if len(rows):
+            draw.text((float(cols.mean()), float(rows.mean())), labels.names[v], fill=(255, 255, 255), anchor="mm")
+    return img
+
+
+def write_label_montages(volume, labels, values, out: Path, stem: str, window=None, world=None) -> list[Path]:
+    """``stem_labels_<plane>.png`` for each plane and ``stem_labels_montage.png`` (side by side), outlines named."""
+    from PIL import Image as PILImage
+
+    from volumen.core import PLANES, canonical, label_slice, slice_image
+
+    out.mkdir(parents=True, exist_ok=True)
+    can = canonical(volume)
+    at = volume.center if world is None else world
+    images, paths = [], []
+    for plane in PLANES:
+        gray = slice_image(volume, plane, world=at, window=window, canonical_volume=can)
+        lab = label_slice(labels, plane, world=at)[: gray.shape[0], : gray.shape[1]]
+        images.append(_named_outlines(gray, lab, labels, values))
+        paths.append(out / f"{stem}_labels_{plane}.png")
+        images[-1].save(paths[-1])
+    strip = PILImage.new("RGB", (sum(i.width for i in images), max(i.height for i in images)))
+    x = 0
+    for i in images:
+        strip.paste(i, (x, 0))
+        x += i.width
+    paths.insert(0, out / f"{stem}_labels_montage.png")
+    strip.save(paths[0])
+    return paths
 
 
 def write_montages(volume, out: Path, stem: str, window=None, world=None) -> list[Path]:
@@ -39,6 +85,10 @@ def run(args):
     vol = load_from_args(args)
     stem = Path(str(args.input).replace("phantom:", "")).name.split(".")[0] or "volume"
     paths = write_montages(vol, Path(args.out), stem, window=parse_window(args.window), world=parse_point(args.at))
+    labels = labels_from_args(args, vol)
+    if labels is not None:
+        paths += write_label_montages(vol, labels, shown_values(args, labels), Path(args.out), stem,
+                                      window=parse_window(args.window), world=parse_point(args.at))
     for p in paths:
         print(p)
     return 0

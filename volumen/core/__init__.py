@@ -6,6 +6,8 @@
 from . import display, gestures
 from ._camera import VIEWS, Camera
 from ._image import Image
+from ._label_slices import label_slice, outline_overlay
+from ._labels import LabelLayer, LabelMap, default_color
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
 from ._slices import PLANES, WINDOW_PRESETS, Window, canonical, montage, slice_at, slice_image, window_to_uint8
 from ._transfer import PRESETS, TransferFunction
@@ -15,6 +17,11 @@ __all__ = [
     "gestures",
     "display",
     "Volume",
+    "LabelMap",
+    "LabelLayer",
+    "default_color",
+    "label_slice",
+    "outline_overlay",
     "axis_codes",
     "is_chunked",
     "Camera",

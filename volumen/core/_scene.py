@@ -163,6 +163,8 @@ class Scene:
     mode : {"composite", "mip", "minip", "average", "isosurface"}
     shading, sampling, clipping, isosurface :
         The settings dataclasses.
+    labels : LabelLayer or None
+        Structures classifying the samples (composite mode), at run time; not part of equality nor of the JSON.
     """
 
     volume: Any = field(default=None, compare=False, repr=False)
@@ -174,6 +176,7 @@ class Scene:
     sampling: Sampling = field(default_factory=Sampling)
     clipping: Clipping = field(default_factory=Clipping)
     isosurface: Isosurface = field(default_factory=Isosurface)
+    labels: Any = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         _choice("Scene.mode", self.mode, MODES)

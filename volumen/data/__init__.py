@@ -6,8 +6,9 @@ structures, the exact analytic shapes). ``sample(name)`` loads real data found o
 machine (``samples()`` lists it).
 """
 
+from ._organs import ORGANS, organ_phantom
 from ._phantom import PHANTOMS, phantom
 from ._samples import sample, samples
 from ._tubes import Tube
 
-__all__ = ["PHANTOMS", "phantom", "sample", "samples", "Tube"]
+__all__ = ["PHANTOMS", "phantom", "organ_phantom", "ORGANS", "sample", "samples", "Tube"]

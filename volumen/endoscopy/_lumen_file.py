@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import LumenError
+from ..io import MASK_SUFFIXES as _SUFFIXES
+from ..io import load, resample_labels
 
 __all__ = ["load_lumen_mask", "resample_mask", "check_points_in_mask"]
-
-_SUFFIXES = (".nii.gz", ".nii", ".nrrd", ".seg.nrrd", ".mha", ".mhd")
 
 
 def _structure_file(folder: Path, label) -> Path:
@@ -40,17 +40,8 @@ def _structure_file(folder: Path, label) -> Path:
 def resample_mask(mask: np.ndarray, mask_affine, volume) -> np.ndarray:
     """A bool mask ``[z, y, x]`` on the grid ``mask_affine`` (voxel i, j, k -> RAS mm) sampled at ``volume``'s
     voxel centres (nearest voxel; outside the mask's grid is False)."""
-    from scipy import ndimage
-
-    m = np.asarray(mask, bool)
-    if m.shape == volume.shape and np.allclose(mask_affine, volume.affine, atol=1e-4):
-        return m
-    ijk_to_ijk = np.linalg.inv(np.asarray(mask_affine, float)) @ np.asarray(volume.affine, float)
-    perm = np.eye(4)[[2, 1, 0, 3]]  # (i, j, k) <-> (z, y, x)
-    zyx = perm @ ijk_to_ijk @ perm
-    out = ndimage.affine_transform(m.astype(np.uint8), zyx[:3, :3], offset=zyx[:3, 3], output_shape=volume.shape,
-                                   order=0, mode="constant", cval=0)
-    return out.astype(bool)
+    m = np.asarray(mask, bool).view(np.uint8)
+    return resample_labels(m, mask_affine, volume.shape, volume.affine).astype(bool)
 
 
 def load_lumen_mask(file, volume, label=None) -> np.ndarray:
@@ -74,8 +65,6 @@ def load_lumen_mask(file, volume, label=None) -> np.ndarray:
     LumenError
         No such label or structure, or the mask does not overlap the scan.
     """
-    from ..io import load
-
     file = Path(file)
     if file.is_dir():
         file, label = _structure_file(file, label), None

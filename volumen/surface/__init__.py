@@ -9,6 +9,7 @@ from ._components import largest_component, mesh_components, submesh
 from ._decimate import decimate
 from ._extract import extract_mesh
 from ._files import MESH_FORMATS, read_mesh, write_mesh
+from ._labels import SCENE_FORMATS, label_areas, label_meshes, write_label_scene
 from ._marching_cubes import marching_cubes
 from ._measure import enclosed_volume, surface_area
 from ._mesh import Mesh, vertex_normals
@@ -32,4 +33,8 @@ __all__ = [
     "read_mesh",
     "write_mesh",
     "MESH_FORMATS",
+    "label_meshes",
+    "label_areas",
+    "write_label_scene",
+    "SCENE_FORMATS",
 ]

@@ -15,6 +15,7 @@ from numba import njit
 
 from ..optics import composite, correct_opacity
 from ._frame import FAR
+from ._labelled import classify
 from ._pieces import Composite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
 from ._sample import sample_normal
@@ -78,8 +79,11 @@ def _init(light, r, a, s):
 @njit(cache=True, fastmath=True, inline="always")
 def _step_post(light, r, a, s, st, k, t, v, have):
     idx = int(v + 0.5)
-    al = a.lut[idx, 3]
-    c = (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al)
+    if s.nlab > 0:
+        c = classify(r, a, t, idx, s.nearest)
+    else:
+        al = a.lut[idx, 3]
+        c = (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al)
     seg = s.ds
     if k == 0 or k == r.n - 1:
         seg = (r.t1 if k == r.n - 1 else t + 0.5 * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)

@@ -50,10 +50,12 @@ class Arrays(NamedTuple):
     lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
     lvd: np.ndarray     #: illumination-volume buffer (float32)
     sig: np.ndarray     #: optical depth per reference step of each table entry (NLUT,)
+    lab: np.ndarray     #: label map [z, y, x] on the volume's grid (``_labelled``), (1, 1, 1) when unused
+    llut: np.ndarray    #: per label value (r, g, b, opacity, textured) (n, 5) (``_labelled``)
 
 
 #: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
-PER_VOLUME = ("vol", "nrm", "bmin", "bmax")
+PER_VOLUME = ("vol", "nrm", "bmin", "bmax", "lab")
 
 
 class Settings(NamedTuple):
@@ -90,6 +92,7 @@ class Settings(NamedTuple):
     nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)
     nplanes: int = 0         #: clip planes in use
     bounces: int = 1         #: path tracing: most scattering events per path
+    nlab: int = 0            #: label-aware classification (rows of ``Arrays.llut``; 0: off)
 
 
 class Outputs(NamedTuple):

@@ -15,6 +15,7 @@ import numpy as np
 from ._cache import prepare
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
+from ._labelled import label_blocks, label_table, packed_labels
 from ._lightvol import NMETA, light_volumes
 from ._pieces import LIGHT_TAGS, MODE_TAGS
 from ._precompute import NLUT
@@ -59,14 +60,17 @@ def _model(scene) -> tuple[str, bool]:
     return MODELS[sh.mode], medium_model
 
 
-def _skip_tables(scene, prep, lut, u_iso):
+def _skip_tables(scene, prep, lut, u_iso, lab):
     """``(skip, bflag, bmin, bmax)``: empty-space skipping and its block grids."""
     smp, mode = scene.sampling, scene.mode
     if not (smp.skip_empty and mode != "average"):
         z = np.zeros((1, 1, 1), np.float32)
         return False, np.zeros((1, 1, 1), np.uint8), z, z
     bmin, bmax = prep.blocks(smp.block_size)
-    if mode == "composite":
+    if mode == "composite" and lab is not None:  # the scan's visible blocks and the solid structures'
+        vis = block_visibility(lut[:, 3], bmin, bmax) | label_blocks(lab[0], lab[1], smp.block_size)
+        bflag = skip_distance(vis)
+    elif mode == "composite":
         bflag = skip_distance(block_visibility(lut[:, 3], bmin, bmax))
     elif mode == "isosurface":
         bflag = skip_distance(iso_visibility(u_iso, bmin, bmax))
@@ -87,15 +91,28 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     else:
         nrm, gmax = np.zeros((1, 1, 1, 4), np.int16), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
-    skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso)
+    lab = _labels(scene, ratio * kext)
+    skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso, lab)
     if sh.mode not in LIT_SHADINGS or model == "unlit":
         sig = np.zeros(1, np.float32)
     elif mode == "isosurface":  # the drawn surface casts the shadows
         sig = iso_extinction_table(u_iso)
     else:
         sig = extinction_table(tf, prep.vmin, prep.vmax)
+    lab, llut = lab if lab is not None else (np.zeros((1, 1, 1), np.uint8), np.zeros((1, 5), np.float32))
     return dict(lut=lut, pre=pre, nrm=nrm, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax, sig=sig, skip=skip,
-                gradop=gradop, preint=preint)
+                gradop=gradop, preint=preint, lab=lab, llut=llut)
+
+
+def _labels(scene, ratio):
+    """``(label map, label table)`` of a scene with a label layer drawn in composite mode, else None."""
+    layer = scene.labels
+    if layer is None or scene.mode != "composite":
+        return None
+    if layer.labels.shape != scene.volume.shape:
+        raise ValueError(f"the labels' grid {layer.labels.shape} differs from the volume's {scene.volume.shape}: "
+                         "put them on it first (volumen.io.labels_on_grid)")
+    return packed_labels(layer.labels.data), label_table(layer, ratio)
 
 
 def _lights(scene, camera, model):
@@ -134,7 +151,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), lattice=smp.lattice, seed=int(smp.seed),
         skip=t["skip"],
         block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
-        bounces=sh.pathtrace.bounces)
+        bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0)
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:
@@ -160,7 +177,8 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     timings.update(prep.timings)
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
-                    lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"])
+                    lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
+                    lab=t["lab"], llut=t["llut"])
     mode = "preintegrated" if t["preint"] else scene.mode
     return Frame(arrays, _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights), MODE_TAGS[mode](),
                  LIGHT_TAGS[model](), (w, h), prep, built, timings)

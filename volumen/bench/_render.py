@@ -14,8 +14,8 @@ Timing: VTK's ``vtkFixedPointVolumeRayCastMapper`` renders the same scene
 the same number of threads as Numba, in alternating rounds (ours, VTK, ours,
 VTK, ...), so both see the same machine load; the table gives each median and
 the ratio ours / VTK, and the mean |RGB diff| of the two pictures. The peak
-memory of a shaded render is measured in a fresh subprocess (``ru_maxrss``
-before loading the scan and after one shaded frame) and printed against the
+memory of a shaded render is measured in a fresh subprocess (its peak RSS,
+``VmHWM``, before loading the scan and after one shaded frame) and printed against the
 volume's own bytes.
 """
 
@@ -143,6 +143,11 @@ def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -
         del vol
         code = (
             "import json, resource, sys, numpy as np\n"
+            "def hwm():  # peak RSS of this process image (ru_maxrss would keep the forking parent's peak)\n"
+            "    try:\n"
+            "        return [int(x.split()[1]) for x in open('/proc/self/status') if x.startswith('VmHWM')][0]\n"
+            "    except (OSError, IndexError):\n"
+            "        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
             "from volumen.bench._render import _scene\n"
             "from volumen.core import Camera, Volume\n"
             "from volumen.data import phantom\n"
@@ -150,13 +155,13 @@ def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -
             "tiny = phantom('head', size=(16, 16, 16))\n"
             "tiny = Volume(tiny.data.astype(np.int16), spacing=tiny.spacing, affine=tiny.affine, modality='CT')\n"
             f"render(_scene(tiny, 'composite', {shading!r}, 'ct-bone', 0.0, 1.0), Camera.orbit(tiny), (8, 8))\n"
-            "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "base = hwm()\n"
             "m = json.loads(open(sys.argv[1] + '/meta.json').read())\n"
             "vol = Volume(np.load(sys.argv[1] + '/data.npy'), spacing=tuple(m['spacing']), "
             "affine=np.array(m['affine']), modality='CT')\n"
             f"render(_scene(vol, 'composite', {shading!r}, 'ct-bone', m['offset'], 1.0), Camera.orbit(vol), "
             f"{tuple(size)!r})\n"
-            "peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "peak = hwm()\n"
             "print('MEM', vol.data.nbytes, base * 1024, peak * 1024)\n"
         )
         r = subprocess.run([sys.executable, "-c", code, tmp], capture_output=True, text=True, timeout=900)

@@ -85,7 +85,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     if (model != "unlit" and not medium_model) or gradop:
         nrm, gmax = prep.normals(sh.phong.gradient == "sobel")
     else:
-        nrm, gmax = np.zeros((1, 1, 1, 4), np.int16), 0.0
+        nrm, gmax = np.zeros((4, 3), np.float64), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
     skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso)
     if sh.mode not in LIT_SHADINGS or model == "unlit":
@@ -132,8 +132,8 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         iso=u_iso, iso_r=c[0], iso_g=c[1], iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0,
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"],
-        block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
-        bounces=sh.pathtrace.bounces)
+        block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel", nlights=nlights,
+        nplanes=len(scene.clipping.planes), bounces=sh.pathtrace.bounces)
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:

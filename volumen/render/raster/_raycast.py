@@ -66,6 +66,7 @@ def _set_geometry(prog, a) -> None:
     m = np.eye(4)
     m[:3, :4] = geo[:12].reshape(3, 4)
     set_uniform(prog, "u_to_index", m.T.astype(np.float32).tobytes())  # column-major
+    set_uniform(prog, "u_nmat", np.ascontiguousarray(a.nrm[:3].T, np.float32).tobytes())
     for name, i in (("u_box_lo", 12), ("u_box_hi", 15), ("u_wlo", 18), ("u_whi", 21)):
         set_uniform(prog, name, tuple(float(v) for v in geo[i:i + 3]))
     set_uniform(prog, "u_pp", _vec3s(a.planes[:, :3], MAX_PLANES))
@@ -96,7 +97,7 @@ def _set_settings(prog, s) -> None:
                  "albedo", "g"):
         set_uniform(prog, f"u_{name}", float(getattr(s, name)))
     set_uniform(prog, "u_iso_rgb", (float(s.iso_r), float(s.iso_g), float(s.iso_b)))
-    for name in ("nearest", "jitter", "skip", "gradop"):
+    for name in ("nearest", "jitter", "skip", "gradop", "sobel"):
         set_uniform(prog, f"u_{name}", bool(getattr(s, name)))
     set_uniform(prog, "u_seed", int(s.seed))
     set_uniform(prog, "u_block", int(s.block))
@@ -139,6 +140,7 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
         _set_geometry(prog, f.arrays)
         _set_lights(prog, f.arrays, f.settings)
         _set_settings(prog, f.settings)
+        set_uniform(prog, "u_inv_gmax", float(f.arrays.nrm[3, 0] / f.settings.ufac))  # table units
         t_up = time.perf_counter()
         rgba, aux = _draw(ctx, prog, f.size)
     finally:

@@ -2,7 +2,8 @@
 
 * ``vol``: 3-D R32F of the samples in table units (``(u - u0) * ufac``, the
   CPU's ``sample_table``), trilinear, clamped: texel centres are voxel centres;
-* ``nrm``: 3-D RGBA16F of the packed normals (gradient direction, magnitude code), trilinear;
+* no normals: the shader computes them from ``vol`` where it needs them, as the CPU does
+  (``_sample.sample_normal``);
 * ``bflag`` (R8UI), ``bmin``, ``bmax`` (R32F): the block grids of empty-space skipping, read per texel;
 * ``lut``, ``sig``, ``glut``: one-row 2-D tables read at the nearest entry, ``pre``: the
   pre-integrated table (x: back value, y: front value);
@@ -31,7 +32,7 @@ from ...errors import DeviceLimitError
 __all__ = ["FrameTextures", "check_limits", "release_all"]
 
 #: fields kept between frames while their array object is the same
-_KEPT = ("vol", "nrm", "bflag", "bmin", "bmax", "lvd")
+_KEPT = ("vol", "bflag", "bmin", "bmax", "lvd")
 _kept: dict = {}   # field -> (weakref to the array, texture)
 
 
@@ -74,9 +75,6 @@ def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     if name == "vol":
         d = _table_units(x, settings.u0, settings.ufac)
         return _filtered(ctx.texture3d(d.shape[::-1], 1, d.tobytes(), dtype="f4", alignment=1), True)
-    if name == "nrm":
-        d = x.astype(np.float16)
-        return _filtered(ctx.texture3d(d.shape[2::-1], 4, d.tobytes(), dtype="f2", alignment=1), True)
     if name == "bflag":
         return _filtered(ctx.texture3d(x.shape[::-1], 1, np.ascontiguousarray(x, np.uint8).tobytes(),
                                        dtype="u1", alignment=1), False)
@@ -112,7 +110,7 @@ def _upload(ctx, name, x, settings, width):
 class FrameTextures:
     """The textures of one frame: ``units[name]`` its texture unit; :meth:`release` frees the per-frame ones."""
 
-    FIELDS = ("vol", "nrm", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
+    FIELDS = ("vol", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
 
     def __init__(self, ctx, arrays, settings, prep):
         self.width = int(ctx.info["GL_MAX_TEXTURE_SIZE"])

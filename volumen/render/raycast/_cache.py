@@ -13,7 +13,7 @@ import weakref
 
 import numpy as np
 
-from ._precompute import NLUT, build_blocks, build_normals, normalize
+from ._precompute import NLUT, build_blocks, normal_params, normalize
 
 __all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes"]
 
@@ -64,10 +64,10 @@ class Prepared:
         return (float(value) - self.vmin) / self.scale
 
     def normals(self, sobel: bool) -> tuple[np.ndarray, float]:
-        """``(normals (nz, ny, nx, 4) int16, gmax data units / mm)``; see :func:`build_normals`."""
+        """``(normal parameters (4, 3) float64, gmax data units / mm)``; see :func:`normal_params`."""
         if sobel not in self._normals:
             t = time.perf_counter()
-            self._normals[sobel] = build_normals(self.u, self.affine, self.scale * self.ufac, sobel)
+            self._normals[sobel] = normal_params(self.u, self.affine, self.scale * self.ufac, sobel)
             self.timings["normals"] = time.perf_counter() - t
         return self._normals[sobel]
 

@@ -35,7 +35,7 @@ def lit(light, r, a, s, t, c, gradop):
     z = r.ok + t * r.dk
     gx = gy = gz = code = 0.0
     if uses_normals(light) or gradop:
-        gx, gy, gz, code = sample_normal(a.nrm, x, y, z, s.nearest)
+        gx, gy, gz, code = sample_normal(a.vol, a.nrm, x, y, z, s.nearest, s.sobel)
     if gradop:
         f = a.glut[min(int(code + 0.5), 127)]
         cr, cg, cb, al = cr * f, cg * f, cb * f, al * f

@@ -39,7 +39,7 @@ class Arrays(NamedTuple):
     geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
     vol: np.ndarray     #: samples [z, y, x]: the data itself (signed integers) or a normalized float32 copy
-    nrm: np.ndarray     #: packed normals [z, y, x, 4] int16 (``_precompute``), (1, 1, 1, 4) when unused
+    nrm: np.ndarray     #: what the normals are computed with (4, 3) float64 (``_sample.sample_normal``)
     lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
     pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
     glut: np.ndarray    #: gradient-opacity factor per magnitude code (128,)
@@ -89,6 +89,7 @@ class Settings(NamedTuple):
     skip: bool = False       #: empty-space skipping
     block: int = 8           #: block size of the skipping grids (voxels)
     gradop: bool = False     #: gradient-magnitude opacity modulation
+    sobel: bool = False      #: normals from the 3x3x3 Sobel operator instead of central differences
     nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)
     nplanes: int = 0         #: clip planes in use
     bounces: int = 1         #: path tracing: most scattering events per path

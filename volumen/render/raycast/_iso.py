@@ -100,7 +100,7 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
     if dep >= FAR:
         return
     x, y, z = r.oi + dep * r.di, r.oj + dep * r.dj, r.ok + dep * r.dk
-    gx, gy, gz, code = sample_normal(a.nrm, x, y, z, s.nearest)
+    gx, gy, gz, code = sample_normal(a.vol, a.nrm, x, y, z, s.nearest, s.sobel)
     fr, fg, fb, sr, sg, sb = shade(light, a, s, (gx, gy, gz), (-r.dx, -r.dy, -r.dz),
                                    (r.ox + dep * r.dx, r.oy + dep * r.dy, r.oz + dep * r.dz))
     out.rgba[py, px, 0] = min(s.iso_r * fr + sr, 1.0)

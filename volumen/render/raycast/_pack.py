@@ -89,7 +89,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     if (model != "unlit" and not medium_model) or gradop:
         nrm, gmax = prep.normals(sh.phong.gradient == "sobel")
     else:
-        nrm, gmax = np.zeros((1, 1, 1, 4), np.int16), 0.0
+        nrm, gmax = np.zeros((4, 3), np.float64), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
     lab = _labels(scene, ratio * kext)
     skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso, lab)
@@ -150,7 +150,8 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), lattice=smp.lattice, seed=int(smp.seed),
         skip=t["skip"],
-        block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
+        block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
+        nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0)
 
 

@@ -1,4 +1,4 @@
-"""Per-volume precomputation: normalized samples, gradient normals, min/max block grid.
+"""Per-volume precomputation: normalized samples, the normals' parameters, min/max block grid.
 
 All three are built once per volume and cached (see :mod:`._cache`); the
 kernels then only read arrays.
@@ -6,12 +6,13 @@ kernels then only read arrays.
 * ``normalized``: float32 ``[z, y, x]``, the data mapped linearly so that the
   volume's value range ``[vmin, vmax]`` becomes ``[0, NLUT - 1]``: a sample is
   directly an index into the transfer-function table. NaN becomes 0.
-* ``normals``: int16 ``[z, y, x, 4]``: the world-space unit gradient times 32767
-  in channels 0..2 (zero where the gradient vanishes), and in channel 3 the
-  magnitude code ``127 * sqrt(|g| / gmax)`` (|g| in data units per mm).
-  Gradients are central differences (or 3x3x3 Sobel) in index space, turned
-  into world space through the inverse transpose of the affine, so the voxel
-  spacing and obliquity are accounted for.
+* normals: none stored (8 bytes a voxel were 4x an int16 volume): the kernels
+  compute them from the samples where they are needed (``_sample.sample_normal``:
+  per voxel the world-space unit gradient and the magnitude code
+  ``127 * sqrt(|g| / gmax)``, interpolated). Gradients are central differences
+  (or 3x3x3 Sobel) in index space, turned into world space through the inverse
+  transpose of the affine, so the voxel spacing and obliquity are accounted for;
+  here only ``gmax``, the largest |g|, is found (:func:`normal_params`).
 * block grid: per block of ``B^3`` voxels, the min and max of ``normalized``
   over the voxels it touches **dilated by one voxel** on every side, so a
   trilinear (or nearest) sample anywhere inside the block is bounded by them.
@@ -22,7 +23,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["NLUT", "normalize", "build_normals", "build_blocks"]
+from ._sample import world_grad
+
+__all__ = ["NLUT", "normalize", "normal_params", "build_blocks"]
 
 #: entries of the 1-D transfer-function table, evenly over the volume's value range
 NLUT = 4096
@@ -51,42 +54,6 @@ def normalize(data: np.ndarray, vmin: float, vmax: float) -> np.ndarray:
     return out
 
 
-@njit(cache=True, fastmath=True)
-def _grad_at(u, k, j, i, sobel):
-    nz, ny, nx = u.shape
-    ip, im = min(i + 1, nx - 1), max(i - 1, 0)
-    jp, jm = min(j + 1, ny - 1), max(j - 1, 0)
-    kp, km = min(k + 1, nz - 1), max(k - 1, 0)
-    if not sobel:
-        return (0.5 * (u[k, j, ip] - u[k, j, im]), 0.5 * (u[k, jp, i] - u[k, jm, i]),
-                0.5 * (u[kp, j, i] - u[km, j, i]))
-    gi = 0.0
-    gj = 0.0
-    gk = 0.0
-    for b in range(-1, 2):
-        for a in range(-1, 2):
-            wa = 2.0 if a == 0 else 1.0
-            wb = 2.0 if b == 0 else 1.0
-            w = wa * wb / 32.0
-            # along i: neighbours (j+a, k+b)
-            jj, kk = min(max(j + a, 0), ny - 1), min(max(k + b, 0), nz - 1)
-            gi += w * (u[kk, jj, ip] - u[kk, jj, im])
-            ii = min(max(i + a, 0), nx - 1)
-            gj += w * (u[kk, jp, ii] - u[kk, jm, ii])
-            jj2 = min(max(j + b, 0), ny - 1)
-            gk += w * (u[kp, jj2, ii] - u[km, jj2, ii])
-    return gi, gj, gk
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _world_grad(u, m, k, j, i, sobel):
-    gi, gj, gk = _grad_at(u, k, j, i, sobel)
-    gx = m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk
-    gy = m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk
-    gz = m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk
-    return gx, gy, gz, np.sqrt(gx * gx + gy * gy + gz * gz)
-
-
 @njit(parallel=True, cache=True, fastmath=True)
 def _max_gradient(u, m, sobel, slab_max):
     """Largest |g| (u per mm) of each z slab into ``slab_max`` (nz,)."""
@@ -95,48 +62,28 @@ def _max_gradient(u, m, sobel, slab_max):
         top = 0.0
         for j in range(ny):
             for i in range(nx):
-                top = max(top, np.float32(_world_grad(u, m, k, j, i, sobel)[3]))
+                top = max(top, np.float32(world_grad(u, m, k, j, i, sobel)[3]))
         slab_max[k] = top
 
 
-@njit(parallel=True, cache=True, fastmath=True)
-def _normals_kernel(u, m, sobel, inv_gmax, out):
-    """Unit world gradient x 32767 into out[..., :3], magnitude code ``127 sqrt(|g| / gmax)`` into out[..., 3]."""
-    nz, ny, nx = u.shape
-    for k in prange(nz):
-        for j in range(ny):
-            for i in range(nx):
-                gx, gy, gz, g = _world_grad(u, m, k, j, i, sobel)
-                g = np.float32(g)  # the magnitude as the float32 array of the first version held it
-                if g > 1e-6:
-                    s = 32767.0 / g
-                    out[k, j, i, 0] = np.int16(np.rint(gx * s))
-                    out[k, j, i, 1] = np.int16(np.rint(gy * s))
-                    out[k, j, i, 2] = np.int16(np.rint(gz * s))
-                else:
-                    out[k, j, i, 0] = 0
-                    out[k, j, i, 1] = 0
-                    out[k, j, i, 2] = 0
-                out[k, j, i, 3] = np.int16(np.rint(127.0 * np.sqrt(min(g * inv_gmax, 1.0))))
-
-
-def build_normals(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: bool) -> tuple[np.ndarray, float]:
-    """Packed normals of the normalized volume ``u`` (two passes, no temporary volume).
+def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: bool) -> tuple[np.ndarray, float]:
+    """What the kernels need to compute normals from the samples ``u`` (one pass over the volume, no array of
+    its size).
 
     Parameters
     ----------
-    u : (nz, ny, nx) float32, normalized samples
+    u : (nz, ny, nx) the samples (``Prepared.u``)
     affine : (4, 4) voxel (i, j, k, 1) -> world mm
     value_scale : float
-        Data units per normalized unit (to report magnitudes in data units / mm).
+        Data units per sample unit (to report magnitudes in data units / mm).
     sobel : bool
         3x3x3 Sobel instead of central differences.
 
     Returns
     -------
-    normals : (nz, ny, nx, 4) int16
-        Unit gradient direction x 32767 (8-bit directions band visibly in specular
-        highlights) and the magnitude code 0..127.
+    nrm : (4, 3) float64
+        Rows 0..2: the index -> world gradient matrix (inverse transpose of the
+        affine's 3x3); ``nrm[3, 0]``: 1 / gmax in sample units per mm (0 for a flat volume).
     gmax : float
         Gradient magnitude (data units / mm) of magnitude code 127.
     """
@@ -144,9 +91,10 @@ def build_normals(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
     slab_max = np.zeros(u.shape[0], np.float32)
     _max_gradient(u, m, bool(sobel), slab_max)
     gmax = float(slab_max.max()) if slab_max.size else 0.0
-    out = np.empty(u.shape + (4,), np.int16)
-    _normals_kernel(u, m, bool(sobel), 1.0 / gmax if gmax > 0 else 0.0, out)
-    return out, gmax * value_scale
+    nrm = np.zeros((4, 3), np.float64)
+    nrm[:3] = m
+    nrm[3, 0] = 1.0 / gmax if gmax > 0 else 0.0
+    return nrm, gmax * value_scale
 
 
 @njit(parallel=True, cache=True)

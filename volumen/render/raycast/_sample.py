@@ -1,4 +1,4 @@
-"""Reconstruction at a continuous voxel-index position: values, normals, jitter hash.
+"""Reconstruction at a continuous voxel-index position: values, normals (from the values), jitter hash.
 
 Positions are ``(x, y, z)`` = (i, j, k) in voxel indices, voxel centres at
 integers; arrays are indexed ``[z, y, x]``. Positions outside
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_value", "sample_table", "sample_normal", "jitter01"]
+__all__ = ["sample_value", "sample_table", "sample_normal", "grad_at", "world_grad", "jitter01"]
 
 
 @njit(cache=True, fastmath=True)
@@ -54,21 +54,74 @@ def sample_table(vol, u0, ufac, x, y, z, nearest):
     return (sample_value(vol, x, y, z, nearest) - u0) * ufac
 
 
-@njit(cache=True, fastmath=True, inline="always")
-def sample_normal(nrm, x, y, z, nearest):
-    """Interpolated packed normal at (x, y, z).
+@njit(cache=True, fastmath=True)
+def grad_at(u, k, j, i, sobel):
+    """Index-space gradient ``(d/di, d/dj, d/dk)`` of ``u`` at voxel ``[k, j, i]``: central differences, or the
+    3x3x3 Sobel operator when ``sobel``; neighbours past the border are clamped to it."""
+    nz, ny, nx = u.shape
+    ip, im = min(i + 1, nx - 1), max(i - 1, 0)
+    jp, jm = min(j + 1, ny - 1), max(j - 1, 0)
+    kp, km = min(k + 1, nz - 1), max(k - 1, 0)
+    if not sobel:
+        return (0.5 * (np.float64(u[k, j, ip]) - u[k, j, im]), 0.5 * (np.float64(u[k, jp, i]) - u[k, jm, i]),
+                0.5 * (np.float64(u[kp, j, i]) - u[km, j, i]))
+    gi = 0.0
+    gj = 0.0
+    gk = 0.0
+    for b in range(-1, 2):
+        for a in range(-1, 2):
+            wa = 2.0 if a == 0 else 1.0
+            wb = 2.0 if b == 0 else 1.0
+            w = wa * wb / 32.0
+            # along i: neighbours (j+a, k+b)
+            jj, kk = min(max(j + a, 0), ny - 1), min(max(k + b, 0), nz - 1)
+            gi += w * (np.float64(u[kk, jj, ip]) - u[kk, jj, im])
+            ii = min(max(i + a, 0), nx - 1)
+            gj += w * (np.float64(u[kk, jp, ii]) - u[kk, jm, ii])
+            jj2 = min(max(j + b, 0), ny - 1)
+            gk += w * (np.float64(u[kp, jj2, ii]) - u[km, jj2, ii])
+    return gi, gj, gk
 
-    Returns ``(gx, gy, gz, code)``: the world-space gradient direction (not
-    unit; zero where the data is flat) and the gradient-magnitude code
-    (0..127), see ``_precompute``.
+
+@njit(cache=True, fastmath=True, inline="always")
+def world_grad(u, m, k, j, i, sobel):
+    """``(gx, gy, gz, |g|)``: the gradient at voxel ``[k, j, i]`` in world space (``m`` (3+, 3): index -> world
+    gradients, the inverse transpose of the affine's 3x3), in sample units per mm."""
+    gi, gj, gk = grad_at(u, k, j, i, sobel)
+    gx = m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk
+    gy = m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk
+    gz = m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk
+    return gx, gy, gz, np.sqrt(gx * gx + gy * gy + gz * gz)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _voxel_normal(u, nrm, k, j, i, sobel):
+    """Unit world gradient (zero where it vanishes) and magnitude code ``127 sqrt(|g| / gmax)`` (rounded) of
+    voxel ``[k, j, i]``."""
+    gx, gy, gz, g = world_grad(u, nrm, k, j, i, sobel)
+    code = np.rint(127.0 * np.sqrt(min(g * nrm[3, 0], 1.0)))
+    if g > 1e-6:
+        return gx / g, gy / g, gz / g, code
+    return 0.0, 0.0, 0.0, code
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def sample_normal(u, nrm, x, y, z, nearest, sobel):
+    """The normal at (x, y, z), computed from the samples ``u`` where it is asked for (no stored normals).
+
+    Returns ``(gx, gy, gz, code)``: the trilinear interpolation (nearest voxel's
+    value when ``nearest``) of the voxels' unit world-space gradients (zero
+    where the data is flat; the result is not unit) and of their
+    gradient-magnitude codes (0..127). ``nrm`` (4, 3) float64 packs what the
+    gradients need (:func:`._precompute.normal_params`): rows 0..2 the index ->
+    world gradient matrix, ``nrm[3, 0]`` = 1 / (the largest |g|, sample units / mm).
     """
-    nz, ny, nx = nrm.shape[0], nrm.shape[1], nrm.shape[2]
+    nz, ny, nx = u.shape
     if nearest:
         i = min(max(int(x + 0.5), 0), nx - 1)
         j = min(max(int(y + 0.5), 0), ny - 1)
         k = min(max(int(z + 0.5), 0), nz - 1)
-        return (np.float64(nrm[k, j, i, 0]), np.float64(nrm[k, j, i, 1]), np.float64(nrm[k, j, i, 2]),
-                np.float64(nrm[k, j, i, 3]))
+        return _voxel_normal(u, nrm, k, j, i, sobel)
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
     k0, k1, fz = _cell(z, nz)
@@ -82,12 +135,13 @@ def sample_normal(nrm, x, y, z, nearest):
         for b in range(2):  # y
             j = j1 if b else j0
             wzy = wz * (fy if b else 1.0 - fy)
-            w0 = wzy * (1.0 - fx)
-            w1 = wzy * fx
-            gx += w0 * nrm[k, j, i0, 0] + w1 * nrm[k, j, i1, 0]
-            gy += w0 * nrm[k, j, i0, 1] + w1 * nrm[k, j, i1, 1]
-            gz += w0 * nrm[k, j, i0, 2] + w1 * nrm[k, j, i1, 2]
-            gm += w0 * nrm[k, j, i0, 3] + w1 * nrm[k, j, i1, 3]
+            for e in range(2):  # x
+                w = wzy * (fx if e else 1.0 - fx)
+                nx_, ny_, nz_, code = _voxel_normal(u, nrm, k, j, i1 if e else i0, sobel)
+                gx += w * nx_
+                gy += w * ny_
+                gz += w * nz_
+                gm += w * code
     return gx, gy, gz, gm
 
 

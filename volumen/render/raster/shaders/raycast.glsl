@@ -35,7 +35,6 @@ const float NEAR_STEPS = 3.0;      // _params.NEAR_STEPS
 
 // volume and tables (fields of raycast.Arrays)
 uniform sampler3D u_vol;      // samples in table units, trilinear, clamped
-uniform sampler3D u_nrm;      // packed normals (gx, gy, gz, magnitude code)
 uniform sampler2D u_lut;      // (NLUT x 1) straight rgb, alpha per step
 uniform sampler2D u_pre;      // (NPRE x NPRE) pre-integrated, x = back value, y = front value
 uniform sampler2D u_glut;     // (128 x 1) gradient-opacity factor
@@ -69,7 +68,10 @@ uniform int u_lvoff[MAX_LIGHTS];
 uniform float u_ds, u_ds0, u_et, u_ka, u_kd, u_ks, u_shine, u_iso, u_pre_scale, u_sh_off, u_sh_step, u_kext;
 uniform float u_albedo, u_g;
 uniform vec3 u_iso_rgb;
-uniform bool u_nearest, u_jitter, u_skip, u_gradop;
+uniform bool u_nearest, u_jitter, u_skip, u_gradop, u_sobel;
+// normals (Arrays.nrm): index -> world gradient matrix, 1 / largest |gradient| in table units per mm
+uniform mat3 u_nmat;
+uniform float u_inv_gmax;
 uniform int u_seed, u_block;
 
 ivec3 g_size;
@@ -80,10 +82,47 @@ float sample_idx(vec3 p) {
     return texture(u_vol, (p + 0.5) / vec3(g_size)).r;
 }
 
-vec4 normal_idx(vec3 p) {
-    ivec3 n = textureSize(u_nrm, 0);
-    if (u_nearest) return texelFetch(u_nrm, clamp(ivec3(p + 0.5), ivec3(0), n - 1), 0);
-    return texture(u_nrm, (p + 0.5) / vec3(n));
+float voxel(int i, int j, int k) { return texelFetch(u_vol, ivec3(i, j, k), 0).r; }
+
+vec3 grad_at(ivec3 v) {   // _sample.grad_at: central differences or 3x3x3 Sobel, neighbours clamped
+    ivec3 hi = g_size - 1;
+    ivec3 p = min(v + 1, hi), m = max(v - 1, ivec3(0));
+    if (!u_sobel)
+        return 0.5 * vec3(voxel(p.x, v.y, v.z) - voxel(m.x, v.y, v.z), voxel(v.x, p.y, v.z) - voxel(v.x, m.y, v.z),
+                          voxel(v.x, v.y, p.z) - voxel(v.x, v.y, m.z));
+    vec3 g = vec3(0.0);
+    for (int b = -1; b <= 1; b++) {
+        for (int a = -1; a <= 1; a++) {
+            float w = (a == 0 ? 2.0 : 1.0) * (b == 0 ? 2.0 : 1.0) / 32.0;
+            int jj = clamp(v.y + a, 0, hi.y), kk = clamp(v.z + b, 0, hi.z);
+            int ii = clamp(v.x + a, 0, hi.x), jj2 = clamp(v.y + b, 0, hi.y);
+            g.x += w * (voxel(p.x, jj, kk) - voxel(m.x, jj, kk));
+            g.y += w * (voxel(ii, p.y, kk) - voxel(ii, m.y, kk));
+            g.z += w * (voxel(ii, jj2, p.z) - voxel(ii, jj2, m.z));
+        }
+    }
+    return g;
+}
+
+vec4 voxel_normal(ivec3 v) {   // _sample._voxel_normal: unit world gradient, magnitude code
+    vec3 g = u_nmat * grad_at(v);
+    float n = length(g);
+    float code = floor(127.0 * sqrt(min(n * u_inv_gmax, 1.0)) + 0.5);
+    return vec4(n > 0.0 ? g / n : vec3(0.0), code);
+}
+
+vec4 normal_idx(vec3 p) {   // _sample.sample_normal: the voxels' normals, interpolated
+    if (u_nearest) return voxel_normal(clamp(ivec3(p + 0.5), ivec3(0), g_size - 1));
+    ivec3 i0 = clamp(ivec3(floor(p)), ivec3(0), g_size - 1);
+    ivec3 i1 = min(i0 + 1, g_size - 1);
+    vec3 f = clamp(p - vec3(i0), 0.0, 1.0);
+    vec4 n = vec4(0.0);
+    for (int c = 0; c < 8; c++) {
+        bvec3 up = bvec3((c & 1) != 0, (c & 2) != 0, (c & 4) != 0);
+        vec3 w = mix(1.0 - f, f, vec3(up));
+        n += w.x * w.y * w.z * voxel_normal(ivec3(up.x ? i1.x : i0.x, up.y ? i1.y : i0.y, up.z ? i1.z : i0.z));
+    }
+    return n;
 }
 
 float jitter01(int x, int y, int seed) {   // _sample.jitter01, in 32-bit unsigned arithmetic

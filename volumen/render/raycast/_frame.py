@@ -50,10 +50,11 @@ class Arrays(NamedTuple):
     lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
     lvd: np.ndarray     #: illumination-volume buffer (float32)
     sig: np.ndarray     #: optical depth per reference step of each table entry (NLUT,)
+    rgb: np.ndarray     #: colour volume's RGB [z, y, x, 3] uint8 (``_color``), (1, 1, 1, 3) for a scalar volume
 
 
 #: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
-PER_VOLUME = ("vol", "nrm", "bmin", "bmax")
+PER_VOLUME = ("vol", "nrm", "bmin", "bmax", "rgb")
 
 
 class Settings(NamedTuple):
@@ -89,6 +90,7 @@ class Settings(NamedTuple):
     nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)
     nplanes: int = 0         #: clip planes in use
     bounces: int = 1         #: path tracing: most scattering events per path
+    color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
 
 
 class Outputs(NamedTuple):

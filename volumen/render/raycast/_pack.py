@@ -133,7 +133,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), seed=int(smp.seed), skip=t["skip"],
         block=int(smp.block_size), gradop=t["gradop"], nlights=nlights, nplanes=len(scene.clipping.planes),
-        bounces=sh.pathtrace.bounces)
+        bounces=sh.pathtrace.bounces, color=prep.is_color)
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:
@@ -159,7 +159,7 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     timings.update(prep.timings)
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
-                    lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"])
+                    lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"], rgb=prep.rgb)
     mode = "preintegrated" if t["preint"] else scene.mode
     return Frame(arrays, _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights), MODE_TAGS[mode](),
                  LIGHT_TAGS[model](), (w, h), prep, built, timings)

@@ -3,6 +3,7 @@
 * ``vol``: 3-D R32F of the samples in table units (``(u - u0) * ufac``, the
   CPU's ``sample_table``), trilinear, clamped: texel centres are voxel centres;
 * ``nrm``: 3-D RGBA16F of the packed normals (gradient direction, magnitude code), trilinear;
+* ``rgb``: 3-D RGB8 (normalized) of a colour volume's voxel colours (``raycast._color``), trilinear;
 * ``bflag`` (R8UI), ``bmin``, ``bmax`` (R32F): the block grids of empty-space skipping, read per texel;
 * ``lut``, ``sig``, ``glut``: one-row 2-D tables read at the nearest entry, ``pre``: the
   pre-integrated table (x: back value, y: front value);
@@ -31,7 +32,7 @@ from ...errors import DeviceLimitError
 __all__ = ["FrameTextures", "check_limits", "release_all"]
 
 #: fields kept between frames while their array object is the same
-_KEPT = ("vol", "nrm", "bflag", "bmin", "bmax", "lvd")
+_KEPT = ("vol", "nrm", "bflag", "bmin", "bmax", "lvd", "rgb")
 _kept: dict = {}   # field -> (weakref to the array, texture)
 
 
@@ -77,6 +78,9 @@ def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     if name == "nrm":
         d = x.astype(np.float16)
         return _filtered(ctx.texture3d(d.shape[2::-1], 4, d.tobytes(), dtype="f2", alignment=1), True)
+    if name == "rgb":  # uint8 read as normalized [0, 1]
+        d = np.ascontiguousarray(x, np.uint8)
+        return _filtered(ctx.texture3d(d.shape[2::-1], 3, d.tobytes(), dtype="f1", alignment=1), True)
     if name == "bflag":
         return _filtered(ctx.texture3d(x.shape[::-1], 1, np.ascontiguousarray(x, np.uint8).tobytes(),
                                        dtype="u1", alignment=1), False)
@@ -112,7 +116,7 @@ def _upload(ctx, name, x, settings, width):
 class FrameTextures:
     """The textures of one frame: ``units[name]`` its texture unit; :meth:`release` frees the per-frame ones."""
 
-    FIELDS = ("vol", "nrm", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
+    FIELDS = ("vol", "nrm", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd", "rgb")
 
     def __init__(self, ctx, arrays, settings, prep):
         self.width = int(ctx.info["GL_MAX_TEXTURE_SIZE"])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from volumen.core import Camera, Light, Scene, Shading, TransferFunction, Volume
+from volumen.core import Camera, Isosurface, Light, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 
 
@@ -32,7 +32,7 @@ def test_slicing_and_mesh_draw_a_colour_volume_as_its_luminance(gl, technique):
     v = np.clip(250 - 18 * np.sqrt((x - 11.5) ** 2 + (y - 11.5) ** 2 + (z - 11.5) ** 2), 0, 250)
     col = Volume(np.stack([v, 0.5 * v, 250 - v], -1).astype(np.uint8), spacing=(1, 1, 1))
     tf = TransferFunction(color=((0, 1, 0.8, 0.6), (255, 1, 1, 1)), opacity=((0, 0), (40, 0.0), (250, 0.6)))
-    scene = Scene(volume=col, transfer=tf)
+    scene = Scene(volume=col, transfer=tf, isosurface=Isosurface(value=100.0))  # mesh: the luminance 100 surface
     cam = Camera.anatomical(col, "anterior", projection="orthographic")
     a = render(scene, cam, (32, 32), technique=technique)
     b = render(scene.with_(volume=col.with_data(col.luminance())), cam, (32, 32), technique=technique)

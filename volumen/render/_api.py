@@ -37,7 +37,11 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     Parameters
     ----------
     scene : Scene
-        Must hold its ``volume`` (a :class:`~volumen.core.Volume`).
+        Must hold its ``volume`` (a :class:`~volumen.core.Volume`). A colour
+        volume (``volume.is_color``) is classified by its luminance (opacity,
+        normals, shadows; MIP / MinIP / average project the luminance) and the
+        ray caster's composite samples emit the voxels' own RGB instead of the
+        table's colour; slicing and mesh draw the luminance.
     camera : Camera
     size : (width, height), pixels
     device : one of :data:`~volumen.render.DEVICES`, or None

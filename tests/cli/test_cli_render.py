@@ -122,3 +122,25 @@ def test_unreadable_inputs_and_outputs_name_the_file(tmp_path, capsys):
     assert main(["render", "phantom:sphere", "-o", str(tmp_path / "nowhere" / "x.png"), "--size", "8x8"]) == 1
     err = capsys.readouterr().err
     assert "nowhere" in err and "Traceback" not in err
+
+
+def test_render_a_colour_dicom_shows_its_colours(tmp_path):
+    """pydicom's two-frame RGB colour bars render in colour: the TF gives opacity (of the luminance), the
+    voxels their colour; a grey picture would have every pixel's channels equal."""
+    from pydicom.data import get_testdata_file
+
+    from volumen.core import TransferFunction
+
+    src = get_testdata_file("SC_rgb_rle_2frame.dcm")
+    tf = tmp_path / "tf.json"
+    tf.write_text(TransferFunction(color=((0, 1, 1, 1), (255, 1, 1, 1)), opacity=((0, 0), (8, 0.9), (255, 0.9)))
+                  .to_json())
+    out = tmp_path / "rgb.png"
+    assert main(["render", src, "-o", str(out), "--size", "64x64", "--view", "superior", "--tf", str(tf),
+                 "--shading", "none", "--no-jitter"]) == 0
+    rgb = _png(out)[..., :3].astype(int)
+    spread = rgb.max(axis=-1) - rgb.min(axis=-1)
+    drawn = rgb.sum(axis=-1) > 0
+    assert drawn.mean() > 0.3
+    print(f"coloured share of the drawn pixels: {(spread[drawn] > 60).mean():.2f}")
+    assert (spread[drawn] > 60).mean() > 0.2, "the picture is grey"  # 0.27 measured; grey: 0

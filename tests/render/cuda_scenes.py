@@ -16,7 +16,18 @@ from dataclasses import replace
 
 import numpy as np
 
-from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import (
+    Camera,
+    Clipping,
+    ClipPlane,
+    Isosurface,
+    Light,
+    Sampling,
+    Scene,
+    Shading,
+    TransferFunction,
+    Volume,
+)
 from volumen.data import phantom
 
 SIZE = (10, 8)
@@ -34,6 +45,14 @@ def _setup():
               Light(position=tuple(c - vol.diagonal * (0.9 * r + 0.3 * f)), color=(0.5, 0.7, 1.0), intensity=0.6),
               Light(position=tuple(c + vol.diagonal * (0.2 * r + 1.1 * u)), intensity=0.4, color=(1.0, 0.8, 0.6)))
     return vol, cam, lights
+
+
+def _colour(vol: Volume) -> Volume:
+    """A colour volume from ``vol``: red rising with the value, blue falling, green a band (uint8 RGB)."""
+    lo, hi = vol.value_range()
+    u = (vol.data - lo) / (hi - lo)
+    rgb = np.stack([u, 4 * u * (1 - u), 1 - u], axis=-1)
+    return Volume(np.rint(255 * rgb).astype(np.uint8), affine=vol.affine, spacing=vol.spacing)
 
 
 def scenes() -> dict:
@@ -64,6 +83,8 @@ def scenes() -> dict:
         "scattering-direct": base.with_(lights=lights, shading=Shading(mode="scattering", phase_g=-0.2,
                                                                        shadow_method="direct")),
         "pathtrace": base.with_(shading=Shading(mode="pathtrace", pt_samples=PT_SAMPLES, pt_bounces=3, phase_g=0.3)),
+        "colour-phong": base.with_(volume=_colour(vol), shading=Shading(mode="phong"), transfer=TransferFunction(
+            color=((0, 1, 1, 1), (255, 1, 1, 1)), opacity=((0, 0), (40, 0), (255, 0.6)))),
     }
     return {k: (v, cam, SIZE) for k, v in out.items()}
 

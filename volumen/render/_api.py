@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+import weakref
 
 from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction, is_chunked
 from ..core._camera import Projection, View
@@ -36,7 +37,11 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     Parameters
     ----------
     scene : Scene
-        Must hold its ``volume`` (a :class:`~volumen.core.Volume`).
+        Must hold its ``volume`` (a :class:`~volumen.core.Volume`). A colour
+        volume (``volume.is_color``) is classified by its luminance (opacity,
+        normals, shadows; MIP / MinIP / average project the luminance) and the
+        ray caster's composite samples emit the voxels' own RGB instead of the
+        table's colour; slicing and mesh draw the luminance.
     camera : Camera
     size : (width, height), pixels
     device : one of :data:`~volumen.render.DEVICES`, or None
@@ -92,9 +97,23 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         raise ValueError(f"size must be (width, height) in pixels, got {size!r}") from None
     if not (1 <= w <= 16384 and 1 <= h <= 16384):
         raise ValueError(f"size must be (width, height) with 1..16384 pixels each, got {size!r}")
+    if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
+        scene = scene.with_(volume=_luminance_volume(scene.volume))
     image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
     image.stats["renderer"] = {"device": device, "technique": technique.name}
     return image
+
+
+_LUMINANCE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _luminance_volume(volume):
+    """The scalar volume of a colour volume's luminance (kept while the colour volume and its data live)."""
+    kept = _LUMINANCE.get(volume)
+    if kept is None or kept[0] is not volume.data:
+        kept = (volume.data, volume.with_data(volume.luminance()))
+        _LUMINANCE[volume] = kept
+    return kept[1]
 
 
 def default_transfer(volume, mode: Mode) -> TransferFunction:

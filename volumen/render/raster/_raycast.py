@@ -97,7 +97,7 @@ def _set_settings(prog, s) -> None:
                  "albedo", "g"):
         set_uniform(prog, f"u_{name}", float(getattr(s, name)))
     set_uniform(prog, "u_iso_rgb", (float(s.iso_r), float(s.iso_g), float(s.iso_b)))
-    for name in ("nearest", "jitter", "skip", "gradop", "sobel"):
+    for name in ("nearest", "jitter", "skip", "gradop", "sobel", "color"):
         set_uniform(prog, f"u_{name}", bool(getattr(s, name)))
     set_uniform(prog, "u_seed", int(s.seed))
     set_uniform(prog, "u_block", int(s.block))

@@ -4,6 +4,7 @@
   CPU's ``sample_table``), trilinear, clamped: texel centres are voxel centres;
 * no normals: the shader computes them from ``vol`` where it needs them, as the CPU does
   (``_sample.sample_normal``);
+* ``rgb``: 3-D RGB8 (normalized) of a colour volume's voxel colours (``raycast._color``), trilinear;
 * ``bflag`` (R8UI), ``bmin``, ``bmax`` (R32F): the block grids of empty-space skipping, read per texel;
 * ``lut``, ``sig``, ``glut``: one-row 2-D tables read at the nearest entry, ``pre``: the
   pre-integrated table (x: back value, y: front value);
@@ -32,7 +33,7 @@ from ...errors import DeviceLimitError
 __all__ = ["FrameTextures", "check_limits", "release_all"]
 
 #: fields kept between frames while their array object is the same
-_KEPT = ("vol", "bflag", "bmin", "bmax", "lvd")
+_KEPT = ("vol", "bflag", "bmin", "bmax", "lvd", "rgb")
 _kept: dict = {}   # field -> (weakref to the array, texture)
 
 
@@ -75,6 +76,9 @@ def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     if name == "vol":
         d = _table_units(x, settings.u0, settings.ufac)
         return _filtered(ctx.texture3d(d.shape[::-1], 1, d.tobytes(), dtype="f4", alignment=1), True)
+    if name == "rgb":  # uint8 read as normalized [0, 1]
+        d = np.ascontiguousarray(x, np.uint8)
+        return _filtered(ctx.texture3d(d.shape[2::-1], 3, d.tobytes(), dtype="f1", alignment=1), True)
     if name == "bflag":
         return _filtered(ctx.texture3d(x.shape[::-1], 1, np.ascontiguousarray(x, np.uint8).tobytes(),
                                        dtype="u1", alignment=1), False)
@@ -110,7 +114,7 @@ def _upload(ctx, name, x, settings, width):
 class FrameTextures:
     """The textures of one frame: ``units[name]`` its texture unit; :meth:`release` frees the per-frame ones."""
 
-    FIELDS = ("vol", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
+    FIELDS = ("vol", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd", "rgb")
 
     def __init__(self, ctx, arrays, settings, prep):
         self.width = int(ctx.info["GL_MAX_TEXTURE_SIZE"])

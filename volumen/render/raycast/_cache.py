@@ -13,6 +13,7 @@ import weakref
 
 import numpy as np
 
+from ._color import NO_RGB, rgb8
 from ._precompute import NLUT, build_blocks, normal_params, normalize
 
 __all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes"]
@@ -33,6 +34,10 @@ class Prepared:
         Value range (data units) the table spans.
     scale : float
         Data units per normalized unit.
+    is_color, rgb
+        A colour volume (``Volume.is_color``) is classified by its luminance: ``u`` and the value range are
+        those of ``Volume.luminance()``, and ``rgb`` holds its colours (``_color.rgb8``); a scalar volume has
+        ``is_color = False`` and the placeholder ``_color.NO_RGB``.
     timings : dict
         Seconds spent building each part (only the parts built by the last call).
     """
@@ -40,14 +45,16 @@ class Prepared:
     def __init__(self, volume, key):
         self.key = key
         t = time.perf_counter()
-        lo, hi = volume.value_range()
+        self.is_color = bool(volume.is_color)
+        self.rgb = rgb8(volume.data) if self.is_color else NO_RGB
+        data = volume.luminance() if self.is_color else volume.data
+        lo, hi = (float(np.nanmin(data)), float(np.nanmax(data))) if self.is_color else volume.value_range()
         if not np.isfinite(lo):
             lo, hi = 0.0, 1.0
         if not hi > lo:
             hi = lo + 1.0
         self.vmin, self.vmax = float(lo), float(hi)
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
-        data = volume.data
         # signed integers are sampled in place (no copy of the volume); unsigned ones would wrap around in the
         # kernels' differences of neighbouring samples, so they get the normalized copy as floats do
         if data.dtype.kind == "i" and data.flags.c_contiguous:

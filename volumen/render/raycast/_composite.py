@@ -14,6 +14,7 @@ from __future__ import annotations
 from numba import njit
 
 from ..optics import composite, correct_opacity
+from ._color import emission
 from ._frame import FAR
 from ._labelled import classify
 from ._pieces import Composite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
@@ -27,12 +28,13 @@ DEPTH_OPACITY = 0.5
 
 @njit(cache=True, fastmath=True, inline="always")
 def lit(light, r, a, s, t, c, gradop):
-    """Premultiplied sample ``c = (r, g, b, alpha)`` at ray parameter ``t``, modulated by the gradient opacity
+    """Premultiplied sample ``c = (r, g, b, alpha)`` at ray parameter ``t`` (its colour the voxel's own in a
+    colour volume, ``_color.emission``), modulated by the gradient opacity
     (when ``gradop``) and lit by the light tag's model."""
-    cr, cg, cb, al = c
     x = r.oi + t * r.di
     y = r.oj + t * r.dj
     z = r.ok + t * r.dk
+    cr, cg, cb, al = emission(a, s, x, y, z, c)
     gx = gy = gz = code = 0.0
     if uses_normals(light) or gradop:
         gx, gy, gz, code = sample_normal(a.vol, a.nrm, x, y, z, s.nearest, s.sobel)

@@ -52,10 +52,11 @@ class Arrays(NamedTuple):
     sig: np.ndarray     #: optical depth per reference step of each table entry (NLUT,)
     lab: np.ndarray     #: label map [z, y, x] on the volume's grid (``_labelled``), (1, 1, 1) when unused
     llut: np.ndarray    #: per label value (r, g, b, opacity, textured) (n, 5) (``_labelled``)
+    rgb: np.ndarray     #: colour volume's RGB [z, y, x, 3] uint8 (``_color``), (1, 1, 1, 3) for a scalar volume
 
 
 #: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
-PER_VOLUME = ("vol", "nrm", "bmin", "bmax", "lab")
+PER_VOLUME = ("vol", "nrm", "bmin", "bmax", "lab", "rgb")
 
 
 class Settings(NamedTuple):
@@ -94,6 +95,7 @@ class Settings(NamedTuple):
     nplanes: int = 0         #: clip planes in use
     bounces: int = 1         #: path tracing: most scattering events per path
     nlab: int = 0            #: label-aware classification (rows of ``Arrays.llut``; 0: off)
+    color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
 
 
 class Outputs(NamedTuple):

@@ -34,6 +34,7 @@ from dataclasses import replace
 import numpy as np
 from numba import njit, prange
 
+from ._color import sample_rgb
 from ._cpu import TILE, tile_order
 from ._geometry import primary_ray, ray_interval, region_interval, to_index
 from ._pack import pack_frame
@@ -144,6 +145,15 @@ def _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr):
             return True, t, idx, ctr
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _albedo_color(a, s, idx, w):
+    """Colour of a scattering event at world point ``w``: the table's, or the voxel's own in a colour volume."""
+    if s.color:
+        x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
+        return sample_rgb(a.rgb, x, y, z, s.nearest)
+    return a.lut[idx, 0], a.lut[idx, 1], a.lut[idx, 2]
+
+
 @njit(cache=True, fastmath=True)
 def _light_point(a, light, w, key, ctr):
     """The event ``w`` shifted by a point of area-like light ``light``'s ball (itself for a point light)."""
@@ -221,7 +231,8 @@ def trace_path(px, py, sample, a, s, smaj, acc):
         if n == 0:
             acc[py, px, 3] += 1.0
             acc[py, px, 4] += t
-        tr = (tr[0] * s.albedo * a.lut[idx, 0], tr[1] * s.albedo * a.lut[idx, 1], tr[2] * s.albedo * a.lut[idx, 2])
+        cr, cg, cb = _albedo_color(a, s, idx, w)
+        tr = (tr[0] * s.albedo * cr, tr[1] * s.albedo * cg, tr[2] * s.albedo * cb)
         n += 1
         er, eg, eb, ctr = _next_event(a, s, w, d, scale, smaj, key, ctr)
         lr, lg, lb = lr + tr[0] * er, lg + tr[1] * eg, lb + tr[2] * eb

@@ -35,6 +35,7 @@ const float NEAR_STEPS = 3.0;      // _params.NEAR_STEPS
 
 // volume and tables (fields of raycast.Arrays)
 uniform sampler3D u_vol;      // samples in table units, trilinear, clamped
+uniform sampler3D u_rgb;      // colour volume: voxel RGB in [0, 1] (raycast._color), used when u_color
 uniform sampler2D u_lut;      // (NLUT x 1) straight rgb, alpha per step
 uniform sampler2D u_pre;      // (NPRE x NPRE) pre-integrated, x = back value, y = front value
 uniform sampler2D u_glut;     // (128 x 1) gradient-opacity factor
@@ -68,7 +69,7 @@ uniform int u_lvoff[MAX_LIGHTS];
 uniform float u_ds, u_ds0, u_et, u_ka, u_kd, u_ks, u_shine, u_iso, u_pre_scale, u_sh_off, u_sh_step, u_kext;
 uniform float u_albedo, u_g;
 uniform vec3 u_iso_rgb;
-uniform bool u_nearest, u_jitter, u_skip, u_gradop, u_sobel;
+uniform bool u_nearest, u_jitter, u_skip, u_gradop, u_sobel, u_color;
 // normals (Arrays.nrm): index -> world gradient matrix, 1 / largest |gradient| in table units per mm
 uniform mat3 u_nmat;
 uniform float u_inv_gmax;
@@ -123,6 +124,12 @@ vec4 normal_idx(vec3 p) {   // _sample.sample_normal: the voxels' normals, inter
         n += w.x * w.y * w.z * voxel_normal(ivec3(up.x ? i1.x : i0.x, up.y ? i1.y : i0.y, up.z ? i1.z : i0.z));
     }
     return n;
+}
+
+vec3 rgb_idx(vec3 p) {   // _color.sample_rgb
+    ivec3 n = textureSize(u_rgb, 0);
+    if (u_nearest) return texelFetch(u_rgb, clamp(ivec3(p + 0.5), ivec3(0), n - 1), 0).rgb;
+    return texture(u_rgb, (p + 0.5) / vec3(n)).rgb;
 }
 
 float jitter01(int x, int y, int seed) {   // _sample.jitter01, in 32-bit unsigned arithmetic

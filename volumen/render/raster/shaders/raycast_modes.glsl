@@ -16,6 +16,7 @@ vec4 corrected(vec4 c, float seg, float ds) {   // _composite._corrected
 }
 
 vec4 lit(float t, vec4 c, bool gradop) {   // _composite.lit
+    if (u_color) c.rgb = c.a * rgb_idx(R.oi + t * R.di);   // _color.emission
     vec4 g = vec4(0.0);
 #if LIGHT == LIGHT_PHONG || LIGHT == LIGHT_SHADOWED
     g = normal_idx(R.oi + t * R.di);

@@ -36,7 +36,7 @@ def simulated(tmp_path_factory):
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
     env["PYTHONPATH"] = os.pathsep.join([str(HERE), env.get("PYTHONPATH", "")])
     r = subprocess.run([sys.executable, str(HERE / "cuda_scenes.py"), str(out)], env=env, cwd=HERE,
-                       capture_output=True, text=True, timeout=600)
+                       capture_output=True, text=True, timeout=1800)  # the simulator runs kernels in Python
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-4000:]
     return dict(np.load(out))
 

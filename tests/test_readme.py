@@ -33,7 +33,7 @@ EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-v
 
 def readme_commands() -> list[str]:
     """The ``volumen`` lines of the README's ``sh`` blocks, continuation lines joined."""
-    blocks = re.findall(r"```sh\n(.*?)```", (ROOT / "README.md").read_text(), flags=re.S)
+    blocks = re.findall(r"```sh\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), flags=re.S)
     lines = "\n".join(blocks).replace("\\\n", " ").splitlines()
     return [ln.strip() for ln in lines if ln.strip().startswith("volumen ")]
 

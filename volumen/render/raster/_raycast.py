@@ -40,6 +40,8 @@ _quad: dict = {}
 def _check(scene) -> None:
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
         raise DeviceLimitError("path tracing runs on the cpu and cuda devices, not gl; use --device cpu")
+    if getattr(scene, "labels", None) is not None and scene.mode == "composite":
+        raise DeviceLimitError("label maps are drawn by the cpu and cuda devices, not gl; use --device cpu")
     if len(scene.lights) > MAX_LIGHTS and scene.shading.mode not in ("none", "headlight"):
         raise DeviceLimitError(f"{len(scene.lights)} lights: the gl ray caster takes at most {MAX_LIGHTS} per "
                                "pass; use --device cpu")

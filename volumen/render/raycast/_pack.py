@@ -99,9 +99,14 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
         sig = iso_extinction_table(u_iso)
     else:
         sig = extinction_table(tf, prep.vmin, prep.vmax)
-    lab, llut = lab if lab is not None else (np.zeros((1, 1, 1), np.uint8), np.zeros((1, 5), np.float32))
+    lab, llut = lab if lab is not None else (_NO_LAB, _NO_LLUT)
     return dict(lut=lut, pre=pre, nrm=nrm, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax, sig=sig, skip=skip,
                 gradop=gradop, preint=preint, lab=lab, llut=llut)
+
+
+#: the label arrays of a scene without labels: one object, so a device keeps it between frames (PER_VOLUME)
+_NO_LAB = np.zeros((1, 1, 1), np.uint8)
+_NO_LLUT = np.zeros((1, 5), np.float32)
 
 
 def _labels(scene, ratio):

@@ -15,7 +15,7 @@ import numpy as np
 from ._context import Target, get_context, gl_thread
 from ._glcamera import projection_matrix, view_depth_range, view_matrix
 from ._shaders import program
-from ._uniforms import MAX_CLIP, clip_rows, light_rows, max_lights, set_camera, set_lighting, set_uniform
+from ._uniforms import MAX_CLIP, light_rows, max_lights, set_camera, set_clipping, set_lighting, set_uniform
 
 __all__ = ["MeshOptions", "render_mesh", "render_isosurface_mesh", "isosurface_mesh", "clear_mesh_cache"]
 
@@ -94,6 +94,68 @@ def clear_mesh_cache() -> None:
     _buffers.clear()
 
 
+def _program(ctx, lights: np.ndarray, opt: MeshOptions):
+    """The mesh program compiled for the light count and Phong or Gouraud shading."""
+    defines = {"MAX_LIGHTS": max_lights(len(lights)), "MAX_CLIP": MAX_CLIP}
+    if opt.shading == "gouraud":
+        defines["GOURAUD"] = ""
+    return program(ctx, "mesh", defines)
+
+
+def _near_far(mesh, camera) -> tuple[float, float]:
+    """Near and far clip distances bracketing the mesh's bounding box (with a margin of 1e-3 of its depth)."""
+    v = mesh.vertices if mesh.n_vertices else np.zeros((1, 3), np.float32)
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    box = np.array([[hi[0] if b & 1 else lo[0], hi[1] if b & 2 else lo[1], hi[2] if b & 4 else lo[2]]
+                    for b in range(8)], float)
+    zmin, zmax = view_depth_range(camera, box)
+    pad = 1e-3 * max(zmax - zmin, 1.0)
+    if camera.projection == "orthographic":
+        return zmin - pad, zmax + pad
+    far = max(zmax, 1.0) + pad
+    return max(zmin - pad, 1e-3 * far), far
+
+
+def _set_uniforms(prog, mesh, camera, size, scene, color, lights: np.ndarray) -> None:
+    """Camera, colour, clipping and lighting (unshaded: ambient 1, the flat colour)."""
+    from ...core import Shading
+
+    near, far = _near_far(mesh, camera)
+    set_camera(prog, camera, projection_matrix(camera, size, near, far) @ view_matrix(camera))
+    set_uniform(prog, "u_color", color)
+    set_clipping(prog, camera, scene.clipping)
+    shaded = scene.shading.mode != "none"
+    shading = scene.shading if shaded else Shading(mode="none", ambient=1.0, diffuse=0.0, specular=0.0)
+    set_lighting(prog, shading, lights)
+
+
+def _draw(ctx, vao, mesh, size, timings: dict):
+    """Draw with the depth test into fresh colour and distance targets; read back ``(rgba, depth)``
+    (depth inf where nothing was drawn), adding ``draw`` and ``readback`` to ``timings``."""
+    import moderngl
+
+    target = Target(ctx, size, [(4, "f4"), (1, "f4")], depth=True)
+    try:
+        target.use()
+        target.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        ctx.disable(moderngl.BLEND | moderngl.CULL_FACE)
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.depth_func = "<"
+        t = time.perf_counter()
+        if mesh.n_faces:
+            vao.render(moderngl.TRIANGLES)
+        ctx.finish()
+        timings["draw"] = time.perf_counter() - t
+        t = time.perf_counter()
+        rgba = target.read(0, 4)
+        dist = target.read(1, 1)[..., 0]
+        timings["readback"] = time.perf_counter() - t
+    finally:
+        target.release()
+        ctx.disable(moderngl.DEPTH_TEST)
+    return rgba, np.where(rgba[..., 3] > 0.5, dist, np.inf).astype(np.float32)
+
+
 @gl_thread
 def render_mesh(mesh, camera, size, *, scene=None, color=None, options: MeshOptions | None = None):
     """Draw a triangle mesh.
@@ -124,74 +186,26 @@ def render_mesh(mesh, camera, size, *, scene=None, color=None, options: MeshOpti
         (``upload``, ``draw`` incl. ``glFinish``, ``readback``, ``total``),
         ``triangles``.
     """
-    import moderngl
-
-    from ...core import Scene, Shading
+    from ...core import Image, Scene, Shading
 
     t_start = time.perf_counter()
     opt = options or MeshOptions()
     scene = scene if scene is not None else Scene(shading=Shading(mode="headlight"))
     color = tuple(scene.isosurface.color if color is None else color)
-    w, h = (int(s) for s in size)
+    size = tuple(int(s) for s in size)
     ctx = get_context()
-    shaded = scene.shading.mode != "none"
-    lights = light_rows(scene, camera, shaded)
-    defines = {"MAX_LIGHTS": max_lights(len(lights)), "MAX_CLIP": MAX_CLIP}
-    if opt.shading == "gouraud":
-        defines["GOURAUD"] = ""
-    prog = program(ctx, "mesh", defines)
-    timings = {}
+    lights = light_rows(scene, camera, scene.shading.mode != "none")
+    prog = _program(ctx, lights, opt)
     t = time.perf_counter()
     vbo, ibo = _gpu_buffers(ctx, mesh)
     vao = ctx.vertex_array(prog, [(vbo, "3f 3f", "in_pos", "in_normal")], index_buffer=ibo, index_element_size=4)
-    timings["upload"] = time.perf_counter() - t
-
-    v = mesh.vertices if mesh.n_vertices else np.zeros((1, 3), np.float32)
-    lo, hi = v.min(axis=0), v.max(axis=0)
-    box = np.array([[hi[0] if b & 1 else lo[0], hi[1] if b & 2 else lo[1], hi[2] if b & 4 else lo[2]]
-                    for b in range(8)], float)
-    zmin, zmax = view_depth_range(camera, box)
-    pad = 1e-3 * max(zmax - zmin, 1.0)
-    if camera.projection == "orthographic":
-        near, far = zmin - pad, zmax + pad
-    else:
-        far = max(zmax, 1.0) + pad
-        near = max(zmin - pad, 1e-3 * far)
-    set_camera(prog, camera, projection_matrix(camera, (w, h), near, far) @ view_matrix(camera))
-    set_uniform(prog, "u_color", color)
-    set_uniform(prog, "u_range", (camera.near or 0.0, camera.far if camera.far is not None else 3.0e38))
-    clips = clip_rows(scene.clipping)[:MAX_CLIP]
-    cpad = np.zeros((MAX_CLIP, 4), np.float32)
-    cpad[:len(clips)] = clips
-    set_uniform(prog, "u_nclip", len(clips))
-    set_uniform(prog, "u_clip", cpad.tobytes())
-    shading = scene.shading if shaded else Shading(mode="none", ambient=1.0, diffuse=0.0, specular=0.0)
-    set_lighting(prog, shading, lights)
-
-    target = Target(ctx, (w, h), [(4, "f4"), (1, "f4")], depth=True)
+    timings = {"upload": time.perf_counter() - t}
     try:
-        target.use()
-        target.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        ctx.disable(moderngl.BLEND | moderngl.CULL_FACE)
-        ctx.enable(moderngl.DEPTH_TEST)
-        ctx.depth_func = "<"
-        t = time.perf_counter()
-        if mesh.n_faces:
-            vao.render(moderngl.TRIANGLES)
-        ctx.finish()
-        timings["draw"] = time.perf_counter() - t
-        t = time.perf_counter()
-        rgba = target.read(0, 4)
-        dist = target.read(1, 1)[..., 0]
-        timings["readback"] = time.perf_counter() - t
+        _set_uniforms(prog, mesh, camera, size, scene, color, lights)
+        rgba, depth = _draw(ctx, vao, mesh, size, timings)
     finally:
-        target.release()
         vao.release()
-        ctx.disable(moderngl.DEPTH_TEST)
-    depth = np.where(rgba[..., 3] > 0.5, dist, np.inf).astype(np.float32)
     timings["total"] = time.perf_counter() - t_start
-    from ...core import Image
-
     stats = {"timings": timings, "options": opt.to_dict(), "triangles": mesh.n_faces,
              "gl_renderer": ctx.info.get("GL_RENDERER")}
     return Image(rgba=rgba, depth=depth, stats=stats)

@@ -6,7 +6,8 @@ import numpy as np
 
 from ._glcamera import as_uniform
 
-__all__ = ["light_rows", "max_lights", "set_uniform", "set_lighting", "set_camera", "clip_rows", "MAX_CLIP"]
+__all__ = ["light_rows", "max_lights", "set_uniform", "set_lighting", "set_camera", "clip_rows",
+           "set_clipping", "MAX_CLIP"]
 
 #: clip planes a program can hold: 6 from a world crop box plus 6 scene planes
 MAX_CLIP = 12
@@ -90,3 +91,14 @@ def clip_rows(clipping) -> np.ndarray:
         n = np.asarray(p.normal, float) / np.linalg.norm(p.normal)
         rows.append([*n, -float(n @ np.asarray(p.point, float))])
     return np.array(rows, np.float32).reshape(-1, 4)
+
+
+def set_clipping(prog, camera, clipping) -> None:
+    """``u_range`` (the camera's near and far distances; 0 and 3e38 when unset) and the clip planes
+    ``u_nclip``, ``u_clip`` (the first :data:`MAX_CLIP` rows of :func:`clip_rows`, zero-padded)."""
+    set_uniform(prog, "u_range", (camera.near or 0.0, camera.far if camera.far is not None else 3.0e38))
+    rows = clip_rows(clipping)[:MAX_CLIP]
+    pad = np.zeros((MAX_CLIP, 4), np.float32)
+    pad[:len(rows)] = rows
+    set_uniform(prog, "u_nclip", len(rows))
+    set_uniform(prog, "u_clip", pad.tobytes())

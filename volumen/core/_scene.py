@@ -64,7 +64,7 @@ class Sampling(JsonData):
     seed: int = 0
     early_termination: float = 0.99
     skip_empty: bool = True
-    block_size: int = 8
+    block_size: int = 4
     preintegrate: bool = False
     lattice: bool = False
 

@@ -14,6 +14,7 @@ import weakref
 import numpy as np
 
 from ._color import NO_RGB, rgb8
+from ._normals import encode_normals
 from ._precompute import NLUT, build_blocks, normal_params, normalize
 
 __all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes"]
@@ -63,7 +64,9 @@ class Prepared:
             self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0
         self.affine = np.array(volume.affine, dtype=float)
         self._normals: dict[bool, tuple[np.ndarray, float]] = {}
+        self._codes: dict[tuple[bool, bool, bool], tuple[np.ndarray, np.ndarray]] = {}
         self._blocks: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._memo: dict = {}
         self.timings = {"normalize": time.perf_counter() - t}
 
     def to_u(self, value: float) -> float:
@@ -78,6 +81,27 @@ class Prepared:
             self.timings["normals"] = time.perf_counter() - t
         return self._normals[sobel]
 
+    def codes(self, sobel: bool, directions: bool, magnitudes: bool) -> tuple[np.ndarray, np.ndarray]:
+        """``(direction codes, magnitude codes)`` per voxel (``_normals.encode_normals``); only the last asked
+        for are kept (a volume's codes are as large as its data)."""
+        key = (sobel, directions, magnitudes)
+        if key not in self._codes:
+            nrm = self.normals(sobel)[0]
+            t = time.perf_counter()
+            self._codes = {key: encode_normals(self.u, nrm, sobel, directions=directions, magnitudes=magnitudes)}
+            self.timings["normal codes"] = time.perf_counter() - t
+        return self._codes[key]
+
+    def memo(self, key, build):
+        """``build()``, kept for the next frames asking with the same ``key`` (the last :data:`MEMO` kept):
+        per-frame tables that depend on the volume and a few settings only, e.g. the skip distances of a
+        transfer function, are not rebuilt while the user only moves the camera."""
+        if key not in self._memo:
+            if len(self._memo) >= MEMO:
+                self._memo.pop(next(iter(self._memo)))
+            self._memo[key] = build()
+        return self._memo[key]
+
     def blocks(self, block: int) -> tuple[np.ndarray, np.ndarray]:
         """``(bmin, bmax)`` float32 block grids in normalized units; see :func:`build_blocks`."""
         if block not in self._blocks:
@@ -90,6 +114,9 @@ class Prepared:
             self.timings["blocks"] = time.perf_counter() - t
         return self._blocks[block]
 
+
+#: per-frame tables kept per volume (:meth:`Prepared.memo`)
+MEMO = 8
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 

@@ -1,4 +1,5 @@
-"""The composite modes' pieces: emission-absorption, post-classified (``Composite``) or pre-integrated.
+"""The composite modes' pieces: emission-absorption, post-classified (``Composite``; through the label map:
+``LabelledComposite``) or pre-integrated.
 
 Post-classified samples each stand for the part of ``[t0, t1]`` nearer to
 them than to their neighbours (``ds`` inside, less at the ends), opacity
@@ -11,15 +12,16 @@ inf if never. State: ``(r, g, b, alpha, depth, previous value, previous t)``.
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from ..optics import composite, correct_opacity
 from ._color import emission
 from ._frame import FAR
 from ._labelled import classify
-from ._pieces import Composite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
+from ._normals import sample_normal
+from ._pieces import Composite, LabelledComposite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
-from ._sample import sample_normal
 
 __all__ = ["DEPTH_OPACITY", "lit"]
 
@@ -37,7 +39,7 @@ def lit(light, r, a, s, t, c, gradop):
     cr, cg, cb, al = emission(a, s, x, y, z, c)
     gx = gy = gz = code = 0.0
     if uses_normals(light) or gradop:
-        gx, gy, gz, code = sample_normal(a.vol, a.nrm, x, y, z, s.nearest, s.sobel)
+        gx, gy, gz, code = sample_normal(a, x, y, z, s.nearest, uses_normals(light), gradop)
     if gradop:
         f = a.glut[min(int(code + 0.5), 127)]
         cr, cg, cb, al = cr * f, cg * f, cb * f, al * f
@@ -71,21 +73,15 @@ def _accumulate(st, c, t, et):
     return (ar, ag, ab, aa, dep, vp, tp), aa >= et
 
 
-@init.register(Composite, Preintegrated)
+@init.register(Composite, LabelledComposite, Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
 def _init(light, r, a, s):
     return (0.0, 0.0, 0.0, 0.0, FAR, 0.0, r.t0), 0, False, False
 
 
-@step.register(Composite)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_post(light, r, a, s, st, k, t, v, have):
-    idx = int(v + 0.5)
-    if s.nlab > 0:
-        c = classify(r, a, t, idx, s.nearest)
-    else:
-        al = a.lut[idx, 3]
-        c = (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al)
+def _post(light, r, a, s, st, k, t, c):
+    """Composite the classified sample ``c`` taken at ``t`` (sample ``k``): ``(state, 0, done)``."""
     seg = s.ds
     if k == 0 or k == r.n - 1:
         seg = (r.t1 if k == r.n - 1 else t + 0.5 * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
@@ -94,6 +90,20 @@ def _step_post(light, r, a, s, st, k, t, v, have):
         c = lit(light, r, a, s, t, c, s.gradop)
     st, done = _accumulate(st, c, t, s.et)
     return st, 0, done
+
+
+@step.register(Composite)
+@njit(cache=True, fastmath=True, inline="always")
+def _step_post(light, r, a, s, st, k, t, v, have):
+    idx = np.uintp(v + 0.5)  # v >= 0: the table spans the volume's whole range; unsigned: no wraparound code
+    al = a.lut[idx, 3]
+    return _post(light, r, a, s, st, k, t, (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al))
+
+
+@step.register(LabelledComposite)
+@njit(cache=True, fastmath=True, inline="always")
+def _step_labelled(light, r, a, s, st, k, t, v, have):
+    return _post(light, r, a, s, st, k, t, classify(r, a, t, np.uintp(v + 0.5), s.nearest))
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -148,7 +158,7 @@ def _write(st, taken, out, px, py):
     out.depth[py, px] = st[4]
 
 
-@finish.register(Composite)
+@finish.register(Composite, LabelledComposite)
 @njit(cache=True, fastmath=True)
 def _finish_post(light, r, a, s, st, taken, have, out, px, py):
     _write(st, taken, out, px, py)
@@ -163,13 +173,13 @@ def _finish_pre(light, r, a, s, st, taken, have, out, px, py):
     _write(st, taken, out, px, py)
 
 
-@radius.register(Composite, Preintegrated)
+@radius.register(Composite, LabelledComposite, Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
 def _radius(a, st, bk, bj, bi):
     return int(a.bflag[bk, bj, bi])
 
 
-@eager.register(Composite)
+@eager.register(Composite, LabelledComposite)
 @njit(cache=True, inline="always")
 def _eager_yes():
     return True

@@ -2,7 +2,8 @@
 
 The driver (``_march.render_tiles``) is a ``prange`` over 16x16-pixel tiles
 taken in a scrambled order (so threads share the expensive middle of the
-picture evenly); each pixel is one call of ``_march.trace_pixel`` specialised
+picture evenly), only those meeting the volume's projected footprint
+(``_geometry.footprint``: the others stay cleared); each pixel is one call of ``_march.trace_pixel`` specialised
 for the frame's mode and shading model. ``pathtrace`` shading goes to the
 progressive path tracer (:mod:`._pathtrace`).
 """
@@ -14,6 +15,7 @@ import time
 import numpy as np
 
 from ._frame import FAR, Outputs
+from ._geometry import footprint
 from ._march import render_tiles
 from ._pack import pack_frame
 
@@ -22,25 +24,41 @@ __all__ = ["render_cpu", "tile_order", "TILE", "frame_image"]
 TILE = 16
 
 
-def tile_order(w: int, h: int) -> np.ndarray:
-    """Scrambled (deterministic) order of the 16x16 tiles of a (w, h) picture."""
-    n = ((w + TILE - 1) // TILE) * ((h + TILE - 1) // TILE)
-    return np.random.default_rng(12345).permutation(n).astype(np.int64)
+def tile_order(w: int, h: int, bounds=None) -> np.ndarray:
+    """Scrambled (deterministic) order of the 16x16 tiles of a (w, h) picture; only those meeting the pixel
+    rectangle ``bounds = (x0, y0, x1, y1)`` (x1, y1 exclusive) when given."""
+    ntx, nty = (w + TILE - 1) // TILE, (h + TILE - 1) // TILE
+    order = np.random.default_rng(12345).permutation(ntx * nty).astype(np.int64)
+    if bounds is None:
+        return order
+    x0, y0, x1, y1 = bounds
+    tx, ty = order % ntx, order // ntx
+    keep = (tx * TILE < x1) & ((tx + 1) * TILE > x0) & (ty * TILE < y1) & ((ty + 1) * TILE > y0)
+    return order[keep]
 
 
-def frame_image(scene, f, out: Outputs, timings: dict, stats: dict):
-    """The :class:`~volumen.core.Image` of host outputs ``out`` of frame ``f`` (FAR -> inf / NaN)."""
+def frame_image(scene, f, out: Outputs, timings: dict, stats: dict, bounds=None):
+    """The :class:`~volumen.core.Image` of host outputs ``out`` of frame ``f`` (FAR -> inf / NaN; only inside the
+    pixel rectangle ``bounds = (x0, y0, x1, y1)`` when given: the rest was never traced)."""
     from ...core import Image
 
     rgba, depth, value, nsamp = out
-    depth[depth >= 0.5 * FAR] = np.inf
-    value[value >= 0.5 * FAR] = np.nan
+    x0, y0, x1, y1 = bounds if bounds is not None else (0, 0, depth.shape[1], depth.shape[0])
+    for a, gone in ((depth, np.inf), (value, np.nan)):
+        sub = a[y0:y1, x0:x1]
+        sub[sub >= 0.5 * FAR] = gone
     w, h = f.size
     mode = scene.mode
     stats = {"timings": timings, "samples": int(nsamp.sum(dtype=np.int64)), "rays": w * h,
              "rays_hit": int(np.count_nonzero(nsamp)), "mode": mode, "shading": scene.shading.mode,
              "step_mm": f.ds, "reference_step_mm": f.ds0, "light_volumes_built": f.light_volumes_built, **stats}
     return Image(rgba=rgba, depth=depth, stats=stats, value=value if mode in ("mip", "minip", "average") else None)
+
+
+def _tiles_cover(bounds):
+    """The pixel rectangle of the whole tiles meeting ``bounds`` (what the kernel traced)."""
+    x0, y0, x1, y1 = bounds
+    return (x0 // TILE) * TILE, (y0 // TILE) * TILE, -(-x1 // TILE) * TILE, -(-y1 // TILE) * TILE
 
 
 def render_cpu(scene, camera, size: tuple[int, int]):
@@ -53,9 +71,10 @@ def render_cpu(scene, camera, size: tuple[int, int]):
     t_start = time.perf_counter()
     f = pack_frame(scene, camera, size)
     w, h = f.size
-    out = Outputs.empty(w, h)
+    out = Outputs.cleared(w, h)
     t = time.perf_counter()
-    render_tiles(tile_order(w, h), TILE, f.arrays, f.settings, out, f.mode, f.light)
+    bounds = footprint(f.arrays.cam, f.arrays.geo)
+    render_tiles(tile_order(w, h, bounds), TILE, f.arrays, f.settings, out, f.mode, f.light)
     timings = dict(f.timings, kernel=time.perf_counter() - t)
     timings["total"] = time.perf_counter() - t_start
-    return frame_image(scene, f, out, timings, {"backend": "cpu"})
+    return frame_image(scene, f, out, timings, {"backend": "cpu"}, _tiles_cover(bounds))

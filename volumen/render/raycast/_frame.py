@@ -39,7 +39,10 @@ class Arrays(NamedTuple):
     geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
     vol: np.ndarray     #: samples [z, y, x]: the data itself (signed integers) or a normalized float32 copy
-    nrm: np.ndarray     #: what the normals are computed with (4, 3) float64 (``_sample.sample_normal``)
+    nrm: np.ndarray     #: gradient matrix and 1 / gmax (4, 3) float64 (``_precompute.normal_params``)
+    ncode: np.ndarray   #: normal direction code per voxel [z, y, x] uint16 (``_normals``), (1, 1, 1) when unused
+    gcode: np.ndarray   #: gradient-magnitude code per voxel [z, y, x] uint8, (1, 1, 1) when unused
+    ndir: np.ndarray    #: direction code -> unit vector (``_normals.DIRS``)
     lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
     pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
     glut: np.ndarray    #: gradient-opacity factor per magnitude code (128,)
@@ -56,7 +59,7 @@ class Arrays(NamedTuple):
 
 
 #: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
-PER_VOLUME = ("vol", "nrm", "bmin", "bmax", "lab", "rgb")
+PER_VOLUME = ("vol", "nrm", "ncode", "gcode", "ndir", "bmin", "bmax", "lab", "rgb")
 
 
 class Settings(NamedTuple):
@@ -88,7 +91,7 @@ class Settings(NamedTuple):
     lattice: bool = False    #: samples at t = (m + jitter) ds from the ray's origin, not from its entry (``_ray``)
     seed: int = 0            #: jitter / path-tracing seed
     skip: bool = False       #: empty-space skipping
-    block: int = 8           #: block size of the skipping grids (voxels)
+    block: int = 4           #: block size of the skipping grids (voxels)
     gradop: bool = False     #: gradient-magnitude opacity modulation
     sobel: bool = False      #: normals from the 3x3x3 Sobel operator instead of central differences
     nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)
@@ -110,6 +113,13 @@ class Outputs(NamedTuple):
     def empty(cls, w: int, h: int, alloc=np.empty) -> Outputs:
         return cls(alloc((h, w, 4), np.float32), alloc((h, w), np.float32), alloc((h, w), np.float32),
                    alloc((h, w), np.int32))
+
+    @classmethod
+    def cleared(cls, w: int, h: int) -> Outputs:
+        """Outputs of pixels no ray is traced for, as the drivers hand them out: transparent, depth inf, value
+        NaN, no samples."""
+        return cls(np.zeros((h, w, 4), np.float32), np.full((h, w), np.inf, np.float32),
+                   np.full((h, w), np.nan, np.float32), np.zeros((h, w), np.int32))
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "ray_interval", "region_interval",
-           "C_ORTHO", "G_BOX"]
+           "footprint", "C_ORTHO", "G_BOX"]
 
 # packed camera layout
 C_EYE, C_RIGHT, C_UP, C_FWD, C_ORTHO, C_HALF, C_W, C_H, C_NEAR, C_FAR = 0, 3, 6, 9, 12, 13, 14, 15, 16, 17
@@ -66,6 +66,36 @@ def pack_planes(clipping) -> np.ndarray:
     return np.array([[*p.point, *(np.asarray(p.normal) / np.linalg.norm(p.normal))] for p in clipping.planes],
                     np.float64)
 
+
+def footprint(cam: np.ndarray, geo: np.ndarray) -> tuple[int, int, int, int]:
+    """Pixel bounds ``(x0, y0, x1, y1)`` (x1, y1 exclusive) outside which no view ray meets the index box.
+
+    The box's eight corners projected by the packed camera bound its picture
+    (a convex box projects into the hull of its corners' images); one pixel
+    of margin covers rounding. The whole picture when a corner is not in
+    front of the eye (perspective), where that bound does not hold; nothing
+    when every corner is behind it.
+    """
+    w, h = int(cam[C_W]), int(cam[C_H])
+    inv = np.vstack([geo[G_INV:G_INV + 12].reshape(3, 4), [0.0, 0.0, 0.0, 1.0]])
+    lo, hi = geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6]
+    idx = np.array([[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    v = (np.linalg.inv(inv) @ idx.T)[:3].T - cam[C_EYE:C_EYE + 3]
+    sx, sy, sz = v @ cam[C_RIGHT:C_RIGHT + 3], v @ cam[C_UP:C_UP + 3], v @ cam[C_FWD:C_FWD + 3]
+    if cam[C_ORTHO] <= 0.5:
+        eps = 1e-9 * (1.0 + np.abs(v).max())
+        if np.all(sz <= -eps) and cam[C_NEAR] >= 0.0:
+            return 0, 0, 0, 0
+        if not np.all(sz > eps):
+            return 0, 0, w, h
+        sx, sy = sx / sz, sy / sz
+    px = sx / cam[C_HALF] * (0.5 * h) + 0.5 * w - 0.5
+    py = 0.5 * h - 0.5 - sy / cam[C_HALF] * (0.5 * h)
+    x0, x1 = max(int(np.floor(px.min())) - 1, 0), min(int(np.ceil(px.max())) + 2, w)
+    y0, y1 = max(int(np.floor(py.min())) - 1, 0), min(int(np.ceil(py.max())) + 2, h)
+    if x1 <= x0 or y1 <= y0:
+        return 0, 0, 0, 0
+    return x0, y0, x1, y1
 
 @njit(cache=True, fastmath=True, inline="always")
 def primary_ray(cam, px, py):

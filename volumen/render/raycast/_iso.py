@@ -21,9 +21,10 @@ from numba import njit
 
 from ._frame import FAR
 from ._geometry import C_NEAR
-from ._pieces import Isosurface, eager, finish, init, radius, shade, step
+from ._normals import sample_normal
+from ._pieces import Isosurface, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
-from ._sample import sample_normal, sample_table
+from ._sample import sample_table
 
 __all__ = ["iso_refine"]
 
@@ -100,7 +101,7 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
     if dep >= FAR:
         return
     x, y, z = r.oi + dep * r.di, r.oj + dep * r.dj, r.ok + dep * r.dk
-    gx, gy, gz, code = sample_normal(a.vol, a.nrm, x, y, z, s.nearest, s.sobel)
+    gx, gy, gz, _ = sample_normal(a, x, y, z, s.nearest, uses_normals(light), False)
     fr, fg, fb, sr, sg, sb = shade(light, a, s, (gx, gy, gz), (-r.dx, -r.dy, -r.dz),
                                    (r.ox + dep * r.dx, r.oy + dep * r.dy, r.oz + dep * r.dz))
     out.rgba[py, px, 0] = min(s.iso_r * fr + sr, 1.0)

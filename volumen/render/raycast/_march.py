@@ -51,7 +51,10 @@ def _box_exit(x, d, b, rad, size):
 
 @njit(cache=True, fastmath=True, inline="always")
 def _jump(mode, r, a, s, st, k, t, prev_skip):
-    """Empty-space skipping at sample ``k``: ``(next k, jumped, prev_skip)``."""
+    """Empty-space skipping at sample ``k``: ``(next k, jumped, prev_skip, t of the next check)``.
+
+    A block that must be sampled is not asked again until the ray leaves it
+    (the next check is at its far side)."""
     gz, gy, gx = a.bflag.shape
     x = r.oi + t * r.di
     y = r.oj + t * r.dj
@@ -62,13 +65,14 @@ def _jump(mode, r, a, s, st, k, t, prev_skip):
     bj = min(max(int(y * inv_b), 0), gy - 1)
     bk = min(max(int(z * inv_b), 0), gz - 1)
     rad = radius(mode, a, st, bk, bj, bi)
+    if not (prev_skip or eager(mode)) and rad > 0:
+        return k, False, True, t
+    r1 = max(rad, 1)
+    dt = min(_box_exit(x, r.di, bi, r1, b), _box_exit(y, r.dj, bj, r1, b), _box_exit(z, r.dk, bk, r1, b))
     if rad <= 0:
-        return k, False, False
-    if not (prev_skip or eager(mode)):
-        return k, False, True
-    dt = min(_box_exit(x, r.di, bi, rad, b), _box_exit(y, r.dj, bj, rad, b), _box_exit(z, r.dk, bk, rad, b))
+        return k, False, False, t + dt
     kn = int(math.ceil((t + dt - r.t0) / s.ds - r.jit))
-    return max(kn, k + 1), True, True
+    return max(kn, k + 1), True, True, t
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -89,11 +93,12 @@ def trace_pixel(px, py, a, s, out, mode, light):
         return
     st, taken, done, have = init(mode, light, r, a, s)
     prev_skip = False
+    t_check = r.t0 - 1.0
     k = 0
     while k < r.n and not done:
         t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
-        if s.skip:
-            k, jumped, prev_skip = _jump(mode, r, a, s, st, k, t, prev_skip)
+        if s.skip and t >= t_check:
+            k, jumped, prev_skip, t_check = _jump(mode, r, a, s, st, k, t, prev_skip)
             if jumped:
                 have = False
                 continue
@@ -105,20 +110,20 @@ def trace_pixel(px, py, a, s, out, mode, light):
 
 
 @njit(cache=True, fastmath=True, _nrt=False)
-def _trace_pixel_cpu(px, py, a, s, out, mode, light):
-    """``trace_pixel`` compiled without reference counting (nothing in it allocates): reading an array from the
-    records then costs no atomic increments, which threads sharing the arrays would contend for."""
-    trace_pixel(px, py, a, s, out, mode, light)
+def _trace_tile_cpu(x0, y0, tile, a, s, out, mode, light):
+    """The pixels of one tile, each ``trace_pixel`` inlined, compiled without reference counting (nothing in it
+    allocates): reading an array from the records then costs no atomic increments, which threads sharing the
+    arrays would contend for, and the records are passed once per tile, not once per pixel."""
+    h, w = out.depth.shape
+    for py in range(y0, min(y0 + tile, h)):
+        for px in range(x0, min(x0 + tile, w)):
+            trace_pixel(px, py, a, s, out, mode, light)
 
 
 @njit(parallel=True, fastmath=True, cache=True)
 def render_tiles(order, tile, a, s, out, mode, light):
     """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles in parallel."""
-    h, w = out.depth.shape
+    w = out.depth.shape[1]
     ntx = (w + tile - 1) // tile
     for n in prange(order.shape[0]):
-        y0 = (order[n] // ntx) * tile
-        x0 = (order[n] % ntx) * tile
-        for py in range(y0, min(y0 + tile, h)):
-            for px in range(x0, min(x0 + tile, w)):
-                _trace_pixel_cpu(px, py, a, s, out, mode, light)
+        _trace_tile_cpu((order[n] % ntx) * tile, (order[n] // ntx) * tile, tile, a, s, out, mode, light)

@@ -17,6 +17,7 @@ from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
 from ._labelled import label_blocks, label_table, packed_labels
 from ._lightvol import NMETA, light_volumes
+from ._normals import DIRS, NO_CODES
 from ._pieces import LIGHT_TAGS, MODE_TAGS
 from ._precompute import NLUT
 from ._scatter import medium
@@ -70,10 +71,12 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     if mode == "composite" and lab is not None:  # the scan's visible blocks and the solid structures'
         vis = block_visibility(lut[:, 3], bmin, bmax) | label_blocks(lab[0], lab[1], smp.block_size)
         bflag = skip_distance(vis)
-    elif mode == "composite":
-        bflag = skip_distance(block_visibility(lut[:, 3], bmin, bmax))
+    elif mode == "composite":  # depends only on which table entries are visible: kept while the camera moves
+        bflag = prep.memo(("skip", smp.block_size, (lut[:, 3] > 0).tobytes()),
+                          lambda: skip_distance(block_visibility(lut[:, 3], bmin, bmax)))
     elif mode == "isosurface":
-        bflag = skip_distance(iso_visibility(u_iso, bmin, bmax))
+        bflag = prep.memo(("skip-iso", smp.block_size, u_iso),
+                          lambda: skip_distance(iso_visibility(u_iso, bmin, bmax)))
     else:  # mip / minip decide per ray from bmin / bmax
         bflag = np.zeros(bmin.shape, np.uint8)
     return True, bflag, bmin, bmax
@@ -86,8 +89,12 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     lut = color_table(tf, prep.vmin, prep.vmax, ratio * kext if (mode == "composite" and not preint) else None)
     pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
     gradop = tf.gradient_opacity is not None and mode == "composite"
-    if (model != "unlit" and not medium_model) or gradop:
-        nrm, gmax = prep.normals(sh.phong.gradient == "sobel")
+    shaded = model != "unlit" and not medium_model
+    ncode, gcode = NO_CODES, _NO_MAGS
+    if shaded or gradop:
+        sobel = sh.phong.gradient == "sobel"
+        nrm, gmax = prep.normals(sobel)
+        ncode, gcode = prep.codes(sobel, shaded, gradop)
     else:
         nrm, gmax = np.zeros((4, 3), np.float64), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
@@ -100,13 +107,14 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     else:
         sig = extinction_table(tf, prep.vmin, prep.vmax)
     lab, llut = lab if lab is not None else (_NO_LAB, _NO_LLUT)
-    return dict(lut=lut, pre=pre, nrm=nrm, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax, sig=sig, skip=skip,
-                gradop=gradop, preint=preint, lab=lab, llut=llut)
+    return dict(lut=lut, pre=pre, nrm=nrm, ncode=ncode, gcode=gcode, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax,
+                sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab, llut=llut)
 
 
 #: the label arrays of a scene without labels: one object, so a device keeps it between frames (PER_VOLUME)
 _NO_LAB = np.zeros((1, 1, 1), np.uint8)
 _NO_LLUT = np.zeros((1, 5), np.float32)
+_NO_MAGS = np.zeros((1, 1, 1), np.uint8)
 
 
 def _labels(scene, ratio):
@@ -183,9 +191,11 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     lvm, lvd, built = _light_volumes(scene, prep, t, lights, nlights, model, kext, build_light_volumes)
     timings.update(prep.timings)
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
+                    ncode=t["ncode"], gcode=t["gcode"], ndir=DIRS,
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
                     lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
                     lab=t["lab"], llut=t["llut"], rgb=prep.rgb)
-    mode = "preintegrated" if t["preint"] else scene.mode
-    return Frame(arrays, _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights), MODE_TAGS[mode](),
+    settings = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights)
+    mode = "preintegrated" if t["preint"] else "labelled" if settings.nlab > 0 else scene.mode
+    return Frame(arrays, settings, MODE_TAGS[mode](),
                  LIGHT_TAGS[model](), (w, h), prep, built, timings)

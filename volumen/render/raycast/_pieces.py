@@ -17,12 +17,16 @@ from typing import NamedTuple
 from numba.extending import overload
 
 __all__ = ["piece", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS", "LIGHT_TAGS",
-           "Composite", "Preintegrated", "Mip", "Minip", "Average",
+           "Composite", "LabelledComposite", "Preintegrated", "Mip", "Minip", "Average",
            "Isosurface", "Unlit", "Phong", "Shadowed", "Scatter"]
 
 
 class Composite(NamedTuple):
     """Emission-absorption compositing, post-classified."""
+
+
+class LabelledComposite(NamedTuple):
+    """Emission-absorption compositing, each sample classified through the label map (``_labelled``)."""
 
 
 class Preintegrated(NamedTuple):
@@ -61,9 +65,9 @@ class Scatter(NamedTuple):
     """Single scattering in the medium (no normals)."""
 
 
-#: Scene.mode (and pre-integration) -> mode tag class
-MODE_TAGS = {"composite": Composite, "preintegrated": Preintegrated, "mip": Mip, "minip": Minip,
-             "average": Average, "isosurface": Isosurface}
+#: Scene.mode (and pre-integration, label-aware composite) -> mode tag class
+MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrated": Preintegrated, "mip": Mip,
+             "minip": Minip, "average": Average, "isosurface": Isosurface}
 #: lighting model name -> light tag class
 LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "shadows": Shadowed, "scatter": Scatter}
 

@@ -1,4 +1,4 @@
-"""Reconstruction at a continuous voxel-index position: values, normals (from the values), jitter hash.
+"""Reconstruction at a continuous voxel-index position: values, gradients at voxels, jitter hash.
 
 Positions are ``(x, y, z)`` = (i, j, k) in voxel indices, voxel centres at
 integers; arrays are indexed ``[z, y, x]``. Positions outside
@@ -11,19 +11,20 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_value", "sample_table", "sample_normal", "grad_at", "world_grad", "jitter01"]
+__all__ = ["sample_value", "sample_table", "grad_at", "world_grad", "jitter01"]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, inline="always")
 def _cell(x, n):
-    """Lower corner index, upper index and fraction along one axis of length ``n``."""
-    if x <= 0.0:
-        return 0, 0, 0.0
+    """Lower corner index, upper index and fraction along one axis of length ``n`` (x clamped to [0, n - 1]).
+
+    The indices are unsigned (``np.uintp``): indexing with them compiles to no
+    negative-index wraparound, which in the samplers' inner loops cost three
+    instructions and a live register per index."""
     top = n - 1
-    if x >= top:
-        return top, top, 0.0
-    i0 = int(x)
-    return i0, i0 + 1, x - i0
+    xc = min(max(x, 0.0), np.float64(top))
+    i0 = int(xc)
+    return np.uintp(i0), np.uintp(min(i0 + 1, top)), xc - i0
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -92,57 +93,6 @@ def world_grad(u, m, k, j, i, sobel):
     gy = m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk
     gz = m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk
     return gx, gy, gz, np.sqrt(gx * gx + gy * gy + gz * gz)
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _voxel_normal(u, nrm, k, j, i, sobel):
-    """Unit world gradient (zero where it vanishes) and magnitude code ``127 sqrt(|g| / gmax)`` (rounded) of
-    voxel ``[k, j, i]``."""
-    gx, gy, gz, g = world_grad(u, nrm, k, j, i, sobel)
-    code = np.rint(127.0 * np.sqrt(min(g * nrm[3, 0], 1.0)))
-    if g > 1e-6:
-        return gx / g, gy / g, gz / g, code
-    return 0.0, 0.0, 0.0, code
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def sample_normal(u, nrm, x, y, z, nearest, sobel):
-    """The normal at (x, y, z), computed from the samples ``u`` where it is asked for (no stored normals).
-
-    Returns ``(gx, gy, gz, code)``: the trilinear interpolation (nearest voxel's
-    value when ``nearest``) of the voxels' unit world-space gradients (zero
-    where the data is flat; the result is not unit) and of their
-    gradient-magnitude codes (0..127). ``nrm`` (4, 3) float64 packs what the
-    gradients need (:func:`._precompute.normal_params`): rows 0..2 the index ->
-    world gradient matrix, ``nrm[3, 0]`` = 1 / (the largest |g|, sample units / mm).
-    """
-    nz, ny, nx = u.shape
-    if nearest:
-        i = min(max(int(x + 0.5), 0), nx - 1)
-        j = min(max(int(y + 0.5), 0), ny - 1)
-        k = min(max(int(z + 0.5), 0), nz - 1)
-        return _voxel_normal(u, nrm, k, j, i, sobel)
-    i0, i1, fx = _cell(x, nx)
-    j0, j1, fy = _cell(y, ny)
-    k0, k1, fz = _cell(z, nz)
-    gx = 0.0
-    gy = 0.0
-    gz = 0.0
-    gm = 0.0
-    for c in range(2):  # z
-        k = k1 if c else k0
-        wz = fz if c else 1.0 - fz
-        for b in range(2):  # y
-            j = j1 if b else j0
-            wzy = wz * (fy if b else 1.0 - fy)
-            for e in range(2):  # x
-                w = wzy * (fx if e else 1.0 - fx)
-                nx_, ny_, nz_, code = _voxel_normal(u, nrm, k, j, i1 if e else i0, sobel)
-                gx += w * nx_
-                gy += w * ny_
-                gz += w * nz_
-                gm += w * code
-    return gx, gy, gz, gm
 
 
 @njit(cache=True)

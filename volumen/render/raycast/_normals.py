@@ -1,0 +1,124 @@
+"""Normals as the kernels read them: one 16-bit direction code per voxel, decoded through a table.
+
+Per voxel the world-space gradient (central differences, or 3x3x3 Sobel, in
+index space, turned into world space through the inverse transpose of the
+affine: ``_sample.world_grad``) is stored as its unit direction, quantized
+with the octahedral map onto a 255 x 255 grid (largest angular error about
+0.5 degree) -- code ``1 + 255 qu + qv``, code 0 for a vanishing gradient.
+That is 2 bytes a voxel (an int16 volume's own size), built once per volume
+in one parallel pass, where computing the gradients of the 8 corners at every
+sample cost the ray caster most of its shading time. :data:`DIRS` decodes a
+code to its unit vector (the zero vector for code 0).
+
+Where gradient-magnitude opacity is on, a second byte per voxel holds the
+magnitude code ``round(127 sqrt(|g| / gmax))`` (built only then).
+
+:func:`sample_normal` interpolates the decoded directions of the 8 voxels
+around a position trilinearly (the nearest voxel's when ``nearest``), and their
+magnitude codes alike: the result is not unit; the shading normalizes it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ._sample import _cell, world_grad
+
+__all__ = ["DIRS", "NO_CODES", "encode_normals", "sample_normal"]
+
+#: levels per axis of the octahedral grid
+Q = 255
+
+
+def _decode_table() -> np.ndarray:
+    c = np.arange(1, Q * Q + 1)
+    u = (c - 1) // Q / (Q - 1) * 2.0 - 1.0
+    v = (c - 1) % Q / (Q - 1) * 2.0 - 1.0
+    z = 1.0 - np.abs(u) - np.abs(v)
+    neg = z < 0.0
+    x = np.where(neg, (1.0 - np.abs(v)) * np.sign(u), u)
+    y = np.where(neg, (1.0 - np.abs(u)) * np.sign(v), v)
+    d = np.stack([x, y, z], axis=1)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return np.vstack([np.zeros((1, 3)), d]).astype(np.float32)
+
+
+#: code -> unit direction (world), float32 (1 + Q^2, 3); row 0 the zero vector
+DIRS = _decode_table()
+#: the placeholder of a frame that reads no codes: one object, so a device keeps it between frames
+NO_CODES = np.zeros((1, 1, 1), np.uint16)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _encode(gx, gy, gz, g):
+    """The code of the world gradient (gx, gy, gz) of length g."""
+    if g <= 1e-6:
+        return 0
+    s = 1.0 / (abs(gx) + abs(gy) + abs(gz))
+    u, v = gx * s, gy * s
+    if gz < 0.0:
+        u, v = (1.0 - abs(v)) * (1.0 if u >= 0.0 else -1.0), (1.0 - abs(u)) * (1.0 if v >= 0.0 else -1.0)
+    qu = min(max(int((u + 1.0) * (0.5 * (Q - 1)) + 0.5), 0), Q - 1)
+    qv = min(max(int((v + 1.0) * (0.5 * (Q - 1)) + 0.5), 0), Q - 1)
+    return 1 + qu * Q + qv
+
+
+@njit(parallel=True, cache=True, fastmath=True)
+def _encode_kernel(u, m, sobel, inv_gmax, dirs, mags):
+    nz, ny, nx = u.shape
+    want_dir = dirs.shape[0] == nz
+    want_mag = mags.shape[0] == nz
+    for k in prange(nz):
+        for j in range(ny):
+            for i in range(nx):
+                gx, gy, gz, g = world_grad(u, m, k, j, i, sobel)
+                if want_dir:
+                    dirs[k, j, i] = _encode(gx, gy, gz, g)
+                if want_mag:
+                    mags[k, j, i] = np.uint8(np.rint(127.0 * np.sqrt(min(g * inv_gmax, 1.0))))
+
+
+def encode_normals(u: np.ndarray, nrm: np.ndarray, sobel: bool, *, directions=True, magnitudes=False):
+    """``(direction codes uint16, magnitude codes uint8)`` of the samples ``u`` [z, y, x]; each a (1, 1, 1)
+    placeholder where not asked for. ``nrm``: ``_precompute.normal_params``' (4, 3) (gradient matrix, 1 / gmax)."""
+    dirs = np.empty(u.shape, np.uint16) if directions else NO_CODES
+    mags = np.empty(u.shape, np.uint8) if magnitudes else np.zeros((1, 1, 1), np.uint8)
+    if directions or magnitudes:
+        _encode_kernel(u, np.ascontiguousarray(nrm[:3]), bool(sobel), float(nrm[3, 0]), dirs, mags)
+    return dirs, mags
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
+    """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of ``a.ncode`` (decoded
+    by ``a.ndir``) when ``want_dir`` and magnitude codes of ``a.gcode`` when ``want_mag`` (0 otherwise)."""
+    nz, ny, nx = a.vol.shape
+    gx = gy = gz = gm = 0.0
+    if nearest:
+        i = min(max(int(x + 0.5), 0), nx - 1)
+        j = min(max(int(y + 0.5), 0), ny - 1)
+        k = min(max(int(z + 0.5), 0), nz - 1)
+        if want_dir:
+            c = a.ncode[k, j, i]
+            gx, gy, gz = a.ndir[c, 0], a.ndir[c, 1], a.ndir[c, 2]
+        if want_mag:
+            gm = np.float64(a.gcode[k, j, i])
+        return gx, gy, gz, gm
+    i0, i1, fx = _cell(x, nx)
+    j0, j1, fy = _cell(y, ny)
+    k0, k1, fz = _cell(z, nz)
+    for n in range(8):
+        k = k1 if n & 4 else k0
+        j = j1 if n & 2 else j0
+        i = i1 if n & 1 else i0
+        w = (fz if n & 4 else 1.0 - fz) * (fy if n & 2 else 1.0 - fy) * (fx if n & 1 else 1.0 - fx)
+        if want_dir:
+            c = a.ncode[k, j, i]
+            gx += w * a.ndir[c, 0]
+            gy += w * a.ndir[c, 1]
+            gz += w * a.ndir[c, 2]
+        if want_mag:
+            gm += w * a.gcode[k, j, i]
+    return gx, gy, gz, gm
+

@@ -183,7 +183,8 @@ def test_every_frame_field_reaches_the_shader():
                  "lattice": "bricked out-of-core rendering (volumen.scale, cpu only)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm"}
-    not_on_gl = {"lab", "llut"}  # label maps: DeviceLimitError on gl
+    not_on_gl = {"lab", "llut",  # label maps: DeviceLimitError on gl
+                 "ncode", "gcode", "ndir"}  # normal codes: the shader computes normals from the volume (u_nmat)
     missing += [f for f in Arrays._fields
                 if f not in FrameTextures.FIELDS and packed.get(f, "?") not in src and f not in not_on_gl]
     assert not missing, missing

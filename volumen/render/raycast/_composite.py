@@ -82,10 +82,9 @@ def _init(light, r, a, s):
 @njit(cache=True, fastmath=True, inline="always")
 def _post(light, r, a, s, st, k, t, c):
     """Composite the classified sample ``c`` taken at ``t`` (sample ``k``): ``(state, 0, done)``."""
-    seg = s.ds
-    if k == 0 or k == r.n - 1:
+    if k == 0 or k == r.n - 1:  # the end samples stand for less than a step
         seg = (r.t1 if k == r.n - 1 else t + 0.5 * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
-    c = _corrected(c, seg, s.ds)
+        c = _corrected(c, seg, s.ds)
     if c[3] > 0.0:
         c = lit(light, r, a, s, t, c, s.gradop)
     st, done = _accumulate(st, c, t, s.et)

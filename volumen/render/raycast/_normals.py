@@ -3,8 +3,8 @@
 Per voxel the world-space gradient (central differences, or 3x3x3 Sobel, in
 index space, turned into world space through the inverse transpose of the
 affine: ``_sample.world_grad``) is stored as its unit direction, quantized
-with the octahedral map onto a 255 x 255 grid (largest angular error about
-0.5 degree) -- code ``1 + 255 qu + qv``, code 0 for a vanishing gradient.
+with the octahedral map onto a 255 x 255 grid (largest angular error 0.93
+degree, mean 0.3) -- code ``1 + 255 qu + qv``, code 0 for a vanishing gradient.
 That is 2 bytes a voxel (an int16 volume's own size), built once per volume
 in one parallel pass, where computing the gradients of the 8 corners at every
 sample cost the ray caster most of its shading time. :data:`DIRS` decodes a

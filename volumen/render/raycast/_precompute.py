@@ -6,13 +6,11 @@ kernels then only read arrays.
 * ``normalized``: float32 ``[z, y, x]``, the data mapped linearly so that the
   volume's value range ``[vmin, vmax]`` becomes ``[0, NLUT - 1]``: a sample is
   directly an index into the transfer-function table. NaN becomes 0.
-* normals: none stored (8 bytes a voxel were 4x an int16 volume): the kernels
-  compute them from the samples where they are needed (``_sample.sample_normal``:
-  per voxel the world-space unit gradient and the magnitude code
-  ``127 * sqrt(|g| / gmax)``, interpolated). Gradients are central differences
+* normals: the parameters (:func:`normal_params`: the index -> world gradient
+  matrix and ``gmax``, the largest |g|); the per-voxel direction codes the kernels
+  read are built from them in :mod:`._normals`. Gradients are central differences
   (or 3x3x3 Sobel) in index space, turned into world space through the inverse
-  transpose of the affine, so the voxel spacing and obliquity are accounted for;
-  here only ``gmax``, the largest |g|, is found (:func:`normal_params`).
+  transpose of the affine, so the voxel spacing and obliquity are accounted for.
 * block grid: per block of ``B^3`` voxels, the min and max of ``normalized``
   over the voxels it touches **dilated by one voxel** on every side, so a
   trilinear (or nearest) sample anywhere inside the block is bounded by them.

@@ -14,7 +14,7 @@ from numba import njit
 __all__ = ["sample_value", "sample_table", "grad_at", "world_grad", "jitter01"]
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, fastmath=True)
 def _cell(x, n):
     """Lower corner index, upper index and fraction along one axis of length ``n`` (x clamped to [0, n - 1]).
 

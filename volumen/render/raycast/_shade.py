@@ -30,7 +30,7 @@ from numba import njit
 from ..optics import phong_terms, spot_factor
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
-from ._pieces import Phong, Scatter, Shadowed, Unlit, shade, uses_normals
+from ._pieces import Phong, Scatter, Shadowed, Unlit, piece, shade, uses_normals
 from ._scatter import phase_weight
 from ._shadow import shadow_transmittance
 
@@ -118,9 +118,26 @@ def _unit_facing(n, v):
     return nx, ny, nz, False
 
 
+#: fraction of light ``li`` reaching the world point ``w``, per light tag: a piece, so a kernel of the unshadowed
+#: model does not even compile the shadow rays
+visibility = piece("visibility", "li, w, lv, dist, a, s", "-> fraction of light li reaching w")
+
+
+@visibility.register(Phong)
 @njit(cache=True, fastmath=True, inline="always")
-def _phong(a, s, n, v, w, shadowed):
-    """Phong over the lights; ``shadowed``: each light weighted by :func:`light_visibility`."""
+def _visible(li, w, lv, dist, a, s):
+    return 1.0
+
+
+@visibility.register(Shadowed)
+@njit(cache=True, fastmath=True, inline="always")
+def _visible_shadowed(li, w, lv, dist, a, s):
+    return light_visibility(li, w, lv, dist, a, s)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _phong(light, a, s, n, v, w):
+    """Phong over the lights, each weighted by its :data:`visibility` under the light tag."""
     nx, ny, nz, flat = _unit_facing(n, v)
     fr = fg = fb = s.ka
     sr = sg = sb = 0.0
@@ -133,9 +150,7 @@ def _phong(a, s, n, v, w, shadowed):
             diff, spec = phong_terms(nx, ny, nz, lx, ly, lz, v[0], v[1], v[2], s.shine)
         if diff <= 0.0:
             continue
-        wt = spot
-        if shadowed:
-            wt *= light_visibility(li, w, (lx, ly, lz), dist, a, s)
+        wt = spot * visibility(light, li, w, (lx, ly, lz), dist, a, s)
         cr = wt * a.lights[li, L_COL]
         cg = wt * a.lights[li, L_COL + 1]
         cb = wt * a.lights[li, L_COL + 2]
@@ -157,13 +172,13 @@ def _shade_unlit(a, s, n, v, w):
 @shade.register(Phong)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_phong(a, s, n, v, w):
-    return _phong(a, s, n, v, w, False)
+    return _phong(Phong(), a, s, n, v, w)
 
 
 @shade.register(Shadowed)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_shadowed(a, s, n, v, w):
-    return _phong(a, s, n, v, w, True)
+    return _phong(Shadowed(), a, s, n, v, w)
 
 
 @shade.register(Scatter)

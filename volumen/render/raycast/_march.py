@@ -89,8 +89,8 @@ def trace_pixel(px, py, a, s, out, mode, light):
         return
     st, taken, done, have = init(mode, light, r, a, s)
     prev_skip = False
-    k = 0
-    while k < r.n and not done:
+    k = r.k0
+    while k < r.k1 and not done:
         t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
         if s.skip:
             k, jumped, prev_skip = _jump(mode, r, a, s, st, k, t, prev_skip)

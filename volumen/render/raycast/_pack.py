@@ -87,7 +87,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
     gradop = tf.gradient_opacity is not None and mode == "composite"
     if (model != "unlit" and not medium_model) or gradop:
-        nrm, gmax = prep.normals(sh.phong.gradient == "sobel")
+        nrm, gmax = prep.normals(sh.phong.gradient == "sobel", magnitude=gradop)
     else:
         nrm, gmax = np.zeros((4, 3), np.float64), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
@@ -107,6 +107,8 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
 #: the label arrays of a scene without labels: one object, so a device keeps it between frames (PER_VOLUME)
 _NO_LAB = np.zeros((1, 1, 1), np.uint8)
 _NO_LLUT = np.zeros((1, 5), np.float32)
+#: no opacity carried in (a whole frame, not a part of one: ``_ray``)
+NO_CARRY = np.zeros((1, 1), np.float32)
 
 
 def _labels(scene, ratio):
@@ -185,7 +187,7 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
                     lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
-                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb)
+                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY)
     mode = "preintegrated" if t["preint"] else scene.mode
     return Frame(arrays, _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights), MODE_TAGS[mode](),
                  LIGHT_TAGS[model](), (w, h), prep, built, timings)

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..core import Camera, Image, Scene
+from ..core import Camera, Image, Scene, is_chunked
 from ..render import Technique, resolve_device
 from ._stereo import Stereo, combine, eye_cameras, eye_size
 
@@ -114,13 +114,17 @@ def raycast_device(job: FrameJob) -> str:
 def _render_one(job: FrameJob, camera: Camera, size, fraction: float, interacting: bool) -> Image:
     """One eye's picture; a chunked (OME-Zarr) volume is drawn out of core from a coarse pyramid level while
     ``interacting`` (``volumen.scale.render_view``)."""
-    from ..scale import render_view
+    from ..render.raster import render_reduced
 
     if job.mesh is not None and job.mesh_display == "instead":
         vol_img = None
+    elif is_chunked(job.scene.volume.data):
+        from ..scale import render_view
+
+        vol_img = render_view(job.scene, camera, size, fraction, interacting=interacting)
     else:
-        vol_img = render_view(job.scene, camera, size, fraction, interacting=interacting, device=raycast_device(job),
-                              technique=job.technique)
+        vol_img = render_reduced(job.scene, camera, size, fraction, device=raycast_device(job),
+                                 technique=job.technique)
     if job.mesh is None or job.mesh_display == "hidden":
         return vol_img
     from ..render.raster import render_mesh

@@ -2,6 +2,7 @@
 #   make demo   - create .venv, install, write the phantom montages and renderings into out/
 #   make test   - create .venv, install with test extras, lint (ruff), run the whole suite
 #   make fuzz   - a long seeded fuzz campaign over every reader (table per format)
+#   make huge   - an 8 GiB OME-Zarr drawn out of core with a 1 GiB cache: peak RSS vs its bound (minutes)
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -9,7 +10,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test fuzz install system-data browser clean
+.PHONY: demo test fuzz huge install system-data browser clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -59,6 +60,11 @@ test: $(STAMP) system-data browser
 FUZZ_ARGS ?= --mutants 12000 --seed 1
 fuzz: $(STAMP)
 	$(PY) -m volumen.io.fuzz $(FUZZ_ARGS)
+
+# The 2048x2048x1024 int16 synthetic volume (8 GiB of disk, written to a temporary folder and deleted)
+# drawn out of core in a fresh process; prints its peak RSS, the cache, the bound and the time (issue 16).
+huge: $(STAMP)
+	$(VENV)/bin/volumen bench scale --huge
 
 clean:
 	rm -rf $(VENV) out test-output

@@ -9,6 +9,8 @@ the benchmark ``--quick``. Placeholders the README uses for the reader's own dat
 * ``scan/``: a DICOM series (pydicom) of the torso phantom, series UID ``1.2.840.99.1`` (for ``1.2.840...``);
 * ``head.nii.gz``: the head phantom as NIfTI (nibabel);
 * ``segmentations/``: a TotalSegmentator-style folder, ``aorta.nii.gz`` = the torso phantom's aorta;
+* ``manifest.csv``: a batch of one study (``head.nii.gz``), one
+  small picture each, drawn on one worker;
 * ``../shared/data/``: the shared data folder (those commands skip, saying so, where it is missing).
 
 Each command must exit with 0 and write its outputs.
@@ -28,7 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SERIES = "1.2.840.99.1"
 SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"}}
 EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-vtk", "--repeat", "1"],
-         "demo": ["--size", "24"]}
+         "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"]}
 
 
 def readme_commands() -> list[str]:
@@ -88,7 +90,17 @@ def workdir(tmp_path_factory):
     torso = phantom("torso")
     (d / "segmentations").mkdir()
     _nifti(d / "segmentations" / "aorta.nii.gz", torso.meta["truth"]["aorta"].mask.astype(np.uint8), torso.affine)
+    _manifest(d / "manifest.csv")
     return d
+
+
+def _manifest(path: Path) -> None:
+    import csv
+
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["id", "path", "settings", "outputs"])
+        w.writerow(["head", "head.nii.gz", '{"size": [24, 24]}', "png"])
 
 
 def _outputs(argv: list[str]) -> list[str]:

@@ -301,3 +301,32 @@ def test_3d_view_ray_casts_on_gl_with_a_reduced_drag(make_window, qtbot):
     assert final.final and final.stats["renderer"]["device"] == "gl"
     cpu = render_frame(dataclasses.replace(win.frame_job(), device="cpu", camera=final.camera))
     assert np.abs(cpu.rgb.astype(float) - final.rgb.astype(float)).mean() <= 2.0
+
+
+def test_chunked_volume_drags_at_a_coarse_level_and_refines_to_the_full_one(make_window, qtbot, tmp_path):
+    """An OME-Zarr of 96 x 128 x 128 (levels 128, 64, 32 voxels on the long side) in the 160 px view: frames
+    during a drag come from a coarser level (the reduced viewport's side is 80 or 40 px: level 1 or 2, about
+    one voxel per pixel), the refined frame after the release from level 0."""
+    pytest.importorskip("zarr", reason="the scale extra (zarr) is not installed")
+    import volumen
+    from volumen.scale import write_synthetic
+
+    path = tmp_path / "s.ome.zarr"
+    write_synthetic(path, (96, 128, 128), chunks=32)
+    win = make_window(load=False)
+    win.set_volume(volumen.load(path), str(path))
+    assert win.wait_for_final(120)
+    assert win.view3d.frame.stats["level"] == 0
+    frames = []
+    win.worker.frame_ready.connect(frames.append)
+    v = win.view3d
+    qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(80, 80))
+    qtbot.mouseMove(v, QPoint(90, 80))
+    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=60000)
+    qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(90, 80))
+    assert win.wait_for_final(120)
+    reduced = [f for f in frames if not f.final]
+    expected = {0.5: 1, 0.25: 2}[reduced[0].fraction]
+    assert reduced[0].stats["level"] == expected and reduced[0].rgb.shape == (VIEW, VIEW, 3)
+    assert frames[-1].final and frames[-1].stats["level"] == 0
+    assert frames[-1].rgb.any()

@@ -3,7 +3,8 @@
 A :class:`FrameJob` is everything that decides the 3D view's picture (the
 scene, the camera, the size, the technique, brightness, stereo, a mesh); the
 render worker turns it into :class:`Frame` objects with :func:`render_frame`
-(at a reduced viewport while the user drags) or :func:`progressive_frames`
+(at a reduced viewport while the user drags -- and, for a chunked OME-Zarr
+volume, from a coarse pyramid level) or :func:`progressive_frames`
 (the full picture; path tracing refines step by step). The same function
 makes screenshots at any size, so what is saved is what is shown.
 """
@@ -17,7 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..core import Camera, Image, Scene
+from ..core import Camera, Image, Scene, is_chunked
 from ..render import Technique, resolve_device
 from ._stereo import Stereo, combine, eye_cameras, eye_size
 
@@ -110,11 +111,17 @@ def raycast_device(job: FrameJob) -> str:
     return job.device
 
 
-def _render_one(job: FrameJob, camera: Camera, size, fraction: float) -> Image:
+def _render_one(job: FrameJob, camera: Camera, size, fraction: float, interacting: bool) -> Image:
+    """One eye's picture; a chunked (OME-Zarr) volume is drawn out of core from a coarse pyramid level while
+    ``interacting`` (``volumen.scale.render_view``)."""
     from ..render.raster import render_reduced
 
     if job.mesh is not None and job.mesh_display == "instead":
         vol_img = None
+    elif is_chunked(job.scene.volume.data):
+        from ..scale import render_view
+
+        vol_img = render_view(job.scene, camera, size, fraction, interacting=interacting)
     else:
         vol_img = render_reduced(job.scene, camera, size, fraction, device=raycast_device(job),
                                  technique=job.technique)
@@ -156,7 +163,7 @@ def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) ->
     stats = {}
     pics = []
     for cam in cams:
-        img = _render_one(job, cam, esize, fraction)
+        img = _render_one(job, cam, esize, fraction, interacting=not final)
         stats = img.stats
         pics.append(to_rgb(img, job.brightness, job.background))
     rgb = combine(pics, job.stereo, job.size)

@@ -2,10 +2,11 @@
 and batch throughput (studies a minute) on a Dask LocalCluster.
 
 The volume is a synthetic noisy blob (int16) written to a temporary OME-Zarr;
-both renders use the same scene (``Sampling.lattice``, no early termination,
-so the pictures agree within 1e-5: the table prints the largest difference).
-Peak memory of the out-of-core render is traced (``tracemalloc``: NumPy and
-Zarr buffers) and set beside the cache bound and the volume's size.
+both renders use the same scene (default sampling: jitter, early termination
+at 0.99), so the pictures agree within 1e-5: the table prints the largest
+difference. Peak memory of the out-of-core render is the peak RSS of a fresh
+process (:mod:`._scale_memory`), set beside its baseline (the same process
+before the render), the cache bound and the volume's size.
 """
 
 from __future__ import annotations
@@ -13,14 +14,13 @@ from __future__ import annotations
 import csv
 import tempfile
 import time
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
 
 from ._table import Table, median_time
 
-__all__ = ["bench_scale"]
+__all__ = ["bench_scale", "bench_scale_huge"]
 
 FULL = dict(edge=256, chunk=64, memory=8 << 20, size=(384, 384), studies=40, study_edge=64)
 QUICK = dict(edge=64, chunk=16, memory=64 << 10, size=(64, 64), studies=6, study_edge=32)
@@ -37,7 +37,7 @@ def _scene(v, mode):
     from ..core import Sampling, Scene, TransferFunction
 
     tf = TransferFunction.window_level(600, 500, opacity=(0.0, 0.5))
-    return Scene(volume=v, transfer=tf, mode=mode, sampling=Sampling(early_termination=1.0, lattice=True))
+    return Scene(volume=v, transfer=tf, mode=mode, sampling=Sampling())
 
 
 def _render_rows(table, tmp: Path, edge, chunk, memory, size, repeat):
@@ -45,6 +45,7 @@ def _render_rows(table, tmp: Path, edge, chunk, memory, size, repeat):
     from ..io import save
     from ..render import render
     from ..scale import render_bricked
+    from ._scale_memory import out_of_core_peak
 
     v = Volume(_blob(edge))
     path = tmp / "blob.ome.zarr"
@@ -54,14 +55,13 @@ def _render_rows(table, tmp: Path, edge, chunk, memory, size, repeat):
         scene = _scene(v, mode)
         t_mem = median_time(lambda s=scene: render(s, cam, size), repeat)
         t_ooc = median_time(lambda s=scene: render_bricked(path, s, cam, size, memory=memory), repeat)
-        tracemalloc.start()
         out = render_bricked(path, scene, cam, size, memory=memory)
-        peak = tracemalloc.get_traced_memory()[1]
-        tracemalloc.stop()
+        peak = out_of_core_peak(path, scene.with_(volume=None), cam, size, memory)
         diff = float(np.abs(out.rgba - render(scene, cam, size).rgba).max())
         table.add(case=f"{mode} {edge}^3 int16 -> {size[0]}x{size[1]}", in_memory_s=t_mem, out_of_core_s=t_ooc,
                   ratio=t_ooc / t_mem, bricks=f"{out.stats['bricks_drawn']}/{out.stats['bricks']}",
-                  peak_mib=peak / 2**20, cache_mib=memory / 2**20, volume_mib=v.data.nbytes / 2**20, max_diff=diff)
+                  peak_mib=peak["peak"] / 2**20, growth_mib=(peak["peak"] - peak["baseline"]) / 2**20,
+                  cache_mib=memory / 2**20, volume_mib=v.data.nbytes / 2**20, max_diff=diff)
 
 
 def _batch_row(table, tmp: Path, studies, edge, workers):
@@ -93,16 +93,59 @@ def bench_scale(*, quick: bool = False, repeat: int = 3, workers: int = 2) -> Ta
     cfg = QUICK if quick else FULL
     table = Table("Out-of-core and distributed rendering", [
         ("case", "case", "s"), ("in_memory_s", "in memory s", ".3f"), ("out_of_core_s", "out of core / batch s", ".3f"),
-        ("ratio", "ratio", ".2f"), ("bricks", "bricks drawn", "s"), ("peak_mib", "peak MiB", ".1f"),
+        ("ratio", "ratio", ".2f"), ("bricks", "bricks drawn", "s"), ("peak_mib", "peak RSS MiB", ".1f"),
+        ("growth_mib", "RSS growth MiB", ".1f"),
         ("cache_mib", "cache MiB", ".1f"), ("volume_mib", "volume MiB", ".1f"), ("max_diff", "max |diff|", ".1e"),
         ("studies_per_min", "studies/min", ".1f")])
     with tempfile.TemporaryDirectory(prefix="volumen-bench-scale-") as d:
         tmp = Path(d)
         _render_rows(table, tmp, cfg["edge"], cfg["chunk"], cfg["memory"], cfg["size"], repeat)
         _batch_row(table, tmp, cfg["studies"], cfg["study_edge"], workers)
-    table.notes.append("ratio: out-of-core time / in-memory time, the same scene (lattice sampling, no early "
-                       "termination); the out-of-core render reads every brick from the OME-Zarr through the cache")
-    table.notes.append("peak MiB: traced (tracemalloc) peak of one out-of-core render; compile time excluded "
-                       "(a warm-up render)")
+    table.notes.append("ratio: out-of-core time / in-memory time, the same scene (default sampling, early "
+                       "termination on); the out-of-core render reads its bricks from the OME-Zarr through the cache")
+    table.notes.append("peak RSS: VmHWM of a fresh process drawing once out of core; growth: over its VmHWM after "
+                       "a warm-up render of a tiny OME-Zarr (imports, compiled kernels)")
     table.notes.append("batch: the wall time includes starting the LocalCluster and its workers")
+    return table
+
+
+HUGE = dict(shape=(1024, 2048, 2048), chunk=64, brick=128, memory=1 << 30, size=(512, 512))
+
+
+def bench_scale_huge(*, folder=None, **cfg) -> Table:
+    """``volumen bench scale --huge``: the 2048 x 2048 x 1024 int16 synthetic volume (8 GiB, written plane by
+    plane as OME-Zarr in a temporary folder under ``folder``, deleted afterwards) drawn out of core in a fresh
+    process; its peak RSS against the bound of :func:`._scale_memory.memory_bound`."""
+    import shutil
+
+    from ..core import Camera, Scene, TransferFunction
+    from ..scale import write_synthetic
+    from ._scale_memory import memory_bound, out_of_core_peak
+
+    c = {**HUGE, **cfg}
+    table = Table("Out-of-core rendering of a volume larger than the cache", [
+        ("case", "case", "s"), ("write_s", "write s", ".0f"), ("render_s", "render s", ".1f"),
+        ("bricks", "bricks drawn", "s"), ("chunk_reads", "chunk reads", "d"), ("cache_mib", "cache MiB", ".0f"),
+        ("baseline_mib", "baseline MiB", ".0f"), ("peak_mib", "peak RSS MiB", ".0f"), ("bound_mib", "bound MiB", ".0f"),
+        ("volume_mib", "volume MiB", ".0f")])
+    tmp = Path(tempfile.mkdtemp(prefix="volumen-huge-", dir=folder))
+    try:
+        t0 = time.perf_counter()
+        v = write_synthetic(tmp / "huge.ome.zarr", c["shape"], chunks=c["chunk"])
+        t_write = time.perf_counter() - t0
+        scene = Scene(transfer=TransferFunction.window_level(600, 500, opacity=(0.0, 0.6)), mode="composite")
+        r = out_of_core_peak(tmp / "huge.ome.zarr", scene, Camera.orbit(v, azimuth=30, elevation=20), c["size"],
+                             c["memory"], brick=c["brick"])
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    bound = memory_bound(r["baseline"], c["memory"], c["size"], (c["brick"] + 3) ** 3, c["chunk"] ** 3 * 2)
+    nz, ny, nx = c["shape"]
+    table.add(case=f"composite headlight {nx}x{ny}x{nz} int16 -> {c['size'][0]}x{c['size'][1]}, bricks {c['brick']}",
+              write_s=t_write, render_s=r["seconds"], bricks=f"{r['bricks_drawn']}/{r['bricks']}",
+              chunk_reads=r["chunk_reads"], cache_mib=c["memory"] / 2**20, baseline_mib=r["baseline"] / 2**20,
+              peak_mib=r["peak"] / 2**20, bound_mib=bound / 2**20, volume_mib=v.data.nbytes / 2**20)
+    table.notes.append("peak RSS: VmHWM of the child process; baseline: its VmHWM after importing volumen and "
+                       "drawing a tiny OME-Zarr out of core (compiled kernels, Zarr); bound: baseline + cache + "
+                       "picture buffers + one brick's working set + a fixed margin (volumen/bench/_scale_memory.py)")
+    table.notes.append("the volume is written plane by plane and deleted afterwards")
     return table

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..core import Camera, Scene, gestures
+from ..core import Camera, Scene, gestures, is_chunked
 from ..render import render_reduced
 from ._loop import REDUCED_FRACTION, RenderLoop
 
@@ -36,8 +36,14 @@ class ViewState:
 
 
 def draw_frame(state: ViewState, fraction: float = 1.0) -> np.ndarray:
-    """uint8 ``(H, W, 3)`` picture of ``state``: ``volumen.render`` (at ``fraction`` of the size, upscaled)."""
-    return render_reduced(state.scene, state.camera, state.size, fraction, **dict(state.how)).to_uint8()
+    """uint8 ``(H, W, 3)`` picture of ``state``: ``volumen.render`` (at ``fraction`` of the size, upscaled); a
+    chunked (OME-Zarr) volume out of core, from a coarse pyramid level while reduced (``fraction < 1``: the
+    user drags), see ``volumen.scale.render_view``."""
+    if not is_chunked(state.scene.volume.data):
+        return render_reduced(state.scene, state.camera, state.size, fraction, **dict(state.how)).to_uint8()
+    from ..scale import render_view
+
+    return render_view(state.scene, state.camera, state.size, fraction, interacting=fraction < 1.0).to_uint8()
 
 
 def drag_kind(button: int, modifiers) -> str | None:

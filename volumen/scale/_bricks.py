@@ -5,7 +5,8 @@ A brick owns the cells between voxel centres ``lo .. hi`` (inclusive, global
 ``[z, y, x]`` indices; neighbours share the boundary voxel, the one-voxel
 overlap trilinear interpolation needs) and reads ``pad`` more voxels each side
 when the shading needs gradients there. It is drawn clipped to its own cell
-box, so every sample of the whole volume's lattice (``Sampling.lattice``)
+box, and its rays follow the whole volume's sample grid
+(``volumen.render.raycast.render_part``), so every sample of the whole ray
 falls in exactly one brick: the box is a world crop when the affine is
 axis-aligned (neighbours then compute the same ray parameter at their shared
 face, bit for bit), else a voxel crop. Its values are normalized with the
@@ -28,7 +29,8 @@ import numpy as np
 
 from ..core import Clipping, Volume
 
-__all__ = ["Brick", "BrickVolume", "brick_grid", "visibility_order", "brick_scene", "needs_gradients"]
+__all__ = ["Brick", "BrickVolume", "brick_grid", "visibility_order", "brick_scene", "needs_gradients",
+           "screen_tiles"]
 
 
 @dataclass(frozen=True)
@@ -143,8 +145,25 @@ def needs_gradients(scene) -> bool:
 
 
 def brick_scene(scene, volume, clipping):
-    """The scene drawn for one brick: its volume and clipping, samples on the global lattice."""
-    return replace(scene, volume=volume, clipping=clipping, sampling=replace(scene.sampling, lattice=True))
+    """The scene drawn for one brick: its volume and clipping."""
+    return replace(scene, volume=volume, clipping=clipping)
+
+
+def screen_tiles(brick, affine, camera, size, tile: int) -> np.ndarray | None:
+    """Indices (row-major) of the ``tile``-pixel tiles of a ``size = (w, h)`` picture that the brick's cells
+    may cover (their projected bounding box, one pixel wider); None (every tile) when a corner lies behind a
+    perspective eye."""
+    corners = np.array(list(itertools.product(*zip(brick.lo[::-1], brick.hi[::-1], strict=True))), float)
+    w = corners @ np.asarray(affine)[:3, :3].T + np.asarray(affine)[:3, 3]
+    if camera.projection == "perspective" and np.any((w - camera.position) @ camera.basis()[2] <= 1e-6):
+        return None
+    colrow, _ = camera.project(w, size)
+    ntx, nty = -(-int(size[0]) // tile), -(-int(size[1]) // tile)
+    x0, y0 = (np.floor(colrow.min(axis=0)) - 1) // tile
+    x1, y1 = (np.floor(colrow.max(axis=0)) + 1) // tile
+    xs = np.arange(max(int(x0), 0), min(int(x1), ntx - 1) + 1)
+    ys = np.arange(max(int(y0), 0), min(int(y1), nty - 1) + 1)
+    return (ys[:, None] * ntx + xs[None, :]).ravel().astype(np.int64)
 
 
 def brick_visible(scene, bmin: float, bmax: float, value_range) -> bool:

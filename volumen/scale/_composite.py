@@ -8,6 +8,12 @@ as their front-to-back order is kept (a tree of workers, or one by one):
 - composite: ``front + (1 - front.alpha) * back``; depth: the nearest;
 - mip / minip: per pixel the partial with the larger / smaller value (ties:
   the front one, as the ray caster keeps the first extreme it meets).
+
+Drawn one after the other, front to back, composite partials carry the
+opacity in front into the next one (``volumen.render.raycast.render_part``):
+such a partial's colour is already seen through the opacity in front and its
+alpha is the opacity accumulated up to its back, so :func:`add_carried` adds
+the colours and keeps the larger alpha (the back one wherever it drew).
 """
 
 from __future__ import annotations
@@ -16,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Partial", "combine", "empty_partial", "MODES"]
+__all__ = ["Partial", "combine", "add_carried", "empty_partial", "MODES"]
 
 MODES = ("composite", "mip", "minip")
 
@@ -56,3 +62,11 @@ def combine(front: Partial, back: Partial, mode: str) -> Partial:
     fv, bv = front.value, back.value
     beats = bv > fv if mode == "mip" else bv < fv
     return _pick(front, back, ~np.isnan(bv) & (np.isnan(fv) | beats))
+
+
+def add_carried(front: Partial, back: Partial) -> Partial:
+    """``back`` drawn with ``front``'s opacity carried in, added to ``front`` (composite; see the module
+    docstring)."""
+    rgba = front.rgba + back.rgba
+    rgba[..., 3] = np.maximum(front.rgba[..., 3], back.rgba[..., 3])
+    return Partial(rgba, np.minimum(front.depth, back.depth), front.value)

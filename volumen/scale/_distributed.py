@@ -5,7 +5,9 @@ stored per-chunk ranges) and submits one task per brick; each worker opens
 the OME-Zarr itself and reads only its brick's chunks. Neighbouring partials
 are then combined pairwise, level by level, on the workers: the operators are
 associative, so any grouping that keeps the order gives the single-process
-picture (:func:`~._outofcore.render_bricked`).
+picture (:func:`~._outofcore.render_bricked`) -- without early ray
+termination (``Sampling.early_termination = 1``): bricks drawn at once cannot
+carry the opacity in front of them, so each ray runs through every brick.
 """
 
 from __future__ import annotations
@@ -14,17 +16,21 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from ..core import Image
 from ._bricks import brick_visible
 from ._composite import combine, empty_partial
-from ._outofcore import _chunk_range, draw_brick, open_source, plan
+from ._outofcore import _chunk_range, draw_brick, open_source, plan, whole_geometry
 
 __all__ = ["render_distributed"]
 
 
 def _draw_on_worker(path, level, b, scene, camera, size, vr):
     src = open_source(path, level)
-    return draw_brick(src, src.data, b, scene, camera, size, vr)
+    w, h = size
+    return draw_brick(src, src.data, b, scene, camera, size, vr, whole_geometry(src, scene),
+                      np.zeros((h, w), np.float32))
 
 
 def _combine_on_worker(front, back, mode):

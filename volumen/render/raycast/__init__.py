@@ -18,7 +18,7 @@ from ._stamp import installed, stamp_sources  # first: the Numba cache stamp, be
 
 # isort: split
 from ._cache import clear_cache, prepare, prepared_volumes
-from ._cpu import frame_image, render_cpu
+from ._cpu import TILE, frame_image, render_cpu, render_part
 from ._frame import FAR, PER_VOLUME, Arrays, Frame, Outputs, Settings
 from ._geometry import G_BOX, pack_geometry, to_index
 from ._iso import iso_refine
@@ -42,7 +42,8 @@ from ._params import (
 from ._pathtrace import PathTracer, trace_path
 from ._sample import sample_value
 
-__all__ = ["render_cpu", "clear_cache", "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
+__all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
+           "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
            "iso_refine", "prepare", "prepared_volumes", "pack_frame", "frame_image", "Frame", "Arrays", "Settings",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",

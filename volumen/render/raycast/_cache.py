@@ -63,7 +63,7 @@ class Prepared:
         else:  # floats (NaN to clear) and strided views: one normalized float32 copy
             self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0
         self.affine = np.array(volume.affine, dtype=float)
-        self._normals: dict[bool, tuple[np.ndarray, float]] = {}
+        self._normals: dict[tuple[bool, bool], tuple[np.ndarray, float]] = {}
         self._codes: dict[tuple[bool, bool, bool], tuple[np.ndarray, np.ndarray]] = {}
         self._blocks: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._memo: dict = {}
@@ -73,20 +73,24 @@ class Prepared:
         """Data value -> normalized units (not clipped)."""
         return (float(value) - self.vmin) / self.scale
 
-    def normals(self, sobel: bool) -> tuple[np.ndarray, float]:
-        """``(normal parameters (4, 3) float64, gmax data units / mm)``; see :func:`normal_params`."""
-        if sobel not in self._normals:
+    def normals(self, sobel: bool, magnitude: bool = True) -> tuple[np.ndarray, float]:
+        """``(normal parameters (4, 3) float64, gmax data units / mm)``; see :func:`normal_params` (without
+        ``magnitude`` no pass over the volume, unless one was made before)."""
+        if (sobel, True) in self._normals:
+            return self._normals[sobel, True]
+        if (sobel, magnitude) not in self._normals:
             t = time.perf_counter()
-            self._normals[sobel] = normal_params(self.u, self.affine, self.scale * self.ufac, sobel)
+            self._normals[sobel, magnitude] = normal_params(self.u, self.affine, self.scale * self.ufac, sobel,
+                                                            magnitude)
             self.timings["normals"] = time.perf_counter() - t
-        return self._normals[sobel]
+        return self._normals[sobel, magnitude]
 
     def codes(self, sobel: bool, directions: bool, magnitudes: bool) -> tuple[np.ndarray, np.ndarray]:
         """``(direction codes, magnitude codes)`` per voxel (``_normals.encode_normals``); only the last asked
         for are kept (a volume's codes are as large as its data)."""
         key = (sobel, directions, magnitudes)
         if key not in self._codes:
-            nrm = self.normals(sobel)[0]
+            nrm = self.normals(sobel, magnitudes)[0]  # 1 / gmax only for the magnitude codes
             t = time.perf_counter()
             self._codes = {key: encode_normals(self.u, nrm, sobel, directions=directions, magnitudes=magnitudes)}
             self.timings["normal codes"] = time.perf_counter() - t

@@ -76,7 +76,7 @@ def _accumulate(st, c, t, et):
 @init.register(Composite, LabelledComposite, Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
 def _init(light, r, a, s):
-    return (0.0, 0.0, 0.0, 0.0, FAR, 0.0, r.t0), 0, False, False
+    return (0.0, 0.0, 0.0, r.a0, FAR, 0.0, r.t0), 0, r.a0 >= s.et, False
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -19,7 +19,7 @@ from ._geometry import footprint
 from ._march import render_tiles
 from ._pack import pack_frame
 
-__all__ = ["render_cpu", "tile_order", "TILE", "frame_image"]
+__all__ = ["render_cpu", "render_part", "tile_order", "TILE", "frame_image"]
 
 TILE = 16
 
@@ -78,3 +78,36 @@ def render_cpu(scene, camera, size: tuple[int, int]):
     timings = dict(f.timings, kernel=time.perf_counter() - t)
     timings["total"] = time.perf_counter() - t_start
     return frame_image(scene, f, out, timings, {"backend": "cpu"}, _tiles_cover(bounds))
+
+
+def render_part(scene, camera, size: tuple[int, int], whole, carry: np.ndarray, tiles=None):
+    """Draw ``scene`` (a part of a larger region: a brick) on the sample grid of the ``whole`` region, each
+    ray starting at the opacity carried in (see ``_ray``); CPU only.
+
+    Parameters
+    ----------
+    whole : (24,) float64
+        The whole region's packed geometry (:func:`~._geometry.pack_geometry` of the whole volume and the
+        scene's clipping): the rays sample its grid, and draw the samples inside ``scene``'s own region.
+    carry : (H, W) float32
+        Opacity accumulated in front of the part, per pixel (composite: a ray stops where the whole ray stops).
+    tiles : int64 array, optional
+        Indices of the 16x16 tiles to trace (row-major); the others are left empty (transparent, depth inf).
+
+    Returns
+    -------
+    Image
+        composite: ``rgba`` the part's colour seen through the opacity in front (add it to the colour in
+        front) and alpha the opacity accumulated to the part's back side; other modes as ``render_cpu``.
+    """
+    t_start = time.perf_counter()
+    f = pack_frame(scene, camera, size)
+    w, h = f.size
+    out = Outputs(np.zeros((h, w, 4), np.float32), np.full((h, w), FAR, np.float32),
+                  np.full((h, w), FAR, np.float32), np.zeros((h, w), np.int32))
+    arrays = f.arrays._replace(whole=np.asarray(whole, np.float64), carry=np.asarray(carry, np.float32))
+    order = tile_order(w, h) if tiles is None else np.asarray(tiles, np.int64)
+    t = time.perf_counter()
+    render_tiles(order, TILE, arrays, f.settings._replace(part=True), out, f.mode, f.light)
+    timings = dict(f.timings, kernel=time.perf_counter() - t, total=time.perf_counter() - t_start)
+    return frame_image(scene, f, out, timings, {"backend": "cpu"})

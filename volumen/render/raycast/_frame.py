@@ -56,6 +56,8 @@ class Arrays(NamedTuple):
     lab: np.ndarray     #: label map [z, y, x] on the volume's grid (``_labelled``), (1, 1, 1) when unused
     llut: np.ndarray    #: per label value (r, g, b, opacity, textured) (n, 5) (``_labelled``)
     rgb: np.ndarray     #: colour volume's RGB [z, y, x, 3] uint8 (``_color``), (1, 1, 1, 3) for a scalar volume
+    whole: np.ndarray   #: packed region whose sample grid the rays follow: ``geo`` itself, or a part's whole (``_ray``)
+    carry: np.ndarray   #: a part's opacity carried in per pixel (H, W) float32 (``_ray``), (1, 1) when unused
 
 
 #: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
@@ -99,6 +101,7 @@ class Settings(NamedTuple):
     bounces: int = 1         #: path tracing: most scattering events per path
     nlab: int = 0            #: label-aware classification (rows of ``Arrays.llut``; 0: off)
     color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
+    part: bool = False       #: draw the samples of ``Arrays.whole``'s grid inside ``geo`` only (a brick, ``_ray``)
 
 
 class Outputs(NamedTuple):

@@ -94,8 +94,8 @@ def trace_pixel(px, py, a, s, out, mode, light):
     st, taken, done, have = init(mode, light, r, a, s)
     prev_skip = False
     t_check = r.t0 - 1.0
-    k = 0
-    while k < r.n and not done:
+    k = r.k0
+    while k < r.k1 and not done:
         t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
         if s.skip and t >= t_check:
             k, jumped, prev_skip, t_check = _jump(mode, r, a, s, st, k, t, prev_skip)

@@ -93,7 +93,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     ncode, gcode = NO_CODES, _NO_MAGS
     if shaded or gradop:
         sobel = sh.phong.gradient == "sobel"
-        nrm, gmax = prep.normals(sobel)
+        nrm, gmax = prep.normals(sobel, magnitude=gradop)
         ncode, gcode = prep.codes(sobel, shaded, gradop)
     else:
         nrm, gmax = np.zeros((4, 3), np.float64), 0.0
@@ -115,6 +115,8 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
 _NO_LAB = np.zeros((1, 1, 1), np.uint8)
 _NO_LLUT = np.zeros((1, 5), np.float32)
 _NO_MAGS = np.zeros((1, 1, 1), np.uint8)
+#: no opacity carried in (a whole frame, not a part of one: ``_ray``)
+NO_CARRY = np.zeros((1, 1), np.float32)
 
 
 def _labels(scene, ratio):
@@ -194,7 +196,7 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
                     ncode=t["ncode"], gcode=t["gcode"], ndir=DIRS,
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
                     lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
-                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb)
+                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY)
     settings = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights)
     mode = "preintegrated" if t["preint"] else "labelled" if settings.nlab > 0 else scene.mode
     return Frame(arrays, settings, MODE_TAGS[mode](),

@@ -64,9 +64,10 @@ def _max_gradient(u, m, sobel, slab_max):
         slab_max[k] = top
 
 
-def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: bool) -> tuple[np.ndarray, float]:
-    """What the kernels need to compute normals from the samples ``u`` (one pass over the volume, no array of
-    its size).
+def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: bool,
+                  magnitude: bool = True) -> tuple[np.ndarray, float]:
+    """What the kernels need to compute normals from the samples ``u`` (one pass over the volume when
+    ``magnitude``, no array of its size).
 
     Parameters
     ----------
@@ -76,6 +77,9 @@ def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
         Data units per sample unit (to report magnitudes in data units / mm).
     sobel : bool
         3x3x3 Sobel instead of central differences.
+    magnitude : bool
+        Find the largest gradient magnitude (the pass over the volume), which only the gradient-magnitude
+        codes need (gradient opacity); without it ``nrm[3, 0]`` and ``gmax`` are 0 (every code 0).
 
     Returns
     -------
@@ -86,8 +90,9 @@ def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
         Gradient magnitude (data units / mm) of magnitude code 127.
     """
     m = np.ascontiguousarray(np.linalg.inv(np.asarray(affine, float)[:3, :3]).T)
-    slab_max = np.zeros(u.shape[0], np.float32)
-    _max_gradient(u, m, bool(sobel), slab_max)
+    slab_max = np.zeros(u.shape[0] if magnitude else 0, np.float32)
+    if magnitude:
+        _max_gradient(u, m, bool(sobel), slab_max)
     gmax = float(slab_max.max()) if slab_max.size else 0.0
     nrm = np.zeros((4, 3), np.float64)
     nrm[:3] = m

@@ -82,7 +82,7 @@ def _init(light, r, a, s):
 def _step_post(light, r, a, s, st, k, t, v, have):
     idx = int(v + 0.5)
     if s.nlab > 0:
-        c = classify(r, a, t, idx, s.nearest)
+        c = classify(a, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, idx, s.nearest)
     else:
         al = a.lut[idx, 3]
         c = (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al)

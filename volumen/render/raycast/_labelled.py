@@ -72,21 +72,24 @@ def _add(a, lab, w, idx, acc):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def classify(r, a, t, idx, nearest):
-    """Premultiplied ``(r, g, b, alpha)`` of the sample at ray parameter ``t`` (table index ``idx``); the nearest
-    voxel's label alone when ``nearest`` (the raw voxel staircase). In a cell inside one structure (flagged by
-    :func:`packed_labels`, the common case) one label and one table row are read."""
+def classify(a, x, y, z, idx, nearest):
+    """Premultiplied ``(r, g, b, alpha)`` of the sample at voxel-index position ``(x, y, z)`` (table index
+    ``idx``); the nearest voxel's label alone when ``nearest`` (the raw voxel staircase). In a cell inside one
+    structure (flagged by :func:`packed_labels`, the common case) one label and one table row are read.
+
+    ``a`` is any record with the fields ``lab``, ``llut`` and ``lut`` (the frame's :class:`._frame.Arrays`, or
+    the light paths' :class:`._medium.Medium`): the primary rays and the light paths classify alike."""
     lab = a.lab
     nz, ny, nx = lab.shape
     zero = (0.0, 0.0, 0.0, 0.0)
     if nearest:
-        i = min(max(int(r.oi + t * r.di + 0.5), 0), nx - 1)
-        j = min(max(int(r.oj + t * r.dj + 0.5), 0), ny - 1)
-        k = min(max(int(r.ok + t * r.dk + 0.5), 0), nz - 1)
+        i = min(max(int(x + 0.5), 0), nx - 1)
+        j = min(max(int(y + 0.5), 0), ny - 1)
+        k = min(max(int(z + 0.5), 0), nz - 1)
         return _add(a, lab[k, j, i], 1.0, idx, zero)
-    i0, i1, fx = _cell(r.oi + t * r.di, nx)
-    j0, j1, fy = _cell(r.oj + t * r.dj, ny)
-    k0, k1, fz = _cell(r.ok + t * r.dk, nz)
+    i0, i1, fx = _cell(x, nx)
+    j0, j1, fy = _cell(y, ny)
+    k0, k1, fz = _cell(z, nz)
     l000 = lab[k0, j0, i0]
     if int(l000) >= (UNIFORM16 if lab.itemsize == 2 else UNIFORM8):  # a cell inside one structure
         return _add(a, l000, 1.0, idx, zero)

@@ -217,7 +217,7 @@ class _Set:
         self.keys, self.lvm, self.lvd, self.views = keys, lvm, lvd, views
 
 
-def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes, nplanes, ds0, kext, scale,
+def light_volumes(prep, keys, positions_index, box_lo, box_hi, med, geo, planes, nplanes, ds0, kext, scale,
                   method: str):
     """Meta rows ``(n, NMETA)`` float64 and the flat float32 buffer of every light's illumination volume.
 
@@ -230,6 +230,9 @@ def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes,
         function, clip box, resolution, extinction scale).
     positions_index : (n, 3) float
         Light positions in voxel indices (x, y, z).
+    med : Medium
+        What the light paths cross (``_medium``: ``prep.u`` and its optical depth, or the label-aware
+        classification).
     method : {"fast", "direct"}
         ``direct`` marks every light DIRECT and builds nothing.
 
@@ -274,8 +277,7 @@ def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes,
             if keys[i] in olds and olds[keys[i]][1] is not None:
                 view[...] = olds[keys[i]][1]
             else:
-                build_lattice(prep.u, sig, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view,
-                              norm=(prep.u0, prep.ufac))
+                build_lattice(med, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view)
                 built += 1
         views.append((m, view))
     if built:

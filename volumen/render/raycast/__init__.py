@@ -34,6 +34,7 @@ from ._lightsweep import (
 )
 from ._lightvol import plan_lattice
 from ._march import trace_pixel
+from ._medium import Medium
 from ._pack import pack_frame
 from ._params import (
     DIRECT,
@@ -56,4 +57,4 @@ __all__ = ["render_cpu", "clear_cache", "PathTracer", "G_BOX", "pack_geometry", 
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
            "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed",
-           "stamp_sources", "sweep_medium"]
+           "stamp_sources", "sweep_medium", "Medium"]

@@ -16,7 +16,7 @@ from numba import njit
 from ..optics import composite, correct_opacity
 from ._color import emission
 from ._frame import FAR
-from ._labelled import classify
+from ._labelled import classify_sample
 from ._pieces import Composite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
 from ._sample import sample_normal
@@ -82,7 +82,7 @@ def _init(light, r, a, s):
 def _step_post(light, r, a, s, st, k, t, v, have):
     idx = int(v + 0.5)
     if s.nlab > 0:
-        c = classify(a, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, idx, s.nearest)
+        c = classify_sample(a, s, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, idx)
     else:
         al = a.lut[idx, 3]
         c = (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al)

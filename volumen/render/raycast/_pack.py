@@ -15,7 +15,7 @@ import numpy as np
 from ._cache import prepare
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
-from ._labelled import label_blocks, label_table, packed_labels
+from ._labelled import label_blocks, label_table, packed_labels, solid_rows
 from ._lightvol import NMETA, light_volumes
 from ._medium import Medium, label_scale
 from ._pieces import LIGHT_TAGS, MODE_TAGS
@@ -179,6 +179,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
+        lsolid=bool(solid_rows(t["llut"]).any()),
         color=prep.is_color)
 
 

@@ -105,12 +105,12 @@ def classify(a, x, y, z, idx, nearest):
         j = min(max(int(y + 0.5), 0), ny - 1)
         k = min(max(int(z + 0.5), 0), nz - 1)
         return _add(a, lab[k, j, i], 1.0, idx, zero)
+    l000 = lab[min(max(int(z), 0), nz - 1), min(max(int(y), 0), ny - 1), min(max(int(x), 0), nx - 1)]
+    if int(l000) >= (UNIFORM16 if lab.itemsize == 2 else UNIFORM8):  # a cell inside one structure: its corner
+        return _add(a, l000, 1.0, idx, zero)
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
     k0, k1, fz = _cell(z, nz)
-    l000 = lab[k0, j0, i0]
-    if int(l000) >= (UNIFORM16 if lab.itemsize == 2 else UNIFORM8):  # a cell inside one structure
-        return _add(a, l000, 1.0, idx, zero)
     l000, l001, l010, l011 = lab[k0, j0, i0], lab[k0, j0, i1], lab[k0, j1, i0], lab[k0, j1, i1]
     l100, l101, l110, l111 = lab[k1, j0, i0], lab[k1, j0, i1], lab[k1, j1, i0], lab[k1, j1, i1]
     gx, gy, gz = 1.0 - fx, 1.0 - fy, 1.0 - fz

@@ -31,8 +31,10 @@ itself): the first ``NEAR_STEPS`` reference steps of each path are marched
 directly (:mod:`._shadow`), and the volume is read where they end.
 
 The volumes are cached on the volume's ``Prepared`` object, keyed by the
-light's world position, the transfer function, the clip box, the resolution
-and the extinction scale, and rebuilt only when one of those changes.
+light's world position, the transfer function, the clip box, the resolution,
+the extinction scale and the label map with its table (a structure shown,
+hidden or recoloured casts its own shadows: the sweep reads the medium of
+:mod:`._medium`), and rebuilt only when one of those changes.
 """
 
 from __future__ import annotations

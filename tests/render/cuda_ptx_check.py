@@ -42,7 +42,7 @@ def main() -> int:
     from volumen.core import Camera, Light, Scene, Shading, TransferFunction
     from volumen.data import phantom
     from volumen.render.cuda import _kernels
-    from volumen.render.raycast import LV_AXA, LV_AXB, LV_AXC, Outputs, PathTracer, Sweep, pack_frame
+    from volumen.render.raycast import LV_AXA, LV_AXB, LV_AXC, Medium, Outputs, PathTracer, Sweep, pack_frame
 
     vol = phantom("head", size=16)
     cam = Camera.orbit(vol)
@@ -56,8 +56,9 @@ def main() -> int:
     sig_paths = (numba.int64, numba.int64, ty(g.arrays), ty(g.settings), numba.float64, ty(pt.acc))
     a = f.arrays
     m = a.lvm[0]
-    volt = np.transpose(a.vol, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
-    sw = Sweep(volt, a.sig, np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
+    axes = tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC))
+    med = Medium(a.vol, a.sig, 0.0, 1.0, a.lab, a.llut, a.lut, 1.0, 0)
+    sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
     sig_sweep = (ty(sw), ty(np.zeros((2, 2, 2), np.float32)))
     failed = 0
     for name, kern, s in (("trace", _kernels.trace, sig), ("paths", _kernels.paths, sig_paths),

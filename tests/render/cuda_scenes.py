@@ -21,6 +21,8 @@ from volumen.core import (
     Clipping,
     ClipPlane,
     Isosurface,
+    LabelLayer,
+    LabelMap,
     Light,
     Sampling,
     Scene,
@@ -55,6 +57,17 @@ def _colour(vol: Volume) -> Volume:
     return Volume(np.rint(255 * rgb).astype(np.uint8), affine=vol.affine, spacing=vol.spacing)
 
 
+def _labels(vol: Volume) -> LabelLayer:
+    """Bone (above 400 HU) and a ball in the head, solid in their own colours over the scan's preset: the
+    primary rays, the illumination volume's sweep and the shadow rays classify through them."""
+    z, y, x = np.indices(vol.shape)
+    lab = np.zeros(vol.shape, np.uint8)
+    lab[(z - 8) ** 2 + (y - 10) ** 2 + (x - 11) ** 2 <= 16] = 2
+    lab[vol.data > 400] = 1
+    labels = LabelMap(lab, vol.spacing, vol.affine, {1: "bone", 2: "ball"}, {1: (0.95, 0.9, 0.8), 2: (0.9, 0.2, 0.2)})
+    return LabelLayer(labels, opacity={"bone": 0.6, "ball": 0.5})
+
+
 def scenes() -> dict:
     """name -> (Scene, Camera, size)."""
     vol, cam, lights = _setup()
@@ -85,6 +98,8 @@ def scenes() -> dict:
         "pathtrace": base.with_(shading=Shading(mode="pathtrace", pt_samples=PT_SAMPLES, pt_bounces=3, phase_g=0.3)),
         "colour-phong": base.with_(volume=_colour(vol), shading=Shading(mode="phong"), transfer=TransferFunction(
             color=((0, 1, 1, 1), (255, 1, 1, 1)), opacity=((0, 0), (40, 0), (255, 0.6)))),
+        "labels-scattering-fast": base.with_(lights=lights[:1], labels=_labels(vol),
+                                             shading=Shading(mode="scattering", phase_g=0.3, **lv)),
     }
     return {k: (v, cam, SIZE) for k, v in out.items()}
 

@@ -5,7 +5,8 @@
 * smooth boundaries: the silhouette of a sphere label deviates from a circle less than the raw voxel
   (nearest-label) rendering's, by a stated factor;
 * shadows from a label-only scene never add light (colour <= Phong's with the same light, 1e-5);
-* a textured structure keeps the scan's transfer-function opacity (the unlabelled scan is unchanged).
+* a textured structure keeps the scan's transfer-function opacity (the unlabelled scan is unchanged);
+* the skipping flags of solid structures equal their definition (scipy's maximum filter, per block).
 
 About 60 s, most of it compiling the composite kernels (unlit, Phong, shadows) once.
 """
@@ -160,3 +161,30 @@ def _any_projection(cam, labels):
     for v in labels.values:
         out |= _projection(cam, labels, v)
     return out
+
+
+def test_label_blocks_flag_blocks_near_a_solid_structure():
+    """The skipping flags of solid structures: 1 where a voxel within one voxel of the block holds a shown,
+    untextured label -- exactly scipy's 3x3x3 maximum filter of that mask, reduced per block."""
+    from volumen.render.raycast._labelled import label_blocks, packed_labels
+
+    rng = np.random.default_rng(3)
+    shape = (37, 41, 29)
+    z, y, x = np.indices(shape)
+    data = np.zeros(shape, np.uint8)
+    for v in range(1, 9):
+        c, r = rng.integers(0, shape), rng.integers(1, 5)
+        data[(z - c[0]) ** 2 + (y - c[1]) ** 2 + (x - c[2]) ** 2 <= r * r] = v
+    llut = np.zeros((9, 5), np.float32)
+    llut[:, 3] = [0.0, 1, 1, 0.5, 0, 1, 0.2, 1, 1]
+    llut[:, 4] = [1.0, 0, 1, 0, 0, 0, 1, 0, 1]
+    solid = (llut[:, 3] > 0) & (llut[:, 4] == 0)
+    near = ndimage.maximum_filter(solid[data].astype(np.uint8), size=3, mode="nearest")
+    for block in (4, 8):
+        g = tuple(-(-n // block) for n in shape)
+        padded = np.zeros(tuple(n * block for n in g), np.uint8)
+        padded[: shape[0], : shape[1], : shape[2]] = near
+        want = padded.reshape(g[0], block, g[1], block, g[2], block).max(axis=(1, 3, 5))
+        got = label_blocks(packed_labels(data), llut, block)
+        assert want.sum() > 0 and (want == 0).sum() > 0
+        np.testing.assert_array_equal(got, want)

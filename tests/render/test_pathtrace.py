@@ -1,5 +1,11 @@
 """Progressive path tracing: converges to the single-scattering picture, noise falls like 1/sqrt(N),
-deterministic, and energy-conserving (white furnace)."""
+deterministic, and energy-conserving (white furnace).
+
+The two convergence tests run on the head phantom and on the same scene with a label map (bone and a ball
+inside the head drawn in their own colours and opacities, the rest with the scan's transfer function): the
+path tracer's tracking and colours classify through the labels as the ray caster's primary rays and
+illumination volumes do, and converge to its picture with the same tolerances.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +15,7 @@ import numpy as np
 import pytest
 from render_helpers import sphere_volume
 
-from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import Camera, LabelLayer, LabelMap, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.data import phantom
 from volumen.render import PathTracer, render
 
@@ -30,8 +36,27 @@ def head_scene():
     return Scene(volume=vol, transfer=tf, lights=lights, shading=sh, sampling=Sampling(jitter=False)), cam
 
 
-def test_single_scattering_converges_to_the_scattering_model(head_scene, output_dir):
+def _with_labels(scene):
+    """The scene with a label map: bone (above 400 HU) and a ball in the head, solid, over the scan's preset."""
+    vol = scene.volume
+    z, y, x = np.indices(vol.shape)
+    c = (np.asarray(vol.shape) - 1) / 2
+    lab = np.zeros(vol.shape, np.uint8)
+    lab[(z - c[0]) ** 2 + (y - c[1]) ** 2 + (x - c[2] - 4) ** 2 <= 8.5 ** 2] = 2
+    lab[vol.data > 400] = 1
+    labels = LabelMap(lab, vol.spacing, vol.affine, {1: "bone", 2: "ball"}, {1: (0.95, 0.9, 0.8), 2: (0.9, 0.2, 0.2)})
+    return scene.with_(labels=LabelLayer(labels, opacity={"bone": 0.6, "ball": 0.35}))
+
+
+@pytest.fixture(scope="module", params=["scan", "labels"])
+def lit_scene(request, head_scene):
     scene, cam = head_scene
+    return (_with_labels(scene) if request.param == "labels" else scene), cam
+
+
+def test_single_scattering_converges_to_the_scattering_model(lit_scene, output_dir):
+    scene, cam = lit_scene
+    tag = "" if scene.labels is None else "_labels"
     ref = render(scene, cam, SIZE)
     pt = PathTracer(scene, cam, SIZE)
     im = pt.step(256)
@@ -39,8 +64,8 @@ def test_single_scattering_converges_to_the_scattering_model(head_scene, output_
     assert im.stats["spp"] == 512
     out = output_dir / "lighting"
     out.mkdir(exist_ok=True)
-    ref.save(out / "pt_head_scattering.png")
-    im.save(out / "pt_head_pathtrace_512spp.png")
+    ref.save(out / f"pt_head{tag}_scattering.png")
+    im.save(out / f"pt_head{tag}_pathtrace_512spp.png")
     d = np.abs(im.rgba - ref.rgba)
     assert ref.rgba[..., :3].mean() > 0.05
     assert d.mean() < 0.02, d.mean(axis=(0, 1))
@@ -48,8 +73,8 @@ def test_single_scattering_converges_to_the_scattering_model(head_scene, output_
     assert np.abs(im.rgba.mean(axis=(0, 1)) - ref.rgba.mean(axis=(0, 1))).max() < 0.005
 
 
-def test_noise_falls_like_one_over_sqrt_samples(head_scene):
-    scene, cam = head_scene
+def test_noise_falls_like_one_over_sqrt_samples(lit_scene):
+    scene, cam = lit_scene
     reference = PathTracer(scene.with_(sampling=Sampling(jitter=False, seed=99)), cam, SIZE).step(1024).rgba
     pt = PathTracer(scene, cam, SIZE)
     rms_n = np.sqrt(np.mean((pt.step(16).rgba - reference)[..., :3] ** 2))

@@ -2,13 +2,19 @@
 
 The organ phantom (int16 HU, labels on its grid), ``ct-soft-tissue``, anterior orbit, at two sizes; per
 shading model (none, headlight) the plain composite frame, the same with every structure solid at
-opacity 0.8 over the scan's preset, and textured (the scan's opacity tinted by each structure). Frame
-times are medians after a warm-up frame (which compiles the kernels); the ratio is label / plain.
+opacity 0.8 over the scan's preset, and textured (the scan's opacity tinted by each structure). After a
+warm-up frame of each (which compiles the kernels), rounds alternate the three frames, so a machine shared
+with other work slows them alike; times are medians over the rounds, the ratios medians of each round's
+label / plain.
 """
 
 from __future__ import annotations
 
-from ._table import Table, median_time, resolve_device
+import time
+
+import numpy as np
+
+from ._table import Table, resolve_device
 
 __all__ = ["bench_labels"]
 
@@ -36,10 +42,25 @@ def bench_labels(quick: bool = False, repeat: int = 3, device: str = "cpu") -> T
             plain = Scene(volume=vol, transfer=tf, shading=Shading(mode=shading))
             solid = plain.with_(labels=LabelLayer(labels, opacity=0.8))
             textured = plain.with_(labels=LabelLayer(labels, textured=True))
-            ms = {k: 1000 * median_time(lambda s=s, c=cam: render(s, c, cfg["image"], device=dev), repeat)
-                  for k, s in (("plain", plain), ("solid", solid), ("textured", textured))}
-            table.add(volume=f"{n}^3", shading=shading, plain_ms=ms["plain"], solid_ms=ms["solid"],
-                      solid_ratio=ms["solid"] / ms["plain"], textured_ms=ms["textured"],
-                      textured_ratio=ms["textured"] / ms["plain"])
-    table.notes.append(f"image {cfg['image'][0]}x{cfg['image'][1]}, median of {repeat} frames after a warm-up")
+            t = _alternate({"plain": plain, "solid": solid, "textured": textured},
+                           lambda s, c=cam: render(s, c, cfg["image"], device=dev), repeat)
+            table.add(volume=f"{n}^3", shading=shading, plain_ms=1000 * np.median(t["plain"]),
+                      solid_ms=1000 * np.median(t["solid"]), solid_ratio=np.median(t["solid"] / t["plain"]),
+                      textured_ms=1000 * np.median(t["textured"]),
+                      textured_ratio=np.median(t["textured"] / t["plain"]))
+    table.notes.append(f"image {cfg['image'][0]}x{cfg['image'][1]}, {repeat} alternating rounds after a warm-up; "
+                       "ratios: median of the rounds' ratios")
     return table
+
+
+def _alternate(scenes: dict, frame, rounds: int) -> dict:
+    """Seconds per frame of each scene (arrays of ``rounds``), one frame of each per round after a warm-up."""
+    for sc in scenes.values():
+        frame(sc)
+    times = {k: [] for k in scenes}
+    for _ in range(max(int(rounds), 1)):
+        for k, sc in scenes.items():
+            t0 = time.perf_counter()
+            frame(sc)
+            times[k].append(time.perf_counter() - t0)
+    return {k: np.asarray(v) for k, v in times.items()}

@@ -180,6 +180,7 @@ def test_every_frame_field_reaches_the_shader():
     elsewhere = {"u0": "upload", "ufac": "upload", "vmin": "value read-back", "vscale": "value read-back",
                  "bounces": "path tracing (not on gl)", "iso_r": "u_iso_rgb", "iso_g": "u_iso_rgb",
                  "iso_b": "u_iso_rgb", "nlab": "label maps (not on gl: DeviceLimitError)",
+                 "lsolid": "label maps (not on gl)",
                  "lattice": "bricked out-of-core rendering (volumen.scale, cpu only)",
                  "part": "bricked out-of-core rendering (volumen.scale, cpu only)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]

@@ -27,6 +27,7 @@ from ..raycast import (
     lattice_slice,
     lattice_step,
     lattice_transmittance_of,
+    sweep_medium,
     trace_path,
     trace_pixel,
 )
@@ -44,6 +45,7 @@ _ray = device_function(lattice_ray)
 _slice = device_function(lattice_slice)
 _step = device_function(lattice_step)
 _transmittance = device_function(lattice_transmittance_of)
+_medium = device_function(sweep_medium)
 
 
 @cuda.jit(fastmath=True)
@@ -76,8 +78,7 @@ def sweep(sw, out):
         sp = -1.0
         for st in range(nk):
             i, k, s = _slice(st, nk, k0, pa, dsl, fwd)
-            acc, sp = _step((sw.volt, sw.sig, sw.u0, sw.ufac), k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc,
-                            sp)
+            acc, sp = _step(_medium(sw), k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp)
             out[i, v, u] = _transmittance(acc, scale)
 
 

@@ -44,7 +44,7 @@ def _size(m) -> int:
     return int(m[LV_NK] * m[LV_NV] * m[LV_NU])
 
 
-def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes, nplanes, ds0, kext, scale,
+def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, med, geo, planes, nplanes, ds0, kext, scale,
                          method: str):
     """Like the CPU's illumination volumes (``raycast.pack_frame``'s default), with the buffer ``lvd`` on the device.
 
@@ -79,8 +79,9 @@ def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, 
     lvd = cuda.to_device(np.ones(1, np.float32)) if off == 0 else cuda.device_array(off, np.float32)
     built = 0
     t = time.perf_counter()
-    d_u = dev.put("vol", prep.u, same_object=True)
-    d_sig = dev.put("sig", sig)
+    d_med = med._replace(vol=dev.put("vol", med.vol, same_object=True), sig=dev.put("sig", med.sig),
+                         lab=dev.put("lab", med.lab, same_object=True), llut=dev.put("llut", med.llut),
+                         lut=dev.put("lut", med.lut))
     d_aff = dev.put("aff", np.ascontiguousarray(np.asarray(prep.affine, float)[:3, :4]))
     d_geo = dev.put("geo", geo)
     d_planes = dev.put("planes", planes)
@@ -93,10 +94,10 @@ def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, 
             oo = int(olds[keys[i]][LV_OFF])
             lvd[o:o + size].copy_to_device(old.lvd[oo:oo + size])
             continue
-        volt = permuted(d_u, tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC)))
+        axes = tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC))
         blocks, threads = _kernels.grid_2d(shape[2], shape[1])
-        sw = Sweep(volt, d_sig, d_aff, d_geo, d_planes, cuda.to_device(m), int(nplanes), float(ds0), float(kext),
-                   prep.u0, prep.ufac)
+        sw = Sweep.of(d_med, lambda x, axes=axes: permuted(x, axes), d_aff, d_geo, d_planes, cuda.to_device(m),
+                      nplanes, ds0, kext)
         _kernels.sweep[blocks, threads](sw, lvd[o:o + size].reshape(shape))
         built += 1
     if built:

@@ -4,7 +4,8 @@ One marching skeleton (``_march``) specialised per mode (``_composite``,
 ``_project``, ``_iso``) and per shading model (``_shade``) through tags
 (``_pieces``); the frame's arrays and settings declared once (``_frame``).
 Other modules: ``_ray`` (a view ray), ``_geometry`` (rays, clipping),
-``_sample`` (reconstruction), ``_shadow`` (direct shadow rays), ``_lightvol``
+``_sample`` (reconstruction), ``_labelled`` (label-aware classification), ``_medium`` (what light paths
+cross), ``_shadow`` (direct shadow rays), ``_lightvol``
 and ``_lightsweep`` (illumination volumes), ``_scatter`` (the scattering
 medium), ``_pathtrace`` (progressive path tracing), ``_precompute`` and
 ``_cache`` (per-volume arrays), ``_tables`` (transfer-function tables),
@@ -22,9 +23,18 @@ from ._cpu import TILE, frame_image, render_cpu, render_part
 from ._frame import FAR, PER_VOLUME, Arrays, Frame, Outputs, Settings
 from ._geometry import G_BOX, pack_geometry, to_index
 from ._iso import iso_refine
-from ._lightsweep import Sweep, lattice_frame, lattice_ray, lattice_slice, lattice_step, lattice_transmittance_of
+from ._lightsweep import (
+    Sweep,
+    lattice_frame,
+    lattice_ray,
+    lattice_slice,
+    lattice_step,
+    lattice_transmittance_of,
+    sweep_medium,
+)
 from ._lightvol import plan_lattice
 from ._march import trace_pixel
+from ._medium import Medium
 from ._pack import pack_frame
 from ._params import (
     DIRECT,
@@ -48,4 +58,4 @@ __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
            "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed",
-           "stamp_sources"]
+           "stamp_sources", "sweep_medium", "Medium"]

@@ -18,7 +18,7 @@ from numba import njit
 from ..optics import composite, correct_opacity
 from ._color import emission
 from ._frame import FAR
-from ._labelled import classify
+from ._labelled import classify_sample
 from ._normals import sample_normal
 from ._pieces import Composite, LabelledComposite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
@@ -102,7 +102,8 @@ def _step_post(light, r, a, s, st, k, t, v, have):
 @step.register(LabelledComposite)
 @njit(cache=True, fastmath=True, inline="always")
 def _step_labelled(light, r, a, s, st, k, t, v, have):
-    return _post(light, r, a, s, st, k, t, classify(r, a, t, np.uintp(v + 0.5), s.nearest))
+    c = classify_sample(a, s, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, np.uintp(v + 0.5))
+    return _post(light, r, a, s, st, k, t, c)
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -100,6 +100,7 @@ class Settings(NamedTuple):
     nplanes: int = 0         #: clip planes in use
     bounces: int = 1         #: path tracing: most scattering events per path
     nlab: int = 0            #: label-aware classification (rows of ``Arrays.llut``; 0: off)
+    lsolid: bool = False     #: some shown structure is solid (an opacity of its own, ``_labelled.solid_rows``)
     color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
     part: bool = False       #: draw the samples of ``Arrays.whole``'s grid inside ``geo`` only (a brick, ``_ray``)
 

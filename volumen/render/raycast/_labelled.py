@@ -16,11 +16,11 @@ the step). A hidden structure (opacity 0) fades out over one voxel instead of a 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from ._sample import _cell
 
-__all__ = ["classify", "label_table", "packed_labels", "label_blocks"]
+__all__ = ["classify", "classify_sample", "solid_rows", "label_table", "packed_labels", "label_blocks"]
 
 
 def packed_labels(data: np.ndarray) -> np.ndarray:
@@ -52,6 +52,11 @@ _PACKED: dict = {}
 UNIFORM8, UNIFORM16 = 128, 32768
 
 
+def solid_rows(llut: np.ndarray) -> np.ndarray:
+    """Rows of a label table drawn with an opacity of their own (shown, not textured)."""
+    return (llut[:, 3] > 0.0) & (llut[:, 4] == 0.0)
+
+
 def label_table(layer, ratio: float) -> np.ndarray:
     """The frame's ``llut``: the layer's rows with each solid structure's opacity corrected from the reference
     step to the sampling step (``ratio`` = step / reference step); float32 ``(n, 5)``."""
@@ -64,32 +69,48 @@ def label_table(layer, ratio: float) -> np.ndarray:
 @njit(cache=True, fastmath=True, inline="always")
 def _add(a, lab, w, idx, acc):
     """``acc`` plus the classification of label value ``lab`` weighted by ``w``."""
-    row = a.llut[min(int(lab) & (UNIFORM16 - 1 if a.lab.itemsize == 2 else UNIFORM8 - 1), a.llut.shape[0] - 1)]
-    al = row[3] * (a.lut[idx, 3] if row[4] > 0.0 else 1.0) * w
-    if row[0] < 0.0:
+    m = min(int(lab) & (UNIFORM16 - 1 if a.lab.itemsize == 2 else UNIFORM8 - 1), a.llut.shape[0] - 1)
+    llut = a.llut
+    al = llut[m, 3] * w
+    if llut[m, 4] > 0.0:
+        al *= a.lut[idx, 3]
+    if llut[m, 0] < 0.0:
         return acc[0] + al * a.lut[idx, 0], acc[1] + al * a.lut[idx, 1], acc[2] + al * a.lut[idx, 2], acc[3] + al
-    return acc[0] + al * row[0], acc[1] + al * row[1], acc[2] + al * row[2], acc[3] + al
+    return acc[0] + al * llut[m, 0], acc[1] + al * llut[m, 1], acc[2] + al * llut[m, 2], acc[3] + al
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def classify(r, a, t, idx, nearest):
-    """Premultiplied ``(r, g, b, alpha)`` of the sample at ray parameter ``t`` (table index ``idx``); the nearest
-    voxel's label alone when ``nearest`` (the raw voxel staircase). In a cell inside one structure (flagged by
-    :func:`packed_labels`, the common case) one label and one table row are read."""
+def classify_sample(a, s, x, y, z, idx):
+    """:func:`classify` for the primary rays (frame settings ``s``): where the transfer function is transparent
+    and no shown structure is solid (``s.lsolid`` false: every row's opacity follows the table's), the sample
+    is transparent whatever its labels, and none is read."""
+    if not s.lsolid and a.lut[idx, 3] <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    return classify(a, x, y, z, idx, s.nearest)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def classify(a, x, y, z, idx, nearest):
+    """Premultiplied ``(r, g, b, alpha)`` of the sample at voxel-index position ``(x, y, z)`` (table index
+    ``idx``); the nearest voxel's label alone when ``nearest`` (the raw voxel staircase). In a cell inside one
+    structure (flagged by :func:`packed_labels`, the common case) one label and one table row are read.
+
+    ``a`` is any record with the fields ``lab``, ``llut`` and ``lut`` (the frame's :class:`._frame.Arrays`, or
+    the light paths' :class:`._medium.Medium`): the primary rays and the light paths classify alike."""
     lab = a.lab
     nz, ny, nx = lab.shape
     zero = (0.0, 0.0, 0.0, 0.0)
     if nearest:
-        i = min(max(int(r.oi + t * r.di + 0.5), 0), nx - 1)
-        j = min(max(int(r.oj + t * r.dj + 0.5), 0), ny - 1)
-        k = min(max(int(r.ok + t * r.dk + 0.5), 0), nz - 1)
+        i = min(max(int(x + 0.5), 0), nx - 1)
+        j = min(max(int(y + 0.5), 0), ny - 1)
+        k = min(max(int(z + 0.5), 0), nz - 1)
         return _add(a, lab[k, j, i], 1.0, idx, zero)
-    i0, i1, fx = _cell(r.oi + t * r.di, nx)
-    j0, j1, fy = _cell(r.oj + t * r.dj, ny)
-    k0, k1, fz = _cell(r.ok + t * r.dk, nz)
-    l000 = lab[k0, j0, i0]
-    if int(l000) >= (UNIFORM16 if lab.itemsize == 2 else UNIFORM8):  # a cell inside one structure
+    l000 = lab[min(max(int(z), 0), nz - 1), min(max(int(y), 0), ny - 1), min(max(int(x), 0), nx - 1)]
+    if int(l000) >= (UNIFORM16 if lab.itemsize == 2 else UNIFORM8):  # a cell inside one structure: its corner
         return _add(a, l000, 1.0, idx, zero)
+    i0, i1, fx = _cell(x, nx)
+    j0, j1, fy = _cell(y, ny)
+    k0, k1, fz = _cell(z, nz)
     l000, l001, l010, l011 = lab[k0, j0, i0], lab[k0, j0, i1], lab[k0, j1, i0], lab[k0, j1, i1]
     l100, l101, l110, l111 = lab[k1, j0, i0], lab[k1, j0, i1], lab[k1, j1, i0], lab[k1, j1, i1]
     gx, gy, gz = 1.0 - fx, 1.0 - fy, 1.0 - fz
@@ -102,23 +123,46 @@ def classify(r, a, t, idx, nearest):
     acc = _add(a, l110, fz * fy * gx, idx, acc)
     return _add(a, l111, fz * fy * fx, idx, acc)
 
+@njit(parallel=True, cache=True)
+def _solid_blocks(lab, solid, block, out):
+    """``out[bk, bj, bi]`` = 1 where a voxel within one voxel of the block holds a value whose ``solid`` flag is
+    set (values past the table read its last row, as :func:`classify` does)."""
+    nz, ny, nx = lab.shape
+    gz, gy, gx = out.shape
+    mask = UNIFORM16 - 1 if lab.itemsize == 2 else UNIFORM8 - 1
+    top = solid.shape[0] - 1
+    for bk in prange(gz):
+        for bj in range(gy):
+            for bi in range(gx):
+                hit = 0
+                for k in range(max(bk * block - 1, 0), min((bk + 1) * block + 1, nz)):
+                    for j in range(max(bj * block - 1, 0), min((bj + 1) * block + 1, ny)):
+                        for i in range(max(bi * block - 1, 0), min((bi + 1) * block + 1, nx)):
+                            if solid[min(int(lab[k, j, i]) & mask, top)]:
+                                hit = 1
+                                break
+                        if hit:
+                            break
+                    if hit:
+                        break
+                out[bk, bj, bi] = hit
+
+
 def label_blocks(lab: np.ndarray, llut: np.ndarray, block: int) -> np.ndarray:
     """uint8 flags per block (``ceil(shape / block)``, ``[z, y, x]``): 1 where a voxel within one voxel of the
     block holds a label drawn with some opacity of its own (a solid structure), for empty-space skipping.
-    Cached for the last (label map, table, block)."""
-    from scipy import ndimage
-
+    The last few (label map, table, block) are cached (a frame switching between tables finds its own)."""
     key = (id(lab), llut.tobytes(), int(block))
-    hit = _PACKED.get("blocks")
-    if hit is not None and hit[0] == key and hit[1] is lab:
-        return hit[2]
-
-    solid = (llut[:, 3] > 0.0) & (llut[:, 4] == 0.0)
-    values = lab & (UNIFORM16 - 1 if lab.itemsize == 2 else UNIFORM8 - 1)
-    vis = ndimage.maximum_filter(solid[np.minimum(values, len(llut) - 1)].view(np.uint8), size=3, mode="nearest")
+    cache = _PACKED.setdefault("blocks", {})
+    hit = cache.get(key)
+    if hit is not None and hit[0] is lab:
+        return hit[1]
     shape = tuple(-(-n // block) for n in lab.shape)
-    padded = np.zeros(tuple(s * block for s in shape), np.uint8)
-    padded[: lab.shape[0], : lab.shape[1], : lab.shape[2]] = vis
-    out = padded.reshape(shape[0], block, shape[1], block, shape[2], block).max(axis=(1, 3, 5))
-    _PACKED["blocks"] = (key, lab, out)
+    out = np.zeros(shape, np.uint8)
+    solid = solid_rows(llut)
+    if solid.any():
+        _solid_blocks(lab, solid, int(block), out)
+    if len(cache) >= 4:
+        cache.pop(next(iter(cache)))
+    cache[key] = (lab, out)
     return out

@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit, prange
 
 from ._geometry import region_interval
+from ._medium import Medium, depth_at
 from ._params import (
     LV_AXA,
     LV_AXB,
@@ -32,10 +33,9 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
-from ._sample import sample_table
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
-           "lattice_transmittance_of"]
+           "lattice_transmittance_of", "sweep_medium"]
 
 
 @njit(cache=True, fastmath=True)
@@ -49,16 +49,18 @@ def _to_world(aff, axa, axb, axc, ca, cb, cc, w):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _sig(field, ca, cb, cc):
-    volt, sig, u0, ufac = field
-    v = sample_table(volt, u0, ufac, cc, cb, ca, False)
-    return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
+def _depth(med, ca, cb, cc):
+    """Optical depth per reference step at (a, b, c) = (ca, cb, cc) (``med``'s axes ordered (a, b, c))."""
+    return depth_at(med, cc, cb, ca)[0]
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _sig_slice(field, k, cb, cc):
-    """``_sig`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives."""
-    volt, sig, u0, ufac = field
+def _depth_slice(med, k, cb, cc):
+    """``_depth`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives
+    (read as such without labels; with labels, :func:`._medium.depth_at` classifies it)."""
+    if med.nlab > 0:
+        return _depth(med, np.float64(k), cb, cc)
+    volt, sig = med.vol, med.sig
     nb = volt.shape[1]
     nc = volt.shape[2]
     if cb <= 0.0:
@@ -77,7 +79,7 @@ def _sig_slice(field, k, cb, cc):
         i1, fc = i0 + 1, cc - i0
     r0 = volt[k, j0, i0] + fc * (volt[k, j0, i1] - volt[k, j0, i0])
     r1 = volt[k, j1, i0] + fc * (volt[k, j1, i1] - volt[k, j1, i0])
-    v = (r0 + fb * (r1 - r0) - u0) * ufac
+    v = (r0 + fb * (r1 - r0) - med.u0) * med.ufac
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
@@ -135,15 +137,16 @@ def lattice_slice(st, nk, k0, pa, dsl, fwd):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
-    """Carry one lattice ray across slice ``k`` (at ``s``): returns its new ``(acc, sp)``.
+def lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp):
+    """Carry one lattice ray across slice ``k`` (at ``s``) through the medium ``med`` (:func:`sweep_medium`):
+    returns its new ``(acc, sp)``.
 
     ``acc`` is the ray's optical depth so far (reference-step units x mm),
     ``sp`` its last sample (-1 before the region, -2 after it); the
     transmittance stored at the slice is :func:`lattice_transmittance_of`.
     """
     if t1 >= t0 and s >= t0 and s <= t1:
-        sg = _sig_slice(field, k, pb + db * s, pc + dc * s)
+        sg = _depth_slice(med, k, pb + db * s, pc + dc * s)
         if sp < 0.0:  # entering: the partial segment from the region's boundary
             acc += sg * (s - max(t0, s - dsl)) * length
         else:
@@ -155,7 +158,7 @@ def lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, 
                 q = sp
                 for j in range(1, m):
                     sj = s - dsl + j * sub
-                    r = _sig(field, pa + da * sj, pb + db * sj, pc + dc * sj)
+                    r = _depth(med, pa + da * sj, pb + db * sj, pc + dc * sj)
                     acc += 0.5 * (q + r) * sub * length
                     q = r
                 acc += 0.5 * (q + sg) * sub * length
@@ -183,8 +186,27 @@ class Sweep(NamedTuple):
     nplanes: int
     ds0: float     #: reference step, mm
     kext: float    #: extinction scale
-    u0: float = 0.0    #: samples -> table units: (v - u0) * ufac
-    ufac: float = 1.0
+    u0: float      #: samples -> table units: (v - u0) * ufac
+    ufac: float
+    labt: Any      #: label map with its axes ordered (a, b, c) (``_medium.Medium.lab``)
+    llut: Any      #: label table, colour table, ``lscale``, ``nlab``: as in ``_medium.Medium``
+    lut: Any
+    lscale: float
+    nlab: int
+
+    @classmethod
+    def of(cls, med, axes, aff, geo, planes, meta, nplanes, ds0, kext):
+        """The sweep of lattice ``meta`` through the (host or device) medium ``med`` (``_medium.Medium``, axes
+        [z, y, x]), given ``permute(array, axes)`` views of its volume and label map in ``axes``."""
+        volt, labt = axes(med.vol), axes(med.lab)
+        return cls(volt, med.sig, aff, geo, planes, meta, int(nplanes), float(ds0), float(kext), float(med.u0),
+                   float(med.ufac), labt, med.llut, med.lut, float(med.lscale), int(med.nlab))
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def sweep_medium(sw):
+    """The :class:`._medium.Medium` a sweep reads."""
+    return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab)
 
 
 @njit(parallel=True, cache=True, fastmath=True)
@@ -201,7 +223,7 @@ def _sweep(sw, work, out):
     pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(sw.meta)
     scale = sw.kext / sw.ds0
     wt0, wt1, wacc, wsp, wlen = work
-    field = (sw.volt, sw.sig, sw.u0, sw.ufac)
+    med = sweep_medium(sw)
     for v in prange(nv):
         for u in range(nu):
             _, _, t0, t1, length = lattice_ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
@@ -214,29 +236,27 @@ def _sweep(sw, work, out):
             i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
             for u in range(nu):
                 db, dc = lattice_offsets(sw.meta, v, u)
-                acc, sp = lattice_step(field, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u], wlen[v, u],
+                acc, sp = lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u], wlen[v, u],
                                        wacc[v, u], wsp[v, u])
                 wacc[v, u] = acc
                 wsp[v, u] = sp
                 out[i, v, u] = lattice_transmittance_of(acc, scale)
 
 
-def build_lattice(u, sig, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None,
-                  norm=(0.0, 1.0)) -> np.ndarray:
+def build_lattice(med, affine, geo, planes, nplanes, meta, ds0: float, kext: float, out=None) -> np.ndarray:
     """Sweep one light's lattice: float32 ``(nk, nv, nu)`` transmittances (into ``out`` when given).
 
-    ``u`` is the volume ``[z, y, x]`` (table units ``(u - norm[0]) * norm[1]``), ``sig`` the optical depth per
-    reference step of each table entry, ``affine`` the (4, 4) voxel -> world
+    ``med`` is the medium (``_medium.Medium``: the volume ``[z, y, x]`` and its optical depth, or its label-aware
+    classification), ``affine`` the (4, 4) voxel -> world
     matrix, ``geo``/``planes`` the packed region, ``ds0`` the reference step
     (mm), ``kext`` the extinction scale.
     """
     nk, nv, nu = (int(meta[i]) for i in (LV_NK, LV_NV, LV_NU))
-    a, b, c = (int(meta[i]) for i in (LV_AXA, LV_AXB, LV_AXC))
-    volt = np.transpose(u, (a, b, c))
+    axes = tuple(int(meta[i]) for i in (LV_AXA, LV_AXB, LV_AXC))
     if out is None:
         out = np.empty((nk, nv, nu), np.float32)
     work = tuple(np.empty((nv, nu), np.float64) for _ in range(5))
-    sw = Sweep(volt, sig, np.ascontiguousarray(np.asarray(affine, float)[:3, :4]), geo, planes,
-               np.asarray(meta, np.float64), int(nplanes), float(ds0), float(kext), float(norm[0]), float(norm[1]))
+    sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.ascontiguousarray(np.asarray(affine, float)[:3, :4]),
+                  geo, planes, np.asarray(meta, np.float64), nplanes, ds0, kext)
     _sweep(sw, work, out)
     return out

@@ -31,8 +31,10 @@ itself): the first ``NEAR_STEPS`` reference steps of each path are marched
 directly (:mod:`._shadow`), and the volume is read where they end.
 
 The volumes are cached on the volume's ``Prepared`` object, keyed by the
-light's world position, the transfer function, the clip box, the resolution
-and the extinction scale, and rebuilt only when one of those changes.
+light's world position, the transfer function, the clip box, the resolution,
+the extinction scale and the label map with its table (a structure shown,
+hidden or recoloured casts its own shadows: the sweep reads the medium of
+:mod:`._medium`), and rebuilt only when one of those changes.
 """
 
 from __future__ import annotations
@@ -217,7 +219,7 @@ class _Set:
         self.keys, self.lvm, self.lvd, self.views = keys, lvm, lvd, views
 
 
-def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes, nplanes, ds0, kext, scale,
+def light_volumes(prep, keys, positions_index, box_lo, box_hi, med, geo, planes, nplanes, ds0, kext, scale,
                   method: str):
     """Meta rows ``(n, NMETA)`` float64 and the flat float32 buffer of every light's illumination volume.
 
@@ -230,6 +232,9 @@ def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes,
         function, clip box, resolution, extinction scale).
     positions_index : (n, 3) float
         Light positions in voxel indices (x, y, z).
+    med : Medium
+        What the light paths cross (``_medium``: ``prep.u`` and its optical depth, or the label-aware
+        classification).
     method : {"fast", "direct"}
         ``direct`` marks every light DIRECT and builds nothing.
 
@@ -274,8 +279,7 @@ def light_volumes(prep, keys, positions_index, box_lo, box_hi, sig, geo, planes,
             if keys[i] in olds and olds[keys[i]][1] is not None:
                 view[...] = olds[keys[i]][1]
             else:
-                build_lattice(prep.u, sig, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view,
-                              norm=(prep.u0, prep.ufac))
+                build_lattice(med, prep.affine, geo, planes, nplanes, m, ds0, kext, out=view)
                 built += 1
         views.append((m, view))
     if built:

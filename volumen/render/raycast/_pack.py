@@ -15,8 +15,9 @@ import numpy as np
 from ._cache import prepare
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
-from ._labelled import label_blocks, label_table, packed_labels
+from ._labelled import label_blocks, label_table, packed_labels, solid_rows
 from ._lightvol import NMETA, light_volumes
+from ._medium import Medium, label_scale
 from ._normals import DIRS, NO_CODES
 from ._pieces import LIGHT_TAGS, MODE_TAGS
 from ._precompute import NLUT
@@ -43,11 +44,28 @@ MODELS = {"none": "unlit", "headlight": "phong", "phong": "phong", "shadows": "s
           "pathtrace": "scatter"}
 
 
-def _light_keys(scene, lights, geo, planes, kext):
+class _Same:
+    """A key part equal only for the same object (a label map: cached, never changed in place); it holds the
+    object, so its id is not reused while the key lives."""
+
+    __slots__ = ("obj",)
+
+    def __init__(self, obj):
+        self.obj = obj
+
+    def __eq__(self, other):
+        return isinstance(other, _Same) and other.obj is self.obj
+
+    def __hash__(self):
+        return id(self.obj)
+
+
+def _light_keys(scene, lights, geo, planes, kext, med):
     tf = scene.transfer.to_json() if scene.mode != "isosurface" else f"iso:{scene.isosurface.value!r}"
     clip = geo.tobytes() + planes.tobytes()
     scale = scene.shading.shadows.light_volume_scale
-    return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext) for i in range(len(lights))]
+    labels = (_Same(med.lab), med.llut.tobytes(), med.lscale) if med.nlab > 0 else None
+    return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext, labels) for i in range(len(lights))]
 
 
 def _model(scene) -> tuple[str, bool]:
@@ -138,19 +156,22 @@ def _lights(scene, camera, model):
     return pack_lights(scene.lights, camera), len(scene.lights)
 
 
-def _light_volumes(scene, prep, t, lights, nlights, model, kext, build):
+def _light_volumes(scene, prep, t, st, lights, model, build):
     """``(lvm, lvd, built)``: the illumination volumes of the lit models that read them."""
     sh = scene.shading
     path_traced = sh.mode == "pathtrace" and scene.mode == "composite"  # ratio tracking, no light volumes
+    nlights, kext = st.nlights, st.kext
     if model in ("unlit", "phong") or path_traced or not nlights:
         return np.zeros((1, NMETA)), np.ones(1, np.float32), 0
     geo, planes = t["geo"], t["planes"]
     inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
     pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
-    keys = _light_keys(scene, lights[:nlights], geo, planes, kext)
+    med = Medium(prep.u, t["sig"], prep.u0, prep.ufac, t["lab"], t["llut"], t["lut"],
+                 label_scale(st.ds, st.ds0, kext), st.nlab)
+    keys = _light_keys(scene, lights[:nlights], geo, planes, kext, med)
     method = "fast" if sh.mode == "pathtrace" else sh.shadows.method
-    return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], t["sig"], geo, planes,
-                 len(scene.clipping.planes), float(min(scene.volume.spacing)), kext,
+    return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], med, geo, planes,
+                 len(scene.clipping.planes), st.ds0, kext,
                  sh.shadows.light_volume_scale, method)
 
 
@@ -168,6 +189,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
+        lsolid=bool(solid_rows(t["llut"]).any()),
         color=prep.is_color)
 
 
@@ -190,14 +212,14 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     t["geo"], t["planes"] = pack_geometry(volume, scene.clipping), pack_planes(scene.clipping)
     timings["tables"] = time.perf_counter() - t0
     lights, nlights = _lights(scene, camera, model)
-    lvm, lvd, built = _light_volumes(scene, prep, t, lights, nlights, model, kext, build_light_volumes)
+    st = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights)
+    lvm, lvd, built = _light_volumes(scene, prep, t, st, lights, model, build_light_volumes)
     timings.update(prep.timings)
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     ncode=t["ncode"], gcode=t["gcode"], ndir=DIRS,
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
                     lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
                     lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY)
-    settings = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights)
-    mode = "preintegrated" if t["preint"] else "labelled" if settings.nlab > 0 else scene.mode
-    return Frame(arrays, settings, MODE_TAGS[mode](),
+    mode = "preintegrated" if t["preint"] else "labelled" if st.nlab > 0 else scene.mode
+    return Frame(arrays, st, MODE_TAGS[mode](),
                  LIGHT_TAGS[model](), (w, h), prep, built, timings)

@@ -37,8 +37,8 @@ from numba import njit, prange
 from ._color import sample_rgb
 from ._cpu import TILE, tile_order
 from ._geometry import primary_ray, ray_interval, region_interval, to_index
+from ._medium import depth_at, depth_bound, event_color, frame_medium, label_scale
 from ._pack import pack_frame
-from ._sample import sample_table
 from ._scatter import phase_weight
 from ._shade import L_COL, L_RAD, light_vector
 
@@ -94,15 +94,13 @@ def sample_hg(g, dx, dy, dz, u1, u2):
 
 
 @njit(cache=True, fastmath=True)
-def _sigma(field, oi, oj, ok, di, dj, dk, t, scale):
-    vol, sig, u0, ufac = field
-    v = sample_table(vol, u0, ufac, oi + t * di, oj + t * dj, ok + t * dk, False)
-    idx = min(max(int(v + 0.5), 0), sig.shape[0] - 1)
-    return sig[idx] * scale, idx
+def _sigma(med, oi, oj, ok, di, dj, dk, t, scale):
+    tau, idx = depth_at(med, oi + t * di, oj + t * dj, ok + t * dk)
+    return tau * scale, idx
 
 
 @njit(cache=True, fastmath=True)
-def _ratio_tracking(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, scale, smaj, key, ctr):
+def _ratio_tracking(med, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, scale, smaj, key, ctr):
     """Unbiased transmittance estimate along ``o + s L``, s in [0, smax] within the region; returns (T, ctr)."""
     ta, tb = region_interval(geo, planes, nplanes, ox, oy, oz, lx, ly, lz, 0.0, smax)
     if not tb > ta:
@@ -116,7 +114,7 @@ def _ratio_tracking(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, s
         ctr += 1
         if t >= tb:
             break
-        s, _ = _sigma(field, oi, oj, ok, di, dj, dk, t, scale)
+        s, _ = _sigma(med, oi, oj, ok, di, dj, dk, t, scale)
         tr *= 1.0 - s / smaj
         if tr < 0.05:  # Russian roulette keeps the estimate unbiased
             if rand01(key, ctr) < 0.5:
@@ -138,7 +136,7 @@ def _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr):
         ctr += 1
         if t >= tb:
             return False, t, 0, ctr
-        sg, idx = _sigma((a.vol, a.sig, s.u0, s.ufac), oi, oj, ok, di, dj, dk, t, scale)
+        sg, idx = _sigma(frame_medium(a, s), oi, oj, ok, di, dj, dk, t, scale)
         u = rand01(key, ctr)
         ctr += 1
         if u * smaj < sg:
@@ -147,11 +145,12 @@ def _free_flight(a, s, o, d, ta, tb, scale, smaj, key, ctr):
 
 @njit(cache=True, fastmath=True, inline="always")
 def _albedo_color(a, s, idx, w):
-    """Colour of a scattering event at world point ``w``: the table's, or the voxel's own in a colour volume."""
+    """Colour of a scattering event at world point ``w``: the table's (the label-aware classification's with a
+    label map, ``_medium.event_color``), or the voxel's own in a colour volume."""
+    x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
     if s.color:
-        x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
         return sample_rgb(a.rgb, x, y, z, s.nearest)
-    return a.lut[idx, 0], a.lut[idx, 1], a.lut[idx, 2]
+    return event_color(frame_medium(a, s), x, y, z, idx)
 
 
 @njit(cache=True, fastmath=True)
@@ -181,7 +180,7 @@ def _next_event(a, s, w, d, scale, smaj, key, ctr):
         if spot <= 0.0 or dist <= off:
             continue
         ph = phase_weight(lx, ly, lz, -d[0], -d[1], -d[2], s.g)
-        vis, ctr = _ratio_tracking((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, w[0] + off * lx,
+        vis, ctr = _ratio_tracking(frame_medium(a, s), a.geo, a.planes, s.nplanes, w[0] + off * lx,
                                    w[1] + off * ly, w[2] + off * lz, lx, ly, lz, dist - off, scale, smaj, key, ctr)
         e = s.kd * spot * ph * vis
         lr += e * a.lights[li, L_COL]
@@ -308,7 +307,9 @@ class PathTracer:
         self.spp = 0
         self.seconds = 0.0
         f = self.frame
-        self.smaj = max(float(f.arrays.sig.max()) * f.settings.kext / f.settings.ds0, 1e-9)
+        a, st = f.arrays, f.settings
+        tau = depth_bound(a.sig, a.llut, label_scale(st.ds, st.ds0, st.kext), st.nlab)
+        self.smaj = max(tau * st.kext / st.ds0, 1e-9)
 
     #: the ``stats["backend"]`` of the images
     backend = "cpu"

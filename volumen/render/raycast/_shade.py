@@ -30,6 +30,7 @@ from numba import njit
 from ..optics import phong_terms, spot_factor
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
+from ._medium import frame_medium
 from ._pieces import Phong, Scatter, Shadowed, Unlit, piece, shade, uses_normals
 from ._scatter import phase_weight
 from ._shadow import shadow_transmittance
@@ -90,11 +91,11 @@ def light_visibility(li, w, lv, dist, a, s):
     yz = w[2] + off * lz
     kind = a.lvm[li, LV_KIND]
     if kind == DIRECT:
-        return shadow_transmittance((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
+        return shadow_transmittance(frame_medium(a, s), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
                                     dist - off, s.sh_step, s.ds0, s.kext)
     if kind == LATTICE:
         near = min(NEAR_STEPS * s.ds0, dist - off)
-        tr = shadow_transmittance((a.vol, a.sig, s.u0, s.ufac), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
+        tr = shadow_transmittance(frame_medium(a, s), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
                                   near, s.sh_step, s.ds0, s.kext)
         if near < dist - off and tr > 0.0:
             xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)

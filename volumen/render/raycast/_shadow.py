@@ -7,7 +7,8 @@ The reference definition (DESIGN.md section 3) that the illumination volumes
 (volume box, crop box, clip planes -- so a cropped face is lit), the optical
 depth ``tau = integral of -ln(1 - alpha(v(s))) ds / ds0`` by the trapezoid rule
 on samples ``step`` apart (plus the exit point), with ``alpha`` the transfer
-function's opacity per reference step of the trilinear value. The light
+function's opacity per reference step of the trilinear value (with a label map,
+the label-aware classification's: :mod:`._medium`). The light
 reaching the point is ``exp(-kext * tau)`` = ``1 - opacity accumulated``
 (``kext = 1`` for shadows; ``sigma_a + sigma_s`` for scattering).
 """
@@ -19,7 +20,7 @@ import math
 from numba import njit
 
 from ._geometry import region_interval, to_index
-from ._sample import sample_table
+from ._medium import depth_at
 
 __all__ = ["shadow_transmittance", "TAU_STOP"]
 
@@ -28,21 +29,13 @@ TAU_STOP = 14.0
 
 
 @njit(cache=True, fastmath=True)
-def _sig(field, x, y, z):
-    vol, sig, u0, ufac = field
-    v = sample_table(vol, u0, ufac, x, y, z, False)
-    return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
-
-
-@njit(cache=True, fastmath=True)
-def shadow_transmittance(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0, kext):
+def shadow_transmittance(med, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0, kext):
     """Transmittance ``exp(-kext * tau)`` from world point ``o`` along unit ``L`` over ``[0, smax]`` mm.
 
     Parameters
     ----------
-    field : (vol, sig, u0, ufac)
-        The samples ``[z, y, x]`` read as ``_sample.sample_table`` does, and the
-        optical depth per reference step of each table entry ``sig`` (NLUT,)
+    med : Medium
+        What the path reads (``_medium``): the samples, their optical depth per reference step.
     geo, planes, nplanes : packed geometry (``_geometry``)
     ox, oy, oz : start, world mm; lx, ly, lz : unit direction toward the light
     smax : distance to the light, mm
@@ -55,18 +48,18 @@ def shadow_transmittance(field, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, sm
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
     di, dj, dk = to_index(geo, lx, ly, lz, 0.0)
     stop = TAU_STOP * ds0 / kext
-    sp = _sig(field, oi + ta * di, oj + ta * dj, ok + ta * dk)
+    sp = depth_at(med, oi + ta * di, oj + ta * dj, ok + ta * dk)[0]
     acc = 0.0  # integral of sigma ds, sigma in reference-step units, s in mm
     t = ta
     m = int((tb - ta) / step)
     for j in range(1, m + 1):
         t = ta + j * step
-        s = _sig(field, oi + t * di, oj + t * dj, ok + t * dk)
+        s = depth_at(med, oi + t * di, oj + t * dj, ok + t * dk)[0]
         acc += 0.5 * (sp + s) * step
         sp = s
         if acc > stop:
             return 0.0
     if tb - t > 1e-6 * step:
-        s = _sig(field, oi + tb * di, oj + tb * dj, ok + tb * dk)
+        s = depth_at(med, oi + tb * di, oj + tb * dj, ok + tb * dk)[0]
         acc += 0.5 * (sp + s) * (tb - t)
     return math.exp(-kext * acc / ds0)

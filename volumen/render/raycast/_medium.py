@@ -1,0 +1,90 @@
+"""The medium that light paths cross: optical depth per reference step at a point, and a scattering event's colour.
+
+Shadow rays (:mod:`._shadow`), the illumination-volume sweeps (:mod:`._lightsweep`) and the path tracer's
+tracking (:mod:`._pathtrace`) all read the medium through :func:`depth_at`, so they see what the primary
+rays draw:
+
+* without labels, the transfer function's optical depth per reference step ``sig`` of the trilinear value
+  (DESIGN.md section 3);
+* with a label map (``nlab > 0``), the label-aware classification of the primary rays
+  (:func:`._labelled.classify`: per-structure colour and opacity, hidden structures transparent), turned
+  from the opacity ``A`` of one sample step into optical depth per reference step:
+  ``tau = -ln(1 - A) * lscale``, ``lscale = ds0 / (ds * kext)`` (the tables the primary rays read are
+  corrected to the step ``ds`` and scaled by the extinction ``kext``; the unlabelled scan's rows give back
+  ``sig`` exactly, up to rounding).
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ..optics import MAX_OPACITY, optical_depth
+from ._labelled import classify
+from ._sample import sample_table
+
+__all__ = ["Medium", "frame_medium", "depth_at", "event_color", "depth_bound", "label_scale"]
+
+
+class Medium(NamedTuple):
+    """What a light path reads (the volume's axes may be permuted, ``lab``'s alike: a lattice sweep)."""
+
+    vol: Any       #: samples [z, y, x], read as ``_sample.sample_table`` does
+    sig: Any       #: optical depth per reference step of each table entry (NLUT,)
+    u0: float      #: samples -> table units: ``(v - u0) * ufac``
+    ufac: float
+    lab: Any       #: label map on ``vol``'s grid (``_labelled.packed_labels``), (1, 1, 1) when unused
+    llut: Any      #: per label value (r, g, b, opacity, textured) (n, 5)
+    lut: Any       #: the primary rays' colour / opacity table (NLUT, 4), opacity per step ``ds``
+    lscale: float  #: ``ds0 / (ds * kext)``: optical depth of a step's opacity -> per reference step
+    nlab: int      #: label-aware classification when > 0
+
+
+def label_scale(ds: float, ds0: float, kext: float) -> float:
+    """:attr:`Medium.lscale` of a frame."""
+    return float(ds0) / (float(ds) * float(kext))
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def frame_medium(a, s):
+    """The :class:`Medium` of a packed frame (``a``, ``s``: ``_frame.Arrays``, ``_frame.Settings``)."""
+    return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def depth_at(m, x, y, z):
+    """``(optical depth per reference step, table index)`` at voxel-index position ``(x, y, z)`` (trilinear)."""
+    v = sample_table(m.vol, m.u0, m.ufac, x, y, z, False)
+    idx = min(max(int(v + 0.5), 0), m.sig.shape[0] - 1)
+    if m.nlab <= 0:
+        return m.sig[idx], idx
+    return optical_depth(classify(m, x, y, z, idx, False)[3]) * m.lscale, idx
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def event_color(m, x, y, z, idx):
+    """Straight colour of a scattering event at ``(x, y, z)`` (table index ``idx``): the transfer function's,
+    or the classified sample's (its premultiplied colour over its opacity) with labels."""
+    if m.nlab <= 0:
+        return m.lut[idx, 0], m.lut[idx, 1], m.lut[idx, 2]
+    cr, cg, cb, al = classify(m, x, y, z, idx, False)
+    if al <= 0.0:
+        return 0.0, 0.0, 0.0
+    return cr / al, cg / al, cb / al
+
+
+def depth_bound(sig: np.ndarray, llut: np.ndarray, lscale: float, nlab: int) -> float:
+    """The largest optical depth per reference step :func:`depth_at` returns (the majorant of tracking).
+
+    A classified opacity is a convex blend of its corners' rows: a solid row's is its opacity, a textured
+    row's its opacity times the table's, whose optical depth is at most ``sig``'s (equal for opacity 1: a
+    label map drawn with the scan's own transfer function traces the same random paths as the scan alone).
+    """
+    if nlab <= 0:
+        return float(sig.max())
+    op = np.clip(llut[:, 3].astype(np.float64), 0.0, MAX_OPACITY)
+    textured = (llut[:, 4] > 0.0) & (op > 0.0)
+    solid = -np.log1p(-op[llut[:, 4] == 0.0]) * lscale
+    return max(float(sig.max()) if textured.any() else 0.0, float(solid.max(initial=0.0)))

@@ -57,15 +57,21 @@ def test_mouse_drag_orbits_the_camera_by_the_expected_angle(make_window, qtbot):
     assert win.view3d.frame.camera == cam1  # the refined picture is of the new camera
 
 
-def test_drag_gives_reduced_frames_then_the_refined_one(make_window, qtbot):
-    win = make_window()
+def _drag(win, qtbot, timeout_ms):
+    """Press, move and release on the 3-D view once a reduced frame came; the frames received, in order."""
     frames = []
     win.worker.frame_ready.connect(frames.append)
     v = win.view3d
     qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(80, 80))
     qtbot.mouseMove(v, QPoint(90, 80))
-    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=10000)
+    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=timeout_ms)
     qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(90, 80))
+    return frames
+
+
+def test_drag_gives_reduced_frames_then_the_refined_one(make_window, qtbot):
+    win = make_window()
+    frames = _drag(win, qtbot, 10000)
     assert win.wait_for_final(60)
     reduced = [f for f in frames if not f.final]
     assert reduced[0].fraction in (0.5, 0.25) and reduced[0].rgb.shape == (VIEW, VIEW, 3)
@@ -317,13 +323,7 @@ def test_chunked_volume_drags_at_a_coarse_level_and_refines_to_the_full_one(make
     win.set_volume(volumen.load(path), str(path))
     assert win.wait_for_final(120)
     assert win.view3d.frame.stats["level"] == 0
-    frames = []
-    win.worker.frame_ready.connect(frames.append)
-    v = win.view3d
-    qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(80, 80))
-    qtbot.mouseMove(v, QPoint(90, 80))
-    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=60000)
-    qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(90, 80))
+    frames = _drag(win, qtbot, 60000)
     assert win.wait_for_final(120)
     reduced = [f for f in frames if not f.final]
     expected = {0.5: 1, 0.25: 2}[reduced[0].fraction]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels")
+BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels", "compile")
 
 
 def register(sub):
@@ -15,7 +15,8 @@ def register(sub):
                    "lighting: shadows and scattering in the seeds' experiment; "
                    "mesh: marching cubes on real scans vs VTK's flying edges and scikit-image; "
                    "scale: out-of-core vs in-memory ray casting (OME-Zarr) and batch throughput on Dask; "
-                   "labels: label-aware composite against plain composite")
+                   "labels: label-aware composite against plain composite; "
+                   "compile: the first picture of each ray-casting mode in a fresh process (cold Numba cache)")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--huge", action="store_true", help="scale: instead, a 2048x2048x1024 int16 volume (8 GiB, "
@@ -51,6 +52,10 @@ def run(args):
         from volumen.bench._lighting import bench_lighting
 
         table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)
+    elif args.what == "compile":
+        from volumen.bench._compile import bench_compile
+
+        table = bench_compile(quick=args.quick)
     elif args.what == "labels":
         from volumen.bench._labels import bench_labels
 

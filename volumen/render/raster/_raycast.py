@@ -33,7 +33,7 @@ __all__ = ["render_raycast_gl", "MAX_LIGHTS", "MAX_PLANES"]
 MAX_LIGHTS = 16
 MAX_PLANES = 16
 _MODES = {"Composite": 0, "Preintegrated": 1, "Mip": 2, "Minip": 3, "Average": 4, "Isosurface": 5}
-_LIGHTS = {"Unlit": 0, "Phong": 1, "Shadowed": 2, "Scatter": 3}
+_LIGHTS = {"Unlit": 0, "Phong": 1, "Headlight": 1, "Shadowed": 2, "Scatter": 3}
 _quad: dict = {}
 
 

@@ -1,6 +1,6 @@
 """CPU backend: pack the scene into a :class:`~._frame.Frame`, run the specialised kernel over tiles (Numba).
 
-The driver (``_march.render_tiles``) is a ``prange`` over 16x16-pixel tiles
+The driver (``_march.render_tiles``) runs 16x16-pixel tiles on every thread
 taken in a scrambled order (so threads share the expensive middle of the
 picture evenly), only those meeting the volume's projected footprint
 (``_geometry.footprint``: the others stay cleared); each pixel is one call of ``_march.trace_pixel`` specialised

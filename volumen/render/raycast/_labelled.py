@@ -111,17 +111,13 @@ def classify(a, x, y, z, idx, nearest):
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
     k0, k1, fz = _cell(z, nz)
-    l000, l001, l010, l011 = lab[k0, j0, i0], lab[k0, j0, i1], lab[k0, j1, i0], lab[k0, j1, i1]
-    l100, l101, l110, l111 = lab[k1, j0, i0], lab[k1, j0, i1], lab[k1, j1, i0], lab[k1, j1, i1]
-    gx, gy, gz = 1.0 - fx, 1.0 - fy, 1.0 - fz
-    acc = _add(a, l000, gz * gy * gx, idx, zero)
-    acc = _add(a, l001, gz * gy * fx, idx, acc)
-    acc = _add(a, l010, gz * fy * gx, idx, acc)
-    acc = _add(a, l011, gz * fy * fx, idx, acc)
-    acc = _add(a, l100, fz * gy * gx, idx, acc)
-    acc = _add(a, l101, fz * gy * fx, idx, acc)
-    acc = _add(a, l110, fz * fy * gx, idx, acc)
-    return _add(a, l111, fz * fy * fx, idx, acc)
+    acc = zero
+    for c in range(8):  # corner c: bit 0 -> x, bit 1 -> y, bit 2 -> z (one call site: small kernels compile fast)
+        i, wx = (i1, fx) if c & 1 else (i0, 1.0 - fx)
+        j, wy = (j1, fy) if c & 2 else (j0, 1.0 - fy)
+        k, wz = (k1, fz) if c & 4 else (k0, 1.0 - fz)
+        acc = _add(a, lab[k, j, i], wz * wy * wx, idx, acc)
+    return acc
 
 @njit(parallel=True, cache=True)
 def _solid_blocks(lab, solid, block, out):

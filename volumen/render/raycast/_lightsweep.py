@@ -12,7 +12,7 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ._geometry import region_interval
 from ._medium import Medium, depth_at
@@ -33,6 +33,7 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
+from ._threads import run_strided
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of", "sweep_medium"]
@@ -209,22 +210,22 @@ def sweep_medium(sw):
     return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab)
 
 
-@njit(parallel=True, cache=True, fastmath=True)
-def _sweep(sw, work, out):
-    """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u).
+@njit(cache=True, fastmath=True, nogil=True, _nrt=False)
+def _sweep(first, stride, sw, work, out):
+    """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u), for the rows
+    ``v = first, first + stride, ...`` (``_threads.run_strided``).
 
     The work arrays ``work[0..4]`` (nv, nu) hold each ray's region interval in
     ``s``, its optical depth so far, its last sample (-1 before the region, -2
-    after it) and its length in mm per unit ``s``. Rows of rays (fixed v) run
-    in parallel, each swept slice by slice (the per-ray pieces are shared with
-    the CUDA sweep).
+    after it) and its length in mm per unit ``s``. Each row of rays (fixed v) is
+    swept slice by slice (the per-ray pieces are shared with the CUDA sweep).
     """
     nk, nv, nu = out.shape
     pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(sw.meta)
     scale = sw.kext / sw.ds0
     wt0, wt1, wacc, wsp, wlen = work
     med = sweep_medium(sw)
-    for v in prange(nv):
+    for v in range(first, nv, stride):
         for u in range(nu):
             _, _, t0, t1, length = lattice_ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
             wt0[v, u] = t0
@@ -258,5 +259,5 @@ def build_lattice(med, affine, geo, planes, nplanes, meta, ds0: float, kext: flo
     work = tuple(np.empty((nv, nu), np.float64) for _ in range(5))
     sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.ascontiguousarray(np.asarray(affine, float)[:3, :4]),
                   geo, planes, np.asarray(meta, np.float64), nplanes, ds0, kext)
-    _sweep(sw, work, out)
+    run_strided(_sweep, nv, sw, work, out)
     return out

@@ -29,12 +29,13 @@ from __future__ import annotations
 
 import math
 
-from numba import njit, prange
+from numba import njit
 
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
 from ._frame import FAR
 from ._pieces import eager, finish, init, radius, step
 from ._ray import begin_ray, sample_at
+from ._threads import run_strided
 
 __all__ = ["trace_pixel", "render_tiles"]
 
@@ -109,21 +110,22 @@ def trace_pixel(px, py, a, s, out, mode, light):
     finish(mode, light, r, a, s, st, taken, have, out, px, py)
 
 
-@njit(cache=True, fastmath=True, _nrt=False)
-def _trace_tile_cpu(x0, y0, tile, a, s, out, mode, light):
-    """The pixels of one tile, each ``trace_pixel`` inlined, compiled without reference counting (nothing in it
-    allocates): reading an array from the records then costs no atomic increments, which threads sharing the
-    arrays would contend for, and the records are passed once per tile, not once per pixel."""
+@njit(cache=True, fastmath=True, nogil=True, _nrt=False)
+def _trace_tiles(first, stride, order, tile, a, s, out, mode, light):
+    """Tiles ``order[first::stride]`` (tile indices, row-major), every pixel's ``trace_pixel`` inlined; compiled
+    without reference counting (nothing in it allocates): reading an array from the records then costs no
+    atomic increments, which threads sharing the arrays would contend for, and the records are passed once
+    per thread, not once per pixel."""
     h, w = out.depth.shape
-    for py in range(y0, min(y0 + tile, h)):
-        for px in range(x0, min(x0 + tile, w)):
-            trace_pixel(px, py, a, s, out, mode, light)
-
-
-@njit(parallel=True, fastmath=True, cache=True)
-def render_tiles(order, tile, a, s, out, mode, light):
-    """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles in parallel."""
-    w = out.depth.shape[1]
     ntx = (w + tile - 1) // tile
-    for n in prange(order.shape[0]):
-        _trace_tile_cpu((order[n] % ntx) * tile, (order[n] // ntx) * tile, tile, a, s, out, mode, light)
+    for n in range(first, order.shape[0], stride):
+        x0 = (order[n] % ntx) * tile
+        y0 = (order[n] // ntx) * tile
+        for py in range(y0, min(y0 + tile, h)):
+            for px in range(x0, min(x0 + tile, w)):
+                trace_pixel(px, py, a, s, out, mode, light)
+
+
+def render_tiles(order, tile, a, s, out, mode, light) -> None:
+    """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles on every thread."""
+    run_strided(_trace_tiles, order.shape[0], order, tile, a, s, out, mode, light)

@@ -21,9 +21,10 @@ magnitude codes alike: the result is not unit; the shading normalizes it.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ._sample import _cell, world_grad
+from ._threads import run_strided
 
 __all__ = ["DIRS", "NO_CODES", "encode_normals", "sample_normal"]
 
@@ -64,12 +65,13 @@ def _encode(gx, gy, gz, g):
     return 1 + qu * Q + qv
 
 
-@njit(parallel=True, cache=True, fastmath=True)
-def _encode_kernel(u, m, sobel, inv_gmax, dirs, mags):
+@njit(cache=True, fastmath=True, nogil=True)
+def _encode_kernel(first, stride, u, m, sobel, inv_gmax, dirs, mags):
+    """Planes ``k = first, first + stride, ...`` (``_threads.run_strided``)."""
     nz, ny, nx = u.shape
     want_dir = dirs.shape[0] == nz
     want_mag = mags.shape[0] == nz
-    for k in prange(nz):
+    for k in range(first, nz, stride):
         for j in range(ny):
             for i in range(nx):
                 gx, gy, gz, g = world_grad(u, m, k, j, i, sobel)
@@ -85,7 +87,8 @@ def encode_normals(u: np.ndarray, nrm: np.ndarray, sobel: bool, *, directions=Tr
     dirs = np.empty(u.shape, np.uint16) if directions else NO_CODES
     mags = np.empty(u.shape, np.uint8) if magnitudes else np.zeros((1, 1, 1), np.uint8)
     if directions or magnitudes:
-        _encode_kernel(u, np.ascontiguousarray(nrm[:3]), bool(sobel), float(nrm[3, 0]), dirs, mags)
+        run_strided(_encode_kernel, u.shape[0], u, np.ascontiguousarray(nrm[:3]), bool(sobel), float(nrm[3, 0]),
+                    dirs, mags)
     return dirs, mags
 
 

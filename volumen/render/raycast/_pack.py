@@ -221,5 +221,6 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
                     lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
                     lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY)
     mode = "preintegrated" if t["preint"] else "labelled" if st.nlab > 0 else scene.mode
+    at_eye = model == "phong" and scene.shading.mode == "headlight" and camera.projection == "perspective"
     return Frame(arrays, st, MODE_TAGS[mode](),
-                 LIGHT_TAGS[model](), (w, h), prep, built, timings)
+                 LIGHT_TAGS["headlight" if at_eye else model](), (w, h), prep, built, timings)

@@ -16,9 +16,11 @@ from typing import NamedTuple
 
 from numba.extending import overload
 
+from ._inlining import inline_only
+
 __all__ = ["piece", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS", "LIGHT_TAGS",
            "Composite", "LabelledComposite", "Preintegrated", "Mip", "Minip", "Average",
-           "Isosurface", "Unlit", "Phong", "Shadowed", "Scatter"]
+           "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter"]
 
 
 class Composite(NamedTuple):
@@ -57,6 +59,11 @@ class Phong(NamedTuple):
     """Phong, every light fully visible (headlight and phong)."""
 
 
+class Headlight(NamedTuple):
+    """Phong with one light at the eye of a perspective camera: at every sample the light's direction is the
+    view direction (no light vector to compute)."""
+
+
 class Shadowed(NamedTuple):
     """Phong with each light weighted by its visibility (shadows; scattering on surfaces)."""
 
@@ -69,7 +76,7 @@ class Scatter(NamedTuple):
 MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrated": Preintegrated, "mip": Mip,
              "minip": Minip, "average": Average, "isosurface": Isosurface}
 #: lighting model name -> light tag class
-LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "shadows": Shadowed, "scatter": Scatter}
+LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "headlight": Headlight, "shadows": Shadowed, "scatter": Scatter}
 
 
 def piece(name: str, params: str, doc: str = ""):
@@ -83,10 +90,10 @@ def piece(name: str, params: str, doc: str = ""):
     impls: dict[type, object] = {}
     args = ", ".join(p.strip() for p in params.split(",") if p.strip())
     sep = ", " if args else ""
-    ns: dict = {"impls": impls}
+    ns: dict = {"impls": impls, "inline_only": inline_only}
     exec(f"def stub(tag{sep}{args}):\n    raise NotImplementedError('called from compiled code only')\n"
          f"def choose(tag{sep}{args}):\n    fn = impls[tag.instance_class]\n"
-         f"    def impl(tag{sep}{args}):\n        return fn({args})\n    return impl\n", ns)
+         f"    def impl(tag{sep}{args}):\n        return fn({args})\n    return inline_only(impl)\n", ns)
     stub = ns["stub"]
     stub.__name__ = stub.__qualname__ = name
     stub.__doc__ = doc

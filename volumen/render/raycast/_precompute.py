@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 from ._sample import world_grad
+from ._threads import run_strided
 
 __all__ = ["NLUT", "normalize", "normal_params", "build_blocks"]
 
@@ -100,11 +101,12 @@ def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
     return nrm, gmax * value_scale
 
 
-@njit(parallel=True, cache=True)
-def _blocks_kernel(u, b, bmin, bmax):
+@njit(cache=True, nogil=True)
+def _blocks_kernel(first, stride, u, b, bmin, bmax):
+    """Block planes ``bk = first, first + stride, ...`` (``_threads.run_strided``)."""
     nz, ny, nx = u.shape
     gz, gy, gx = bmin.shape
-    for bk in prange(gz):
+    for bk in range(first, gz, stride):
         k0, k1 = max(bk * b - 1, 0), min((bk + 1) * b + 1, nz - 1)
         for bj in range(gy):
             j0, j1 = max(bj * b - 1, 0), min((bj + 1) * b + 1, ny - 1)
@@ -132,5 +134,5 @@ def build_blocks(u: np.ndarray, block: int) -> tuple[np.ndarray, np.ndarray]:
     shape = tuple(-(-n // block) for n in u.shape)
     bmin = np.empty(shape, np.float32)
     bmax = np.empty(shape, np.float32)
-    _blocks_kernel(u, int(block), bmin, bmax)
+    run_strided(_blocks_kernel, shape[0], u, int(block), bmin, bmax)
     return bmin, bmax

@@ -10,6 +10,8 @@ Models (the ``shade`` piece of each light tag):
 
 * ``Unlit``: factors (1, 1, 1, 0, 0, 0), the colour unchanged.
 * ``Phong``: Phong, every light fully visible.
+* ``Headlight``: Phong with the one light at the eye of a perspective camera, whose direction at a sample
+  is the view direction ``v`` (the ray starts at the eye): the same light without a light vector per sample.
 * ``Shadowed``: Phong with each light weighted by its visibility
   (:func:`light_visibility`).
 * ``Scatter``: single scattering (:mod:`._scatter`): the sample's colour is
@@ -31,7 +33,7 @@ from ..optics import phong_terms, spot_factor
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
 from ._medium import frame_medium
-from ._pieces import Phong, Scatter, Shadowed, Unlit, piece, shade, uses_normals
+from ._pieces import Headlight, Phong, Scatter, Shadowed, Unlit, piece, shade, uses_normals
 from ._scatter import phase_weight
 from ._shadow import shadow_transmittance
 
@@ -90,18 +92,16 @@ def light_visibility(li, w, lv, dist, a, s):
     yy = w[1] + off * ly
     yz = w[2] + off * lz
     kind = a.lvm[li, LV_KIND]
-    if kind == DIRECT:
-        return shadow_transmittance(frame_medium(a, s), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
-                                    dist - off, s.sh_step, s.ds0, s.kext)
-    if kind == LATTICE:
-        near = min(NEAR_STEPS * s.ds0, dist - off)
-        tr = shadow_transmittance(frame_medium(a, s), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz,
-                                  near, s.sh_step, s.ds0, s.kext)
-        if near < dist - off and tr > 0.0:
-            xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
-            tr *= lattice_transmittance(a.lvm, a.lvd, li, xi, yi, zi)
-        return tr
-    return 1.0
+    if kind != DIRECT and kind != LATTICE:
+        return 1.0
+    span = dist - off
+    near = span if kind == DIRECT else min(NEAR_STEPS * s.ds0, span)  # marched; the lattice's beyond
+    tr = shadow_transmittance(frame_medium(a, s), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz, near,
+                              s.sh_step, s.ds0, s.kext)
+    if kind == LATTICE and near < span and tr > 0.0:
+        xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
+        tr *= lattice_transmittance(a.lvm, a.lvd, li, xi, yi, zi)
+    return tr
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -176,6 +176,19 @@ def _shade_phong(a, s, n, v, w):
     return _phong(Phong(), a, s, n, v, w)
 
 
+@shade.register(Headlight)
+@njit(cache=True, fastmath=True, inline="always")
+def _shade_headlight(a, s, n, v, w):
+    nx, ny, nz, flat = _unit_facing(n, v)
+    diff, spec = 1.0, 0.0
+    if not flat:
+        diff, spec = phong_terms(nx, ny, nz, v[0], v[1], v[2], v[0], v[1], v[2], s.shine)
+    kd = s.kd * diff
+    ks = s.ks * spec
+    cr, cg, cb = a.lights[0, L_COL], a.lights[0, L_COL + 1], a.lights[0, L_COL + 2]
+    return s.ka + kd * cr, s.ka + kd * cg, s.ka + kd * cb, ks * cr, ks * cg, ks * cb
+
+
 @shade.register(Shadowed)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_shadowed(a, s, n, v, w):
@@ -199,7 +212,7 @@ def _shade_scatter(a, s, n, v, w):
     return (ka + kd * (fr - ka)) * alb, (ka + kd * (fg - ka)) * alb, (ka + kd * (fb - ka)) * alb, 0.0, 0.0, 0.0
 
 
-@uses_normals.register(Phong, Shadowed)
+@uses_normals.register(Phong, Headlight, Shadowed)
 @njit(cache=True, inline="always")
 def _normals_yes():
     return True

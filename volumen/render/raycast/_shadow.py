@@ -48,18 +48,18 @@ def shadow_transmittance(med, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
     di, dj, dk = to_index(geo, lx, ly, lz, 0.0)
     stop = TAU_STOP * ds0 / kext
-    sp = depth_at(med, oi + ta * di, oj + ta * dj, ok + ta * dk)[0]
-    acc = 0.0  # integral of sigma ds, sigma in reference-step units, s in mm
-    t = ta
     m = int((tb - ta) / step)
-    for j in range(1, m + 1):
-        t = ta + j * step
-        s = depth_at(med, oi + t * di, oj + t * dj, ok + t * dk)[0]
-        acc += 0.5 * (sp + s) * step
+    last = m + 1 if tb - (ta + m * step) > 1e-6 * step else m  # the exit point, when past the last whole step
+    acc = 0.0  # integral of sigma ds, sigma in reference-step units, s in mm
+    sp = 0.0
+    t = ta
+    for j in range(last + 1):  # one sampling site: the label-aware classification is compiled once
+        tj = ta + j * step if j <= m else tb
+        s = depth_at(med, oi + tj * di, oj + tj * dj, ok + tj * dk)[0]
+        if j > 0:
+            acc += 0.5 * (sp + s) * (step if j <= m else tb - t)
+            if acc > stop and j <= m:
+                return 0.0
         sp = s
-        if acc > stop:
-            return 0.0
-    if tb - t > 1e-6 * step:
-        s = depth_at(med, oi + tb * di, oj + tb * dj, ok + tb * dk)[0]
-        acc += 0.5 * (sp + s) * (tb - t)
+        t = tj
     return math.exp(-kext * acc / ds0)

@@ -1,0 +1,123 @@
+"""The two fixes to Numba's IR inliner (``raycast._inlining``) and the threads that replaced the parallel loops.
+
+The fixes make the kernels' cold compile about 2-5x shorter (``volumen bench compile``); these tests check what
+they promise: that they are in place with the installed Numba, that an IR copy is still a deep copy whose
+blocks share one new scope, that an inlined overload is typed but never compiled on its own, and that
+``run_strided`` visits every item once on every thread count.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numba import njit
+from numba.core import event, ir
+from numba.core.compiler import run_frontend
+
+from volumen.render.raycast import inlining_active
+from volumen.render.raycast._inlining import _BlockCopier
+from volumen.render.raycast._pieces import piece
+from volumen.render.raycast._threads import run_strided
+
+
+def test_fixes_are_in_place_with_this_numba():
+    assert inlining_active()
+
+
+def _branchy(x, n):
+    acc = 0.0
+    for i in range(n):
+        if x > i:
+            acc += x * i
+        else:
+            acc -= i
+    return acc
+
+
+def _copy_blocks(the_ir, copier):
+    """What ``InlineWorker.inline_ir``'s ``copy_ir`` does with the ``copy`` it sees (the same local name)."""
+    blocks = {}
+    for label in the_ir.blocks:
+        blocks[label] = copier.deepcopy(the_ir.blocks[label])
+    return blocks
+
+
+def test_ir_copy_is_deep_and_its_blocks_share_one_new_scope():
+    the_ir = run_frontend(_branchy)
+    assert len(the_ir.blocks) > 3
+    copier = _BlockCopier(ir.Block)
+    first = _copy_blocks(the_ir, copier)
+    scopes = {id(b.scope) for b in first.values()}
+    assert len(scopes) == 1 and id(the_ir.blocks[min(the_ir.blocks)].scope) not in scopes
+    for label, block in first.items():
+        orig = the_ir.blocks[label]
+        assert block is not orig and len(block.body) == len(orig.body)
+        assert all(a is not b and str(a) == str(b) for a, b in zip(block.body, orig.body))
+    second = _copy_blocks(the_ir, copier)  # the same IR copied again: a new copy, sharing nothing with the first
+    assert {id(b.scope) for b in second.values()}.isdisjoint(scopes)
+    assert all(s.body[0] is not f.body[0] for s, f in zip(second.values(), first.values()))
+
+
+
+
+def test_inlined_piece_is_typed_but_not_compiled_on_its_own():
+    from typing import NamedTuple
+
+    class Double(NamedTuple):
+        pass
+
+    double = piece("double_for_test", "x")
+
+    @double.register(Double)
+    @njit(inline="always")
+    def _double(x):
+        return 2.0 * x
+
+    @njit
+    def caller(x):
+        return double(Double(), x) + 1.0
+
+    compiled = []
+
+    class Listener(event.Listener):
+        def on_start(self, ev):
+            compiled.append(ev.data["dispatcher"].py_func)
+
+        def on_end(self, ev):
+            pass
+
+    with event.install_listener("numba:compile", Listener()):
+        assert caller(3.0) == pytest.approx(7.0)
+    names = [f.__qualname__ for f in compiled]
+    assert any("caller" in n for n in names)
+    assert not any(getattr(f, "_volumen_inline_only", False) for f in compiled), names
+
+
+@njit(nogil=True)
+def _mark(first, stride, hits):
+    for i in range(first, hits.shape[0], stride):
+        hits[i] += 1
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("n", [1, 2, 7, 1000])
+def test_run_strided_visits_every_item_once(threads, n):
+    import numba
+
+    hits = np.zeros(n, np.int64)
+    old = numba.get_num_threads()
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        run_strided(_mark, n, hits)
+    finally:
+        numba.set_num_threads(old)
+    assert (hits == 1).all()
+
+
+def test_run_strided_raises_a_kernel_error():
+    def failing(first, stride):
+        if first == 0:
+            raise ValueError("bad item")
+
+    with pytest.raises(ValueError, match="bad item"):
+        run_strided(failing, 4)

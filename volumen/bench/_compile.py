@@ -1,0 +1,68 @@
+"""``volumen bench compile``: how long the first picture of each ray-casting mode takes in a fresh process.
+
+Each case runs in a child process with its own empty Numba cache (``NUMBA_CACHE_DIR``): the time from the
+``render`` call to the picture is the cold compile of that (mode, shading model)'s kernel, plus the per-volume
+tables, on a 48^3 head phantom at 64x64 (the picture itself takes milliseconds). A second child with the same
+cache then shows the cached start. Imports are timed apart. Cases run one after another, so the machine's
+other load is the only noise; the bar is 15 s per mode (issue 13).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+from ._table import Table
+
+__all__ = ["bench_compile", "CASES"]
+
+#: (mode, shading) of each first picture
+CASES = (("mip", "none"), ("minip", "none"), ("average", "none"), ("composite", "none"),
+         ("composite", "headlight"), ("composite", "phong"), ("composite", "shadows"),
+         ("composite", "scattering"), ("isosurface", "headlight"), ("isosurface", "shadows"))
+QUICK = (("mip", "none"),)
+BAR_S = 15.0
+
+_CHILD = r"""
+import json, sys, time
+t0 = time.perf_counter()
+from volumen.core import Camera, Light, Scene, Shading
+from volumen.data import phantom
+from volumen.render import default_transfer, render
+t1 = time.perf_counter()
+mode, shading = sys.argv[1], sys.argv[2]
+v = phantom("head", size=(48, 48, 48))
+lights = (Light(kind="point", position=tuple(v.center + [0, 0, 200])),) if shading in ("shadows", "scattering") else ()
+scene = Scene(volume=v, transfer=default_transfer(v, mode), mode=mode, shading=Shading(mode=shading), lights=lights)
+c0, w0 = time.process_time(), time.perf_counter()
+image = render(scene, Camera.orbit(v), (64, 64))
+print(json.dumps({"imports": t1 - t0, "wall": time.perf_counter() - w0, "cpu": time.process_time() - c0,
+                  "max": float(image.rgba[..., :3].max())}))
+"""
+
+
+def _first_picture(mode: str, shading: str, cache: str) -> dict:
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    out = subprocess.run([sys.executable, "-c", _CHILD, mode, shading], env=env, capture_output=True, text=True,
+                         check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def bench_compile(quick: bool = False) -> Table:
+    """Cold and cached first-picture seconds per (mode, shading); returns the table."""
+    table = Table("First picture in a fresh process: cold Numba cache, then cached (48^3 phantom, 64x64)",
+                  [("mode", "mode", ""), ("shading", "shading", ""), ("cold_s", "cold s", ".1f"),
+                   ("cold_cpu_s", "cold CPU s", ".1f"), ("cached_s", "cached s", ".2f"),
+                   ("imports_s", "imports s", ".1f"), ("bar", f"<= {BAR_S:.0f} s", "")])
+    for mode, shading in QUICK if quick else CASES:
+        with tempfile.TemporaryDirectory(prefix="volumen-numba-") as cache:
+            cold = _first_picture(mode, shading, cache)
+            warm = _first_picture(mode, shading, cache)
+        table.add(mode=mode, shading=shading, cold_s=cold["wall"], cold_cpu_s=cold["cpu"], cached_s=warm["wall"],
+                  imports_s=cold["imports"], bar="yes" if cold["wall"] <= BAR_S else "NO")
+    table.notes.append("cold: the render call in a child process with an empty NUMBA_CACHE_DIR (kernel compile "
+                       "and per-volume tables); cached: a second child with that cache; imports timed apart")
+    return table

@@ -1,0 +1,127 @@
+"""Numba's IR inliner without its repeated work: two narrow fixes that cut the kernels' cold compile in half.
+
+The marching skeleton reaches every per-sample function through ``inline="always"`` (``_march``) and the mode
+and light pieces through inlined overloads (``_pieces``): one flat kernel per (mode, light), which is what makes
+it fast. Numba (0.59 - 0.62 at least) does two things over and over while building it; both are known upstream
+(numba/numba#8989, #9204; numba-cuda#688, #689: the same fixes, proposed there):
+
+* **Copying a callee's IR, block by block.** ``InlineWorker.inline_ir`` deep-copies each block with a fresh
+  memo, so every block copies the callee's whole ``Scope`` (all its variables) again: the cost grows as
+  blocks x variables. :func:`_deepcopy` shares one memo across the blocks of one copy, which is what
+  one deep copy of the whole IR would do: each block still gets its own statements, and all of them one new
+  scope (as in the original, where the blocks share one scope).
+* **Typing an inlined overload again for the same argument types.** The typing of a call to an
+  ``inline="always"`` overload re-runs the implementation's untyped passes and type inference every time type
+  inference revisits the call (88 times for 8 distinct signatures in the composite-headlight kernel).
+  :func:`_generic` keeps the answer per (template, typing context, argument types); the template records the
+  inlining information on its first call, keyed the same way.
+
+Neither changes what is compiled: the pictures are bit-identical with and without (``tests/render``).
+:func:`install` (run on import, before any kernel compiles) patches only when Numba has the code these fixes
+expect, and is a no-op otherwise.
+"""
+
+from __future__ import annotations
+
+import copy
+import sys
+
+__all__ = ["install", "active", "inline_only"]
+
+_state = {"installed": False}
+
+
+class _BlockCopier:
+    """``copy`` as ``inline_closurecall`` sees it, whose ``deepcopy`` of an ``ir.Block`` from its IR copy
+    (``copy_ir``: the ``FunctionIR`` being copied is its local ``the_ir``) shares one memo with the other blocks
+    of the same copy. A block seen again, or another IR, starts a new copy; without ``the_ir`` (another Numba)
+    every block is copied on its own, as before."""
+
+    def __init__(self, block_type):
+        self._block_type = block_type
+        self._ir = None
+        self._seen: set[int] = set()
+        self._memo: dict = {}
+        self.copy = copy.copy
+        self.Error = copy.Error
+
+    def deepcopy(self, x, memo=None):
+        if memo is not None or type(x) is not self._block_type:
+            return copy.deepcopy(x, memo)
+        the_ir = sys._getframe(1).f_locals.get("the_ir")
+        if the_ir is None:
+            return copy.deepcopy(x)
+        if the_ir is not self._ir or id(x) in self._seen:
+            self._ir, self._seen, self._memo = the_ir, set(), {}
+        self._seen.add(id(x))
+        return copy.deepcopy(x, self._memo)
+
+
+def inline_only(fn):
+    """Mark the Python implementation ``fn`` of an ``inline="always"`` overload (``_pieces``): its dispatcher is
+    typed but never compiled on its own. Numba compiles it once per signature anyway (to check that it can, and
+    to surface ``literally`` requests, which these implementations do not make); that machine code is never
+    used, and compiling it links and optimizes again everything the implementation calls."""
+    setattr(fn, _MARK, True)
+    return fn
+
+
+_MARK = "_volumen_inline_only"
+
+
+def _typing_only(original):
+    def get_call_template(self, args, kws):
+        if not (getattr(self.py_func, _MARK, False) and self._can_compile):
+            return original(self, args, kws)
+        self._can_compile = False
+        try:
+            return original(self, args, kws)
+        finally:
+            self._can_compile = True
+
+    get_call_template.__wrapped__ = original
+    return get_call_template
+
+
+def _cached_generic(original):
+    cache: dict = {}
+
+    def generic(self, args, kws):
+        key = (type(self), id(self.context), tuple(args), tuple(sorted(kws.items())) if kws else ())
+        try:
+            hash(key)
+        except TypeError:
+            return original(self, args, kws)
+        if key not in cache:
+            cache[key] = original(self, args, kws)
+        return cache[key]
+
+    generic.__wrapped__ = original
+    return generic
+
+
+def install() -> bool:
+    """Apply both fixes once (process-wide); whether they are in place."""
+    if _state["installed"]:
+        return True
+    from numba.core import dispatcher, inline_closurecall, ir
+    from numba.core.typing import templates
+
+    tpl = getattr(templates, "_OverloadFunctionTemplate", None)
+    disp = dispatcher.Dispatcher
+    if (getattr(inline_closurecall, "copy", None) is not copy or not hasattr(tpl, "generic")
+            or not hasattr(disp, "get_call_template")):
+        return False
+    inline_closurecall.copy = _BlockCopier(ir.Block)
+    tpl.generic = _cached_generic(tpl.generic)
+    disp.get_call_template = _typing_only(disp.get_call_template)
+    _state["installed"] = True
+    return True
+
+
+def active() -> bool:
+    """Whether :func:`install` has patched Numba in this process."""
+    return _state["installed"]
+
+
+install()

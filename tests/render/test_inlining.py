@@ -52,10 +52,10 @@ def test_ir_copy_is_deep_and_its_blocks_share_one_new_scope():
     for label, block in first.items():
         orig = the_ir.blocks[label]
         assert block is not orig and len(block.body) == len(orig.body)
-        assert all(a is not b and str(a) == str(b) for a, b in zip(block.body, orig.body))
+        assert all(a is not b and str(a) == str(b) for a, b in zip(block.body, orig.body, strict=True))
     second = _copy_blocks(the_ir, copier)  # the same IR copied again: a new copy, sharing nothing with the first
     assert {id(b.scope) for b in second.values()}.isdisjoint(scopes)
-    assert all(s.body[0] is not f.body[0] for s, f in zip(second.values(), first.values()))
+    assert all(s.body[0] is not f.body[0] for s, f in zip(second.values(), first.values(), strict=True))
 
 
 
@@ -121,3 +121,4 @@ def test_run_strided_raises_a_kernel_error():
 
     with pytest.raises(ValueError, match="bad item"):
         run_strided(failing, 4)
+

@@ -61,6 +61,7 @@ class MainWindow(QMainWindow):
         self.worker.frame_ready.connect(self._frame)
         self.worker.failed.connect(self._render_failed)
         self.worker.raster_status.connect(self._raster_status)
+        self.worker.start()
         self.token = 0
         self.final_token = -1
         self.last_error = None

@@ -53,6 +53,10 @@ class RenderWorker(QObject):
         self._stop = False
         self._busy = False
         self._thread = threading.Thread(target=self._loop, name="volumen-render", daemon=True)
+
+    def start(self) -> None:
+        """Start the thread: call it once the signals are connected (its first act, the OpenGL probe, emits
+        :attr:`raster_status`, which a later connection would miss)."""
         self._thread.start()
 
     # -- interface thread -------------------------------------------------------

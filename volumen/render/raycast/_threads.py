@@ -11,6 +11,7 @@ rows) balance the threads as well as the loop's chunks did.
 
 from __future__ import annotations
 
+import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
@@ -28,6 +29,16 @@ def _executor() -> ThreadPoolExecutor:
             _pool["pool"] = ThreadPoolExecutor(max(numba.config.NUMBA_NUM_THREADS - 1, 1),
                                                thread_name_prefix="volumen-raycast")
         return _pool["pool"]
+
+
+def _forget_pool() -> None:
+    """In a forked child: the parent's pool threads do not exist there, so it gets its own pool."""
+    global _lock
+    _lock = threading.Lock()
+    _pool.clear()
+
+
+os.register_at_fork(after_in_child=_forget_pool)
 
 
 def run_strided(kernel, n: int, *args) -> None:

@@ -53,6 +53,13 @@ def frame_medium(a, s):
     return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab)
 
 
+@njit(cache=True, fastmath=True, _nrt=False)
+def _classified(m, x, y, z, idx):
+    """:func:`._labelled.classify` for a light path, compiled once and called, not inlined at every sampling
+    site (shadow rays, sweeps, tracking): only label scenes reach it, and kernels compile faster without it."""
+    return classify(m, x, y, z, idx, False)
+
+
 @njit(cache=True, fastmath=True, inline="always")
 def depth_at(m, x, y, z):
     """``(optical depth per reference step, table index)`` at voxel-index position ``(x, y, z)`` (trilinear)."""
@@ -60,7 +67,7 @@ def depth_at(m, x, y, z):
     idx = min(max(int(v + 0.5), 0), m.sig.shape[0] - 1)
     if m.nlab <= 0:
         return m.sig[idx], idx
-    return optical_depth(classify(m, x, y, z, idx, False)[3]) * m.lscale, idx
+    return optical_depth(_classified(m, x, y, z, idx)[3]) * m.lscale, idx
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -69,7 +76,7 @@ def event_color(m, x, y, z, idx):
     or the classified sample's (its premultiplied colour over its opacity) with labels."""
     if m.nlab <= 0:
         return m.lut[idx, 0], m.lut[idx, 1], m.lut[idx, 2]
-    cr, cg, cb, al = classify(m, x, y, z, idx, False)
+    cr, cg, cb, al = _classified(m, x, y, z, idx)
     if al <= 0.0:
         return 0.0, 0.0, 0.0
     return cr / al, cg / al, cb / al

@@ -3,7 +3,7 @@
 The fixes make the kernels' cold compile about 2-5x shorter (``volumen bench compile``); these tests check what
 they promise: that they are in place with the installed Numba, that an IR copy is still a deep copy whose
 blocks share one new scope, that an inlined overload is typed but never compiled on its own, and that
-``run_strided`` visits every item once on every thread count.
+``run_parts`` visits every item once on every thread count.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from numba.core.compiler import run_frontend
 from volumen.render.raycast import inlining_active
 from volumen.render.raycast._inlining import _BlockCopier
 from volumen.render.raycast._pieces import piece
-from volumen.render.raycast._threads import run_strided
+from volumen.render.raycast._threads import run_parts
 
 
 def test_fixes_are_in_place_with_this_numba():
@@ -94,31 +94,32 @@ def test_inlined_piece_is_typed_but_not_compiled_on_its_own():
 
 
 @njit(nogil=True)
-def _mark(first, stride, hits):
-    for i in range(first, hits.shape[0], stride):
+def _mark(part, parts, hits):
+    n = hits.shape[0]
+    for i in range(part * n // parts, (part + 1) * n // parts):
         hits[i] += 1
 
 
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("n", [1, 2, 7, 1000])
-def test_run_strided_visits_every_item_once(threads, n):
+def test_run_parts_visits_every_item_once(threads, n):
     import numba
 
     hits = np.zeros(n, np.int64)
     old = numba.get_num_threads()
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     try:
-        run_strided(_mark, n, hits)
+        run_parts(_mark, n, hits)
     finally:
         numba.set_num_threads(old)
     assert (hits == 1).all()
 
 
-def test_run_strided_raises_a_kernel_error():
-    def failing(first, stride):
-        if first == 0:
+def test_run_parts_raises_a_kernel_error():
+    def failing(part, parts):
+        if part == 0:
             raise ValueError("bad item")
 
     with pytest.raises(ValueError, match="bad item"):
-        run_strided(failing, 4)
+        run_parts(failing, 4)
 

@@ -33,7 +33,7 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
-from ._threads import run_strided
+from ._threads import run_parts
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of", "sweep_medium"]
@@ -211,9 +211,9 @@ def sweep_medium(sw):
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
-def _sweep(first, stride, sw, work, out):
+def _sweep(part, parts, sw, work, out):
     """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u), for the rows
-    ``v = first, first + stride, ...`` (``_threads.run_strided``).
+    of part ``part`` of ``parts`` (contiguous) (``_threads.run_parts``).
 
     The work arrays ``work[0..4]`` (nv, nu) hold each ray's region interval in
     ``s``, its optical depth so far, its last sample (-1 before the region, -2
@@ -225,7 +225,7 @@ def _sweep(first, stride, sw, work, out):
     scale = sw.kext / sw.ds0
     wt0, wt1, wacc, wsp, wlen = work
     med = sweep_medium(sw)
-    for v in range(first, nv, stride):
+    for v in range(part * nv // parts, (part + 1) * nv // parts):
         for u in range(nu):
             _, _, t0, t1, length = lattice_ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
             wt0[v, u] = t0
@@ -259,5 +259,5 @@ def build_lattice(med, affine, geo, planes, nplanes, meta, ds0: float, kext: flo
     work = tuple(np.empty((nv, nu), np.float64) for _ in range(5))
     sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.ascontiguousarray(np.asarray(affine, float)[:3, :4]),
                   geo, planes, np.asarray(meta, np.float64), nplanes, ds0, kext)
-    run_strided(_sweep, nv, sw, work, out)
+    run_parts(_sweep, nv, sw, work, out)
     return out

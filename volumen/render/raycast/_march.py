@@ -35,7 +35,7 @@ from . import _composite, _iso, _project  # noqa: F401 - they register the mode 
 from ._frame import FAR
 from ._pieces import eager, finish, init, radius, step
 from ._ray import begin_ray, sample_at
-from ._threads import run_strided
+from ._threads import run_parts
 
 __all__ = ["trace_pixel", "render_tiles"]
 
@@ -111,14 +111,15 @@ def trace_pixel(px, py, a, s, out, mode, light):
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
-def _trace_tiles(first, stride, order, tile, a, s, out, mode, light):
-    """Tiles ``order[first::stride]`` (tile indices, row-major), every pixel's ``trace_pixel`` inlined; compiled
-    without reference counting (nothing in it allocates): reading an array from the records then costs no
-    atomic increments, which threads sharing the arrays would contend for, and the records are passed once
-    per thread, not once per pixel."""
+def _trace_tiles(part, parts, order, tile, a, s, out, mode, light):
+    """Part ``part`` of ``parts`` of the tiles ``order`` (tile indices, row-major; ``_threads.run_parts``), every
+    pixel's ``trace_pixel`` inlined; compiled without reference counting (nothing in it allocates): reading an
+    array from the records then costs no atomic increments, which threads sharing the arrays would contend
+    for, and the records are passed once per thread, not once per pixel."""
     h, w = out.depth.shape
     ntx = (w + tile - 1) // tile
-    for n in range(first, order.shape[0], stride):
+    m = order.shape[0]
+    for n in range(part * m // parts, (part + 1) * m // parts):
         x0 = (order[n] % ntx) * tile
         y0 = (order[n] // ntx) * tile
         for py in range(y0, min(y0 + tile, h)):
@@ -128,4 +129,4 @@ def _trace_tiles(first, stride, order, tile, a, s, out, mode, light):
 
 def render_tiles(order, tile, a, s, out, mode, light) -> None:
     """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles on every thread."""
-    run_strided(_trace_tiles, order.shape[0], order, tile, a, s, out, mode, light)
+    run_parts(_trace_tiles, order.shape[0], order, tile, a, s, out, mode, light)

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from ._sample import _cell, world_grad
-from ._threads import run_strided
+from ._threads import run_parts
 
 __all__ = ["DIRS", "NO_CODES", "encode_normals", "sample_normal"]
 
@@ -66,12 +66,12 @@ def _encode(gx, gy, gz, g):
 
 
 @njit(cache=True, fastmath=True, nogil=True)
-def _encode_kernel(first, stride, u, m, sobel, inv_gmax, dirs, mags):
-    """Planes ``k = first, first + stride, ...`` (``_threads.run_strided``)."""
+def _encode_kernel(part, parts, u, m, sobel, inv_gmax, dirs, mags):
+    """Planes of part ``part`` of ``parts`` (contiguous) (``_threads.run_parts``)."""
     nz, ny, nx = u.shape
     want_dir = dirs.shape[0] == nz
     want_mag = mags.shape[0] == nz
-    for k in range(first, nz, stride):
+    for k in range(part * nz // parts, (part + 1) * nz // parts):
         for j in range(ny):
             for i in range(nx):
                 gx, gy, gz, g = world_grad(u, m, k, j, i, sobel)
@@ -87,7 +87,7 @@ def encode_normals(u: np.ndarray, nrm: np.ndarray, sobel: bool, *, directions=Tr
     dirs = np.empty(u.shape, np.uint16) if directions else NO_CODES
     mags = np.empty(u.shape, np.uint8) if magnitudes else np.zeros((1, 1, 1), np.uint8)
     if directions or magnitudes:
-        run_strided(_encode_kernel, u.shape[0], u, np.ascontiguousarray(nrm[:3]), bool(sobel), float(nrm[3, 0]),
+        run_parts(_encode_kernel, u.shape[0], u, np.ascontiguousarray(nrm[:3]), bool(sobel), float(nrm[3, 0]),
                     dirs, mags)
     return dirs, mags
 

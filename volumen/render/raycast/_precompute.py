@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 from ._sample import world_grad
-from ._threads import run_strided
+from ._threads import run_parts
 
 __all__ = ["NLUT", "normalize", "normal_params", "build_blocks"]
 
@@ -102,11 +102,11 @@ def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
 
 
 @njit(cache=True, nogil=True)
-def _blocks_kernel(first, stride, u, b, bmin, bmax):
-    """Block planes ``bk = first, first + stride, ...`` (``_threads.run_strided``)."""
+def _blocks_kernel(part, parts, u, b, bmin, bmax):
+    """Block planes of part ``part`` of ``parts`` (contiguous) (``_threads.run_parts``)."""
     nz, ny, nx = u.shape
     gz, gy, gx = bmin.shape
-    for bk in range(first, gz, stride):
+    for bk in range(part * gz // parts, (part + 1) * gz // parts):
         k0, k1 = max(bk * b - 1, 0), min((bk + 1) * b + 1, nz - 1)
         for bj in range(gy):
             j0, j1 = max(bj * b - 1, 0), min((bj + 1) * b + 1, ny - 1)
@@ -134,5 +134,5 @@ def build_blocks(u: np.ndarray, block: int) -> tuple[np.ndarray, np.ndarray]:
     shape = tuple(-(-n // block) for n in u.shape)
     bmin = np.empty(shape, np.float32)
     bmax = np.empty(shape, np.float32)
-    run_strided(_blocks_kernel, shape[0], u, int(block), bmin, bmax)
+    run_parts(_blocks_kernel, shape[0], u, int(block), bmin, bmax)
     return bmin, bmax

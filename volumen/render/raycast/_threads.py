@@ -2,11 +2,13 @@
 
 A ``prange`` loop around a kernel compiles a second time everything the kernel inlines: Numba builds the
 loop as its own function and links and optimizes the kernel's machine code into it again (about 2.5 s of a
-ray-casting kernel's first use). Here the kernel (``nogil``, from ``_march`` and ``_lightsweep``) takes
-``(first, stride, ...)`` and does items ``first, first + stride, ...`` of its work; :func:`run_strided`
-calls it once per thread, the calling thread included, on ``numba.get_num_threads()`` threads (what
-``numba.set_num_threads`` and ``NUMBA_NUM_THREADS`` set). Interleaved items (tiles in raster order, lattice
-rows) balance the threads as well as the loop's chunks did.
+ray-casting kernel's first use). Here the kernel (``nogil``: ``_march``, ``_lightsweep``, ``_normals``,
+``_precompute``) takes ``(part, parts, ...)`` and does the contiguous part ``part`` of ``parts`` of its
+items, ``part * n // parts`` up to ``(part + 1) * n // parts``; :func:`run_parts` calls it once per thread,
+the calling thread included, on ``numba.get_num_threads()`` threads (what ``numba.set_num_threads`` and
+``NUMBA_NUM_THREADS`` set). Contiguous parts, as the parallel loop's static chunks were: the tiles' order
+(``_cpu.tile_order``) spreads the picture's expensive middle over them (interleaved tiles left one thread
+1.6x the other's work on the aorta).
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numba
 
-__all__ = ["run_strided"]
+__all__ = ["run_parts"]
 
 _pool: dict[str, ThreadPoolExecutor] = {}
 _lock = threading.Lock()
@@ -41,16 +43,16 @@ def _forget_pool() -> None:
 os.register_at_fork(after_in_child=_forget_pool)
 
 
-def run_strided(kernel, n: int, *args) -> None:
-    """``kernel(first, stride, *args)`` for ``first`` in ``0 .. stride - 1``, ``stride = min(threads, n)``, in
+def run_parts(kernel, n: int, *args) -> None:
+    """``kernel(part, parts, *args)`` for ``part`` in ``0 .. parts - 1``, ``parts = min(threads, n)``, in
     parallel; returns when all are done (an exception in any is raised here)."""
-    stride = max(min(numba.get_num_threads(), n), 1)
-    if stride == 1:
+    parts = max(min(numba.get_num_threads(), n), 1)
+    if parts == 1:
         kernel(0, 1, *args)
         return
-    futures = [_executor().submit(kernel, first, stride, *args) for first in range(1, stride)]
+    futures = [_executor().submit(kernel, part, parts, *args) for part in range(1, parts)]
     try:
-        kernel(0, stride, *args)
+        kernel(0, parts, *args)
     finally:
         for f in futures:
             f.result()

@@ -1,22 +1,25 @@
-"""Numba's IR inliner without its repeated work: two narrow fixes that cut the kernels' cold compile in half.
+"""Numba's IR inliner without its repeated work: narrow fixes that cut the kernels' cold compile 2-5x.
 
 The marching skeleton reaches every per-sample function through ``inline="always"`` (``_march``) and the mode
 and light pieces through inlined overloads (``_pieces``): one flat kernel per (mode, light), which is what makes
-it fast. Numba (0.59 - 0.62 at least) does two things over and over while building it; both are known upstream
+it fast. Numba (seen with 0.68.1) repeats work while building it; this is known upstream
 (numba/numba#8989, #9204; numba-cuda#688, #689: the same fixes, proposed there):
 
 * **Copying a callee's IR, block by block.** ``InlineWorker.inline_ir`` deep-copies each block with a fresh
   memo, so every block copies the callee's whole ``Scope`` (all its variables) again: the cost grows as
-  blocks x variables. :func:`_deepcopy` shares one memo across the blocks of one copy, which is what
+  blocks x variables. :class:`_BlockCopier` shares one memo across the blocks of one copy, which is what
   one deep copy of the whole IR would do: each block still gets its own statements, and all of them one new
   scope (as in the original, where the blocks share one scope).
 * **Typing an inlined overload again for the same argument types.** The typing of a call to an
   ``inline="always"`` overload re-runs the implementation's untyped passes and type inference every time type
   inference revisits the call (88 times for 8 distinct signatures in the composite-headlight kernel).
-  :func:`_generic` keeps the answer per (template, typing context, argument types); the template records the
+  :func:`_cached_generic` keeps the answer per (template, typing context, argument types); the template records the
   inlining information on its first call, keyed the same way.
+* **Compiling an inlined overload's implementation on its own.** Numba compiles it to machine code that is
+  never used (it is inlined), linking and optimizing again everything it calls. Implementations marked
+  :func:`inline_only` (the pieces of ``_pieces``) are typed but not compiled (:func:`_typing_only`).
 
-Neither changes what is compiled: the pictures are bit-identical with and without (``tests/render``).
+None changes what is compiled: the pictures are bit-identical with and without (``tests/render``).
 :func:`install` (run on import, before any kernel compiles) patches only when Numba has the code these fixes
 expect, and is a no-op otherwise.
 """

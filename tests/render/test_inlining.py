@@ -3,7 +3,7 @@
 The fixes make the kernels' cold compile about 2-5x shorter (``volumen bench compile``); these tests check what
 they promise: that they are in place with the installed Numba, that an IR copy is still a deep copy whose
 blocks share one new scope, that an inlined overload is typed but never compiled on its own, and that
-``run_parts`` visits every item once on every thread count.
+``run_parts`` and ``run_claiming`` visit every item once on every thread count.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from numba.core.compiler import run_frontend
 from volumen.render.raycast import inlining_active
 from volumen.render.raycast._inlining import _BlockCopier
 from volumen.render.raycast._pieces import piece
-from volumen.render.raycast._threads import run_parts
+from volumen.render.raycast._threads import claim, fetch_add, run_claiming, run_parts
 
 
 def test_fixes_are_in_place_with_this_numba():
@@ -123,3 +123,38 @@ def test_run_parts_raises_a_kernel_error():
     with pytest.raises(ValueError, match="bad item"):
         run_parts(failing, 4)
 
+
+
+@njit(nogil=True)
+def _take(counter, hits, spin):
+    """Items ``claim(counter)`` until past ``hits``: each marked, its number added to counter[1], a count of them
+    to counter[2]; item 0 is slow (``spin`` iterations), so the other thread takes most of the rest."""
+    n = claim(counter)
+    while n < hits.shape[0]:
+        if n == 0:
+            x = 0.0
+            for i in range(spin):
+                x += np.sqrt(i)
+            hits[n] += 1 if x >= 0.0 else 2
+        else:
+            hits[n] += 1
+        fetch_add(counter, 1, n)
+        fetch_add(counter, 2, 1)
+        n = claim(counter)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("n", [1, 2, 7, 100_000])
+def test_run_claiming_visits_every_item_once_and_adds_up(threads, n):
+    import numba
+
+    hits = np.zeros(n, np.int64)
+    old = numba.get_num_threads()
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        total, count = run_claiming(_take, n, hits, 10_000_000, counts=2)
+    finally:
+        numba.set_num_threads(old)
+    assert (hits == 1).all()
+    assert total == n * (n - 1) // 2
+    assert count == n

@@ -21,8 +21,8 @@ from volumen.core import Camera, Scene, Shading, TransferFunction, Volume
 from volumen.data import phantom
 from volumen.render import default_transfer, render
 from volumen.render.raycast import clear_cache
-from volumen.render.raycast._cpu import TILE, tile_order
-from volumen.render.raycast._frame import FAR, Outputs
+from volumen.render.raycast._cpu import TILE, frame_tiles
+from volumen.render.raycast._frame import Outputs
 from volumen.render.raycast._geometry import footprint
 from volumen.render.raycast._march import render_tiles
 from volumen.render.raycast._normals import DIRS, _encode, encode_normals
@@ -81,13 +81,27 @@ def test_footprint_traces_every_ray_that_meets_the_volume(which):
     size = (70, 54)
     img = render(scene, cam, size)
     f = pack_frame(scene, cam, size)
-    out = Outputs.cleared(*size)
-    render_tiles(tile_order(*size), TILE, f.arrays, f.settings, out, f.mode, f.light)
+    out = Outputs.empty(*size)
+    samples, hits = render_tiles(frame_tiles(*size), TILE, f.arrays, f.settings, out, f.mode, f.light)
     x0, y0, x1, y1 = footprint(f.arrays.cam, f.arrays.geo)
     print(f"{which}: footprint x {x0}..{x1}, y {y0}..{y1} of {size}; hit rays {img.stats['rays_hit']}")
     np.testing.assert_array_equal(img.rgba, out.rgba)
-    np.testing.assert_array_equal(img.depth, np.where(out.depth >= 0.5 * FAR, np.inf, out.depth))
-    assert img.stats["samples"] == int(out.nsamp.sum())
+    np.testing.assert_array_equal(img.depth, out.depth)
+    assert img.stats["samples"] == samples == int(out.nsamp.sum())
+    assert img.stats["rays_hit"] == hits == int(np.count_nonzero(out.nsamp))
+
+
+@pytest.mark.parametrize("traced", [None, (20, 5, 41, 30), (0, 0, 0, 0), [3, 0, 11]])
+def test_frame_tiles_take_every_tile_once_traced_first(traced):
+    size = (70, 54)  # 5 x 4 tiles, the last column and row partial
+    order = frame_tiles(*size, traced)
+    n_traced = int((order[:, 1] == 0).sum())
+    assert (order[:n_traced, 1] == 0).all() and (order[n_traced:, 1] > 0).all()
+    tiles = [t for t, run in order for t in range(t, t + max(run, 1))]
+    assert sorted(tiles) == list(range(20))
+    assert all(t // 5 == (t + run - 1) // 5 for t, run in order[n_traced:])  # a blank run stays in its tile row
+    # (20, 5, 41, 30) meets tile columns 1..2 (x 16..47) and rows 0..1 (y 0..31)
+    assert n_traced == {"None": 20, "(20, 5, 41, 30)": 2 * 2, "(0, 0, 0, 0)": 0, "[3, 0, 11]": 3}[repr(traced)]
 
 
 def test_kept_skip_tables_follow_the_transfer_function():

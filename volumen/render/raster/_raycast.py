@@ -123,7 +123,7 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     """Ray-cast ``scene`` seen by ``camera`` on OpenGL into an Image of ``size = (width, height)``; see
     ``volumen.render.render``. Raises :class:`~volumen.errors.DeviceLimitError` for what the device cannot
     do (path tracing, a volume past the 3-D texture size, too many lights or planes)."""
-    from ..raycast import Outputs, frame_image, pack_frame
+    from ..raycast import FAR, Outputs, frame_image, pack_frame
 
     _check(scene)
     ctx = get_context()
@@ -148,10 +148,12 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     finally:
         tex.release()
     s = f.settings
-    value = aux[..., 1].copy()
-    hit = value < 0.5e30
+    value, depth = aux[..., 1].copy(), aux[..., 0].copy()
+    hit = value < 0.5 * FAR
     value[hit] = s.vmin + value[hit] * s.vscale
-    out = Outputs(rgba, aux[..., 0].copy(), value, np.rint(aux[..., 2]).astype(np.int32))
+    value[~hit] = np.nan
+    depth[depth >= 0.5 * FAR] = np.inf
+    out = Outputs(rgba, depth, value, np.rint(aux[..., 2]).astype(np.int32))
     now = time.perf_counter()
     timings = dict(f.timings, upload=t_up - t, kernel=now - t_up, total=now - t_start)
     return frame_image(scene, f, out, timings, {"backend": "gl"})

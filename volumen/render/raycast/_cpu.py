@@ -1,34 +1,43 @@
 """CPU backend: pack the scene into a :class:`~._frame.Frame`, run the specialised kernel over tiles (Numba).
 
-The driver (``_march.render_tiles``) runs 16x16-pixel tiles on every thread
-taken in a scrambled order (so threads share the expensive middle of the
-picture evenly), only those meeting the volume's projected footprint
-(``_geometry.footprint``: the others stay cleared); each pixel is one call of ``_march.trace_pixel`` specialised
-for the frame's mode and shading model. ``pathtrace`` shading goes to the
+The driver (``_march.render_tiles``) runs 16x16-pixel tiles on every thread,
+each thread taking the next tile when it finishes one (``_threads.run_claiming``),
+in a scrambled order, only those meeting the volume's projected footprint
+(``_geometry.footprint``) traced and the others drawn blank after them (:func:`frame_tiles`); each pixel is one
+call of ``_march.trace_pixel`` specialised for the frame's mode and shading model. ``pathtrace`` shading goes to the
 progressive path tracer (:mod:`._pathtrace`).
 """
 
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
 
-from ._frame import FAR, Outputs
+from ._frame import Outputs
 from ._geometry import footprint
 from ._march import render_tiles
 from ._pack import pack_frame
 
-__all__ = ["render_cpu", "render_part", "tile_order", "TILE", "frame_image"]
+__all__ = ["render_cpu", "render_part", "tile_order", "frame_tiles", "TILE", "frame_image"]
 
 TILE = 16
+
+
+@functools.lru_cache(maxsize=16)
+def _scrambled(n: int) -> np.ndarray:
+    """A fixed permutation of ``range(n)`` (read-only: shared by every frame of that many tiles)."""
+    order = np.random.default_rng(12345).permutation(n).astype(np.int64)
+    order.flags.writeable = False
+    return order
 
 
 def tile_order(w: int, h: int, bounds=None) -> np.ndarray:
     """Scrambled (deterministic) order of the 16x16 tiles of a (w, h) picture; only those meeting the pixel
     rectangle ``bounds = (x0, y0, x1, y1)`` (x1, y1 exclusive) when given."""
     ntx, nty = (w + TILE - 1) // TILE, (h + TILE - 1) // TILE
-    order = np.random.default_rng(12345).permutation(ntx * nty).astype(np.int64)
+    order = _scrambled(ntx * nty)
     if bounds is None:
         return order
     x0, y0, x1, y1 = bounds
@@ -37,28 +46,50 @@ def tile_order(w: int, h: int, bounds=None) -> np.ndarray:
     return order[keep]
 
 
-def frame_image(scene, f, out: Outputs, timings: dict, stats: dict, bounds=None):
-    """The :class:`~volumen.core.Image` of host outputs ``out`` of frame ``f`` (FAR -> inf / NaN; only inside the
-    pixel rectangle ``bounds = (x0, y0, x1, y1)`` when given: the rest was never traced)."""
+def frame_tiles(w: int, h: int, traced=None) -> np.ndarray:
+    """The work of the tile kernel (``_march.render_tiles``) over a (w, h) picture: int64 rows ``(tile, run)``.
+
+    First the traced tiles (``traced``: a pixel rectangle ``(x0, y0, x1, y1)``, x1, y1 exclusive, the tiles
+    meeting it; or tile indices; None: all) in the scrambled order of :func:`tile_order`, ``run`` 0; then the
+    others, drawn blank, as runs of ``run`` tiles along a tile row from tile index ``tile`` (cheap work last:
+    it evens out the threads' ends, and a run is one claim, not one per tile).
+    """
+    ntx, nty = (w + TILE - 1) // TILE, (h + TILE - 1) // TILE
+    first = tile_order(w, h, traced) if traced is None or isinstance(traced, tuple) else np.asarray(traced, np.int64)
+    blank = np.ones((nty, ntx), bool)
+    blank.flat[first] = False
+    padded = np.pad(blank, ((0, 0), (1, 1))).astype(np.int8)
+    edges = np.diff(padded, axis=1)  # +1 where a run starts, -1 one past its end
+    ty, tx0 = np.nonzero(edges == 1)
+    tx1 = np.nonzero(edges == -1)[1]
+    runs = np.stack([ty * ntx + tx0, tx1 - tx0], axis=1)
+    return np.concatenate([np.stack([first, np.zeros_like(first)], axis=1), runs]).astype(np.int64)
+
+
+def frame_image(scene, f, out: Outputs, timings: dict, stats: dict, counts=None):
+    """The :class:`~volumen.core.Image` of host outputs ``out`` of frame ``f`` (depth inf / value NaN where
+    nothing was hit, as ``trace_pixel`` writes them); ``counts = (samples, hit rays)`` when the kernel counted
+    them, else counted here."""
     from ...core import Image
 
     rgba, depth, value, nsamp = out
-    x0, y0, x1, y1 = bounds if bounds is not None else (0, 0, depth.shape[1], depth.shape[0])
-    for a, gone in ((depth, np.inf), (value, np.nan)):
-        sub = a[y0:y1, x0:x1]
-        sub[sub >= 0.5 * FAR] = gone
     w, h = f.size
     mode = scene.mode
-    stats = {"timings": timings, "samples": int(nsamp.sum(dtype=np.int64)), "rays": w * h,
-             "rays_hit": int(np.count_nonzero(nsamp)), "mode": mode, "shading": scene.shading.mode,
-             "step_mm": f.ds, "reference_step_mm": f.ds0, "light_volumes_built": f.light_volumes_built, **stats}
+    samples, hits = counts if counts is not None else (int(nsamp.sum(dtype=np.int64)), int(np.count_nonzero(nsamp)))
+    stats = {"timings": timings, "samples": samples, "rays": w * h, "rays_hit": hits, "mode": mode,
+             "shading": scene.shading.mode, "step_mm": f.ds, "reference_step_mm": f.ds0,
+             "light_volumes_built": f.light_volumes_built, **stats}
     return Image(rgba=rgba, depth=depth, stats=stats, value=value if mode in ("mip", "minip", "average") else None)
 
 
-def _tiles_cover(bounds):
-    """The pixel rectangle of the whole tiles meeting ``bounds`` (what the kernel traced)."""
-    x0, y0, x1, y1 = bounds
-    return (x0 // TILE) * TILE, (y0 // TILE) * TILE, -(-x1 // TILE) * TILE, -(-y1 // TILE) * TILE
+def _draw(f, order, arrays=None, settings=None):
+    """Run the tile kernel over ``order`` (:func:`frame_tiles`) into new outputs: ``(outputs, counts, seconds)``."""
+    w, h = f.size
+    out = Outputs.empty(w, h)
+    t = time.perf_counter()
+    counts = render_tiles(order, TILE, f.arrays if arrays is None else arrays,
+                          f.settings if settings is None else settings, out, f.mode, f.light)
+    return out, counts, time.perf_counter() - t
 
 
 def render_cpu(scene, camera, size: tuple[int, int]):
@@ -71,13 +102,9 @@ def render_cpu(scene, camera, size: tuple[int, int]):
     t_start = time.perf_counter()
     f = pack_frame(scene, camera, size)
     w, h = f.size
-    out = Outputs.cleared(w, h)
-    t = time.perf_counter()
-    bounds = footprint(f.arrays.cam, f.arrays.geo)
-    render_tiles(tile_order(w, h, bounds), TILE, f.arrays, f.settings, out, f.mode, f.light)
-    timings = dict(f.timings, kernel=time.perf_counter() - t)
-    timings["total"] = time.perf_counter() - t_start
-    return frame_image(scene, f, out, timings, {"backend": "cpu"}, _tiles_cover(bounds))
+    out, counts, kernel = _draw(f, frame_tiles(w, h, footprint(f.arrays.cam, f.arrays.geo)))
+    timings = dict(f.timings, kernel=kernel, total=time.perf_counter() - t_start)
+    return frame_image(scene, f, out, timings, {"backend": "cpu"}, counts)
 
 
 def render_part(scene, camera, size: tuple[int, int], whole, carry: np.ndarray, tiles=None):
@@ -103,11 +130,7 @@ def render_part(scene, camera, size: tuple[int, int], whole, carry: np.ndarray, 
     t_start = time.perf_counter()
     f = pack_frame(scene, camera, size)
     w, h = f.size
-    out = Outputs(np.zeros((h, w, 4), np.float32), np.full((h, w), FAR, np.float32),
-                  np.full((h, w), FAR, np.float32), np.zeros((h, w), np.int32))
     arrays = f.arrays._replace(whole=np.asarray(whole, np.float64), carry=np.asarray(carry, np.float32))
-    order = tile_order(w, h) if tiles is None else np.asarray(tiles, np.int64)
-    t = time.perf_counter()
-    render_tiles(order, TILE, arrays, f.settings._replace(part=True), out, f.mode, f.light)
-    timings = dict(f.timings, kernel=time.perf_counter() - t, total=time.perf_counter() - t_start)
-    return frame_image(scene, f, out, timings, {"backend": "cpu"})
+    out, counts, kernel = _draw(f, frame_tiles(w, h, tiles), arrays, f.settings._replace(part=True))
+    timings = dict(f.timings, kernel=kernel, total=time.perf_counter() - t_start)
+    return frame_image(scene, f, out, timings, {"backend": "cpu"}, counts)

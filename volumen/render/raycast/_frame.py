@@ -28,7 +28,7 @@ import numpy as np
 __all__ = ["Arrays", "Settings", "Outputs", "Frame", "PER_VOLUME", "FAR"]
 
 #: "infinitely far" inside the kernels, which are compiled with fastmath (no inf/NaN semantics);
-#: the drivers turn depth >= FAR into inf and value >= FAR into NaN.
+#: ``trace_pixel`` turns depth >= FAR into inf and value >= FAR into NaN when it writes them.
 FAR = 1e30
 
 

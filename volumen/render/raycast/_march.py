@@ -29,13 +29,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
 from ._frame import FAR
 from ._pieces import eager, finish, init, radius, step
 from ._ray import begin_ray, sample_at
-from ._threads import run_parts
+from ._threads import claim, fetch_add, run_claiming
 
 __all__ = ["trace_pixel", "render_tiles"]
 
@@ -85,13 +86,52 @@ def _clear(out, px, py):
     out.nsamp[py, px] = 0
 
 
+@njit(cache=True)
+def blank(out, px, py):
+    """Pixel (px, py) as no ray drew it: transparent, depth inf, value NaN, no samples (not ``fastmath``: it
+    writes the infinities)."""
+    for c in range(4):
+        out.rgba[py, px, c] = 0.0
+    out.depth[py, px] = np.inf
+    out.value[py, px] = np.nan
+    out.nsamp[py, px] = 0
+
+
+@njit(cache=True)
+def _blank_tile(out, x0, y0, x1, y1):
+    """:func:`blank` every pixel of columns x0 .. x1 - 1, rows y0 .. y1 - 1: one simple loop per array (stores the
+    compiler vectorizes)."""
+    for py in range(y0, y1):
+        for px in range(x0, x1):
+            for c in range(4):
+                out.rgba[py, px, c] = 0.0
+        for px in range(x0, x1):
+            out.depth[py, px] = np.inf
+        for px in range(x0, x1):
+            out.value[py, px] = np.nan
+        for px in range(x0, x1):
+            out.nsamp[py, px] = 0
+
+
+@njit(cache=True)
+def _settle(out, px, py):
+    """A depth / value the mode left at FAR (nothing hit) becomes inf / NaN (not ``fastmath``, as :func:`blank`;
+    it compares only the finite values the pieces wrote)."""
+    if out.depth[py, px] >= 0.5 * FAR:
+        out.depth[py, px] = np.inf
+    if out.value[py, px] >= 0.5 * FAR:
+        out.value[py, px] = np.nan
+
+
 @njit(cache=True, fastmath=True, inline="always")
 def trace_pixel(px, py, a, s, out, mode, light):
-    """Cast the ray of pixel (px, py); write ``out.rgba / depth / value / nsamp`` there."""
-    _clear(out, px, py)
+    """Cast the ray of pixel (px, py); write ``out.rgba / depth / value / nsamp`` there (depth inf and value NaN
+    where there is none)."""
     r = begin_ray(px, py, a, s)
     if not r.t1 >= r.t0:
+        blank(out, px, py)
         return
+    _clear(out, px, py)
     st, taken, done, have = init(mode, light, r, a, s)
     prev_skip = False
     t_check = r.t0 - 1.0
@@ -108,25 +148,39 @@ def trace_pixel(px, py, a, s, out, mode, light):
         have = True
         k += 1
     finish(mode, light, r, a, s, st, taken, have, out, px, py)
+    _settle(out, px, py)
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
-def _trace_tiles(part, parts, order, tile, a, s, out, mode, light):
-    """Part ``part`` of ``parts`` of the tiles ``order`` (tile indices, row-major; ``_threads.run_parts``), every
-    pixel's ``trace_pixel`` inlined; compiled without reference counting (nothing in it allocates): reading an
-    array from the records then costs no atomic increments, which threads sharing the arrays would contend
-    for, and the records are passed once per thread, not once per pixel."""
+def _trace_tiles(counter, order, tile, a, s, out, mode, light):
+    """The rows ``order[claim(counter)]`` (``_cpu.frame_tiles``; ``_threads.run_claiming``) until none is left:
+    ``(tile, 0)`` traced, every pixel's ``trace_pixel`` inlined, its samples and hit rays added to
+    ``counter[1]`` / ``counter[2]``; ``(tile, run)`` a run of blank tiles. Compiled without reference counting
+    (nothing in it allocates): reading an array from the records then costs no atomic increments, which threads
+    sharing the arrays would contend for, and the records are passed once per thread, not once per pixel."""
     h, w = out.depth.shape
     ntx = (w + tile - 1) // tile
-    m = order.shape[0]
-    for n in range(part * m // parts, (part + 1) * m // parts):
-        x0 = (order[n] % ntx) * tile
-        y0 = (order[n] // ntx) * tile
+    n = claim(counter)
+    while n < order.shape[0]:
+        c, run = order[n, 0], order[n, 1]
+        x0, y0 = (c % ntx) * tile, (c // ntx) * tile
+        if run > 0:
+            _blank_tile(out, x0, y0, min(x0 + run * tile, w), min(y0 + tile, h))
+            n = claim(counter)
+            continue
+        samples = hits = 0
         for py in range(y0, min(y0 + tile, h)):
             for px in range(x0, min(x0 + tile, w)):
                 trace_pixel(px, py, a, s, out, mode, light)
+                samples += out.nsamp[py, px]
+                hits += out.nsamp[py, px] > 0
+        fetch_add(counter, 1, samples)
+        fetch_add(counter, 2, hits)
+        n = claim(counter)
 
 
-def render_tiles(order, tile, a, s, out, mode, light) -> None:
-    """Trace every pixel of ``out`` tile by tile in ``order`` (tile indices, row-major), tiles on every thread."""
-    run_parts(_trace_tiles, order.shape[0], order, tile, a, s, out, mode, light)
+def render_tiles(order, tile, a, s, out, mode, light) -> tuple[int, int]:
+    """Every row of ``order`` (``_cpu.frame_tiles``: traced tiles, then runs of blank ones) on every thread;
+    ``(samples, hit rays)``."""
+    samples, hits = run_claiming(_trace_tiles, order.shape[0], order, tile, a, s, out, mode, light, counts=2)
+    return int(samples), int(hits)

@@ -100,11 +100,21 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     return True, bflag, bmin, bmax
 
 
+def _color_table(prep, tf, ratio):
+    """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (read-only)."""
+    def build():
+        lut = color_table(tf, prep.vmin, prep.vmax, ratio)
+        lut.flags.writeable = False
+        return lut
+
+    return prep.memo(("lut", tf, ratio), build)
+
+
 def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     """The transfer-function tables, normals and skipping grids of the frame (fields of :class:`Arrays`)."""
     tf, mode, sh = scene.transfer, scene.mode, scene.shading
     preint = scene.sampling.preintegrate and mode == "composite"
-    lut = color_table(tf, prep.vmin, prep.vmax, ratio * kext if (mode == "composite" and not preint) else None)
+    lut = _color_table(prep, tf, ratio * kext if (mode == "composite" and not preint) else None)
     pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
     gradop = tf.gradient_opacity is not None and mode == "composite"
     shaded = model != "unlit" and not medium_model

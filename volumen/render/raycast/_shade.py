@@ -29,6 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ...core import Light
 from ..optics import phong_terms, spot_factor
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
@@ -55,9 +56,10 @@ def pack_lights(lights, camera) -> np.ndarray:
 
 def headlight(camera) -> np.ndarray:
     """The headlight as one packed row: a white point light of intensity 1 at the eye, pointing along the view."""
-    from ...core import Light
+    return pack_lights([_HEADLIGHT], camera)
 
-    return pack_lights([Light(kind="headlight")], camera)
+
+_HEADLIGHT = Light(kind="headlight")
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -39,7 +39,7 @@ def tile_order(w: int, h: int, bounds=None) -> np.ndarray:
     ntx, nty = (w + TILE - 1) // TILE, (h + TILE - 1) // TILE
     order = _scrambled(ntx * nty)
     if bounds is None:
-        return order
+        return order.copy()  # writable, as the kernels' array arguments always are (one compiled type)
     x0, y0, x1, y1 = bounds
     tx, ty = order % ntx, order // ntx
     keep = (tx * TILE < x1) & ((tx + 1) * TILE > x0) & (ty * TILE < y1) & ((ty + 1) * TILE > y0)
@@ -55,7 +55,7 @@ def frame_tiles(w: int, h: int, traced=None) -> np.ndarray:
     it evens out the threads' ends, and a run is one claim, not one per tile).
     """
     ntx, nty = (w + TILE - 1) // TILE, (h + TILE - 1) // TILE
-    first = tile_order(w, h, traced) if traced is None or isinstance(traced, tuple) else np.asarray(traced, np.int64)
+    first = tile_order(w, h, traced) if traced is None or isinstance(traced, tuple) else np.unique(traced)
     blank = np.ones((nty, ntx), bool)
     blank.flat[first] = False
     padded = np.pad(blank, ((0, 0), (1, 1))).astype(np.int8)
@@ -131,6 +131,7 @@ def render_part(scene, camera, size: tuple[int, int], whole, carry: np.ndarray, 
     f = pack_frame(scene, camera, size)
     w, h = f.size
     arrays = f.arrays._replace(whole=np.asarray(whole, np.float64), carry=np.asarray(carry, np.float32))
-    out, counts, kernel = _draw(f, frame_tiles(w, h, tiles), arrays, f.settings._replace(part=True))
+    traced = None if tiles is None else np.asarray(tiles, np.int64)  # indices, never read as a rectangle
+    out, counts, kernel = _draw(f, frame_tiles(w, h, traced), arrays, f.settings._replace(part=True))
     timings = dict(f.timings, kernel=kernel, total=time.perf_counter() - t_start)
     return frame_image(scene, f, out, timings, {"backend": "cpu"}, counts)

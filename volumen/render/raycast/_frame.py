@@ -109,8 +109,8 @@ class Outputs(NamedTuple):
     """What a ray-casting kernel writes per pixel."""
 
     rgba: Any   #: (H, W, 4) float32 premultiplied
-    depth: Any  #: (H, W) float32 mm, FAR where nothing was hit
-    value: Any  #: (H, W) float32 projected value (data units), FAR where none
+    depth: Any  #: (H, W) float32 mm, inf where nothing was hit (FAR inside the kernel until ``trace_pixel`` ends)
+    value: Any  #: (H, W) float32 projected value (data units), NaN where none (likewise)
     nsamp: Any  #: (H, W) int32 samples taken
 
     @classmethod

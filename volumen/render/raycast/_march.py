@@ -86,7 +86,7 @@ def _clear(out, px, py):
     out.nsamp[py, px] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)  # explicit: a callee inherits the caller's fastmath otherwise
 def blank(out, px, py):
     """Pixel (px, py) as no ray drew it: transparent, depth inf, value NaN, no samples (not ``fastmath``: it
     writes the infinities)."""
@@ -97,7 +97,7 @@ def blank(out, px, py):
     out.nsamp[py, px] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)  # explicit: a callee inherits the caller's fastmath otherwise
 def _blank_tile(out, x0, y0, x1, y1):
     """:func:`blank` every pixel of columns x0 .. x1 - 1, rows y0 .. y1 - 1: one simple loop per array (stores the
     compiler vectorizes)."""
@@ -113,7 +113,7 @@ def _blank_tile(out, x0, y0, x1, y1):
             out.nsamp[py, px] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)  # explicit: a callee inherits the caller's fastmath otherwise
 def _settle(out, px, py):
     """A depth / value the mode left at FAR (nothing hit) becomes inf / NaN (not ``fastmath``, as :func:`blank`;
     it compares only the finite values the pieces wrote)."""

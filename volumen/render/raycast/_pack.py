@@ -101,13 +101,9 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
 
 
 def _color_table(prep, tf, ratio):
-    """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (read-only)."""
-    def build():
-        lut = color_table(tf, prep.vmin, prep.vmax, ratio)
-        lut.flags.writeable = False
-        return lut
-
-    return prep.memo(("lut", tf, ratio), build)
+    """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (the frames
+    share it: nothing writes into it)."""
+    return prep.memo(("lut", tf, ratio), lambda: color_table(tf, prep.vmin, prep.vmax, ratio))
 
 
 def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:

@@ -170,41 +170,32 @@ def _check_range(vol: np.ndarray, level: float) -> None:
         raise ValueError(f"level {level:g} is outside the data range [{lo_v:g}, {hi_v:g}]")
 
 
-def _exclusive_cumsum(a: np.ndarray, start: int = 0) -> np.ndarray:
-    out = np.empty(len(a), np.int64)
-    out[0] = start
-    np.cumsum(a[:-1], out=out[1:])
-    out[1:] += start
-    return out
-
-
 def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     """Passes 2 and 3 (counts, prefix sums, vertices and triangles): ``(xyz, nrm, ijk, faces)``."""
     from . import _mc_kernel as K
-    from ._mc_rows import run_pass
+    from ._mc_rows import count_costs, emit_costs, run_pass, running_sums
 
     nz, ny, nx = vol.shape
     words, nxc, trim = rows["words"], rows["nxc"], rows["trim"]
     nyc, nzc = np.empty_like(nxc), np.empty_like(nxc)
-    ntri = np.zeros((nz - 1) * (ny - 1), np.int64)
-    ncen = np.zeros_like(ntri)
+    ntri = np.empty((nz - 1) * (ny - 1), np.int64)  # pass 2 writes every cube row's
+    ncen = np.empty_like(ntri)
     use_mask = m.size > 1
-    span = np.maximum(trim[:, 1] - trim[:, 0], 0)
-    run_pass(K.count_rows, 4 + 2 * span + nxc, (vol, lvl, words, trim),
-             (nyc, nzc, ntri, ncen, m, use_mask))
-    per_row = nxc + nyc + nzc
-    n_edge = int(per_row.sum())
-    vbase, cbase, tbase = _exclusive_cumsum(per_row), _exclusive_cumsum(ncen, n_edge), _exclusive_cumsum(ntri)
-    n_vert = n_edge + int(ncen.sum())
+    span, cost = count_costs(trim, nxc)
+    run_pass(K.count_rows, cost, (vol, lvl, words, trim), (nyc, nzc, ntri, ncen, m, use_mask))
+    per_row, cost = emit_costs(span, nxc, nyc, nzc, ntri, nz, ny)
+    vbase = running_sums(per_row, 0)  # each with the total appended
+    cbase = running_sums(ncen, vbase[-1])  # centre vertices numbered after the edge vertices
+    tbase = running_sums(ntri, 0)
+    n_vert, n_tri = int(cbase[-1]), int(tbase[-1])
     ijk = np.empty((n_vert if voxel_coordinates else 0, 3), np.float32)
     xyz = np.empty((n_vert, 3), np.float32)
     nrm = np.empty((n_vert, 3), np.float32)
-    faces = np.empty((int(ntri.sum()), 3), np.int32)
-    cost = 4 + span + 4 * per_row
-    cost.reshape(nz, ny)[:-1, :-1] += 2 * ntri.reshape(nz - 1, ny - 1)
+    faces = np.empty((n_tri, 3), np.int32)
     nmat = np.linalg.inv(aff[:3, :3]).T.copy()
     run_pass(K.emit_rows, cost, (vol, lvl, words, trim),
-             (nxc, nyc, vbase, tbase, cbase, m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces), scratch=13)
+             (nxc, nyc, vbase[:-1], tbase[:-1], cbase[:-1], m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces),
+             scratch=13)
     return xyz, nrm, ijk, faces
 
 

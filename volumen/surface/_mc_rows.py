@@ -12,11 +12,12 @@ so rows far from the surface cost a few comparisons.
 
 Work is split into contiguous runs of rows cut where the estimated cost (busy words,
 crossed edges, triangles) is balanced -- bone levels put the surface in a few slices --
-four runs per thread, handed out one at a time to the calling thread and a pool of as many
-more as Numba uses (the kernels release the GIL; a calling thread that only waited for the
-pool cost a thread switch per run, up to a fifth of a mesh's time on two cores). A thread that the system holds back delays only the
-run it holds; the others take the rest (Numba's parallel loops give each thread a fixed
-share and wait for the slowest, which on a busy machine cost up to twice the time).
+four runs per thread, handed out one at a time to the calling thread and a pool of the
+other threads Numba uses (the kernels release the GIL; a calling thread that only waited
+for the pool cost a thread switch per run, up to a fifth of a mesh's time on two cores).
+A thread that the system holds back delays only the run it holds; the others take the
+rest (Numba's parallel loops give each thread a fixed share and wait for the slowest,
+which on a busy machine cost up to twice the time).
 """
 
 from __future__ import annotations

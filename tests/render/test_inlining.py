@@ -8,6 +8,8 @@ blocks share one new scope, that an inlined overload is typed but never compiled
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import pytest
 from numba import njit
@@ -93,6 +95,19 @@ def test_inlined_piece_is_typed_but_not_compiled_on_its_own():
     assert not any(getattr(f, "_volumen_inline_only", False) for f in compiled), names
 
 
+@contextlib.contextmanager
+def _threads(threads):
+    """Numba's thread count set to ``threads`` (at most the configured count) inside the block."""
+    import numba
+
+    old = numba.get_num_threads()
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(old)
+
+
 @njit(nogil=True)
 def _mark(part, parts, hits):
     n = hits.shape[0]
@@ -103,15 +118,9 @@ def _mark(part, parts, hits):
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("n", [1, 2, 7, 1000])
 def test_run_parts_visits_every_item_once(threads, n):
-    import numba
-
     hits = np.zeros(n, np.int64)
-    old = numba.get_num_threads()
-    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    try:
+    with _threads(threads):
         run_parts(_mark, n, hits)
-    finally:
-        numba.set_num_threads(old)
     assert (hits == 1).all()
 
 
@@ -122,7 +131,6 @@ def test_run_parts_raises_a_kernel_error():
 
     with pytest.raises(ValueError, match="bad item"):
         run_parts(failing, 4)
-
 
 
 @njit(nogil=True)
@@ -146,15 +154,9 @@ def _take(counter, hits, spin):
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("n", [1, 2, 7, 100_000])
 def test_run_claiming_visits_every_item_once_and_adds_up(threads, n):
-    import numba
-
     hits = np.zeros(n, np.int64)
-    old = numba.get_num_threads()
-    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    try:
+    with _threads(threads):
         total, count = run_claiming(_take, n, hits, 10_000_000, counts=2)
-    finally:
-        numba.set_num_threads(old)
     assert (hits == 1).all()
     assert total == n * (n - 1) // 2
     assert count == n

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from ._repr import picture
+
 __all__ = ["Volume", "axis_codes", "is_chunked", "LUMA_WEIGHTS"]
 
 #: Rec. 601 luma weights of (R, G, B): the grey value of a colour sample.
@@ -305,16 +307,12 @@ class Volume:
                       name=self.name, meta=meta)
 
     def _repr_png_(self) -> bytes:
-        """Notebook display: the axial, coronal and sagittal planes through the centre."""
-        from .display import volume_png
-
-        return volume_png(self)
+        """Notebook display: the axial, coronal and sagittal planes through the centre (:mod:`._repr`)."""
+        return picture("volume_png", self)
 
     def _repr_html_(self) -> str:
-        """Notebook display: the geometry as a table beside the three planes."""
-        from .display import volume_html
-
-        return volume_html(self)
+        """Notebook display: the geometry as a table beside the three planes (:mod:`._repr`)."""
+        return picture("volume_html", self)
 
     def __repr__(self) -> str:
         lo, hi = self.value_range()

@@ -76,8 +76,9 @@ class Volume:
         A lazy chunked array (``is_chunked``, e.g. an OME-Zarr level) is kept
         as it is: slices read only the chunks they need.
         A trailing axis of 3 holds colour (R, G, B; channel last): see ``is_color``.
-    spacing : (3,) float, mm
-        ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``.
+    spacing : (3,) float, mm, or None
+        ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``; None (the
+        default) takes them from ``affine``, or 1 mm each without one.
     affine : (4, 4) float, optional
         Voxel ``(i, j, k, 1)`` -> world RAS+ mm. Default: axis-aligned RAS with
         the given spacing and voxel (0, 0, 0) at the origin.
@@ -93,7 +94,7 @@ class Volume:
     """
 
     data: np.ndarray
-    spacing: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    spacing: tuple[float, float, float] | None = None
     affine: np.ndarray | None = None
     modality: str = "OT"
     units: str = ""
@@ -109,26 +110,23 @@ class Volume:
         if data.dtype == np.bool_:
             data = data.view(np.uint8)
         self.data = data if is_chunked(data) else np.ascontiguousarray(data)
-        spacing = tuple(float(s) for s in np.asarray(self.spacing, dtype=float).ravel())
-        if len(spacing) != 3 or not all(np.isfinite(spacing)) or min(spacing) <= 0:
-            raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {self.spacing}")
-        self.spacing = spacing
-        if self.affine is None:
-            self.affine = _default_affine(spacing)
-        else:
-            aff = np.array(self.affine, dtype=float)
+        aff = None if self.affine is None else np.array(self.affine, dtype=float)
+        if aff is not None:
             if aff.shape != (4, 4) or not np.all(np.isfinite(aff)):
                 raise ValueError("affine must be a finite 4x4 matrix")
             if abs(np.linalg.det(aff[:3, :3])) < 1e-12:
                 raise ValueError("affine is singular")
-            col_len = np.linalg.norm(aff[:3, :3], axis=0)  # |i|, |j|, |k| = dx, dy, dz
-            expected = np.array(spacing[::-1])
-            if not np.allclose(col_len, expected, rtol=1e-4, atol=1e-6):
-                raise ValueError(
-                    f"spacing (dz, dy, dx) = {spacing} disagrees with the affine's column "
-                    f"lengths (dz, dy, dx) = {tuple(col_len[::-1].round(6))}"
-                )
-            self.affine = aff
+        col_len = None if aff is None else np.linalg.norm(aff[:3, :3], axis=0)[::-1]  # |k|, |j|, |i| = dz, dy, dx
+        given = self.spacing if self.spacing is not None else (1.0, 1.0, 1.0) if aff is None else col_len
+        spacing = tuple(float(s) for s in np.asarray(given, dtype=float).ravel())
+        if len(spacing) != 3 or not all(np.isfinite(spacing)) or min(spacing) <= 0:
+            raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {self.spacing}")
+        if col_len is not None and not np.allclose(col_len, spacing, rtol=1e-4, atol=1e-6):
+            lengths = ", ".join(f"{v:.6g}" for v in col_len)
+            raise ValueError(f"spacing (dz, dy, dx) = ({', '.join(f'{v:.6g}' for v in spacing)}) mm disagrees with "
+                             f"the affine's column lengths ({lengths}) mm; leave spacing out to take the affine's")
+        self.spacing = spacing
+        self.affine = _default_affine(spacing) if aff is None else aff
         self.meta = dict(self.meta)
         # each volume owns its warnings (derived volumes copy meta shallowly: large truth arrays are shared)
         self.meta["warnings"] = list(self.meta.get("warnings", []))

@@ -54,3 +54,19 @@ def test_no_function_in_surface_or_endoscopy_takes_more_than_eight_parameters():
                 if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and _parameters(node) > MAX_PARAMETERS:
                     long.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}: {_parameters(node)}")
     assert not long, "\n".join(long)
+
+
+def test_the_design_document_is_in_the_repository_and_every_citation_finds_its_section():
+    """Code, tests, README and the layer contract cite ``docs/design.md section N``: each N is a heading there."""
+    design = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    sections = {int(n) for n in re.findall(r"^## (\d+)\. ", design, flags=re.M)}
+    cited: dict[int, list[str]] = {}
+    for path in _repository_files():
+        if path.suffix in (".py", ".md", ".toml") and path.name != "design.md":
+            for n in re.findall(r"docs/design\.md section (\d+)", path.read_text(encoding="utf-8")):
+                cited.setdefault(int(n), []).append(str(path.relative_to(ROOT)))
+    print(f"sections {sorted(sections)}; cited {sorted(cited)} by {sum(map(len, cited.values()))} places")
+    assert {1, 2, 3, 4, 5} <= sections
+    assert len(cited) >= 4 and set(cited) <= sections, {n: cited[n] for n in set(cited) - sections}
+    assert not re.search(r"(?<!docs/)DESIGN\.md", " ".join(p.read_text(encoding="utf-8") for p in _repository_files()
+                                                            if p.suffix in (".py", ".toml")))

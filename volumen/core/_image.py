@@ -1,4 +1,4 @@
-"""The result of a renderer: premultiplied linear RGBA, depth and statistics (DESIGN.md section 2)."""
+"""The result of a renderer: premultiplied linear RGBA, depth and statistics (docs/design.md section 2)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The Volume: a 3-D scalar field with its geometry in patient space.
 
-Conventions (DESIGN.md section 2):
+Conventions (docs/design.md section 2):
 
 * ``data`` is a C-contiguous numpy array indexed ``[z, y, x]`` (slice, row, column);
 * ``spacing`` is ``(dz, dy, dx)`` in millimetres, the same order as the array;

@@ -22,8 +22,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-# Private kernels of the renderer, imported (not copied) as DESIGN.md section 4 asks;
-# they should become public names of volumen.render.raycast (see the endoscopy report).
+# The renderer's sampling and crossing refinement, imported (not copied) as docs/design.md section 4 asks.
 from ..render.raycast import G_BOX, iso_refine, sample_value, to_index
 
 __all__ = ["NO_HIT", "Wall", "first_hit", "wall_gradient", "probe", "fibonacci_directions"]

@@ -5,7 +5,7 @@ Looked for, in order: the folder named by the environment variable ``VOLUMEN_SHA
 folder holding the repository (``<repo>/../../shared/data``, where checkouts are worktrees in one
 folder). No path of a particular machine is written here (``tests/test_house.py`` checks the
 whole repository). It lives on the ``io`` floor so the fuzzer's seeds can use it;
-:mod:`volumen.data` re-exports it as the public name (docs/design.md, section 1).
+:mod:`volumen.data` re-exports it as the public name (docs/design.md section 1).
 """
 
 from __future__ import annotations

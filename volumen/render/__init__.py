@@ -1,4 +1,4 @@
-"""Renderers: each takes (Scene, Camera, size) and returns an Image (DESIGN.md section 1).
+"""Renderers: each takes (Scene, Camera, size) and returns an Image (docs/design.md section 1).
 
 ``render(scene, camera, size, device=None, technique="raycast", **options)`` is the entry point: the
 device (:data:`DEVICES`: cpu, cuda, gl, auto) says where the picture is computed, the technique

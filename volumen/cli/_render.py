@@ -199,8 +199,10 @@ def build(args, base: dict | None, volume):
 
 
 def _default_iso(volume) -> float:
+    from volumen.core import looks_like_ct
+
     lo, hi = volume.value_range()
-    return 300.0 if volume.units == "HU" or volume.modality == "CT" else 0.5 * (lo + hi)
+    return 300.0 if looks_like_ct(volume) else 0.5 * (lo + hi)
 
 
 def _volume_ref(args, base) -> str:

@@ -6,11 +6,22 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 
 from . import gestures
 from ._camera import VIEWS, Camera
+from ._ct import looks_like_ct
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
-from ._slices import PLANES, WINDOW_PRESETS, Window, canonical, montage, slice_at, slice_image, window_to_uint8
+from ._slices import (
+    PLANES,
+    WINDOW_PRESETS,
+    Window,
+    canonical,
+    default_window,
+    montage,
+    slice_at,
+    slice_image,
+    window_to_uint8,
+)
 from ._transfer import PRESETS, TransferFunction
 from ._volume import Volume, axis_codes, is_chunked
 
@@ -42,6 +53,8 @@ __all__ = [
     "WINDOW_PRESETS",
     "Window",
     "canonical",
+    "default_window",
+    "looks_like_ct",
     "montage",
     "slice_at",
     "slice_image",

@@ -72,6 +72,12 @@ def _stamp(files: tuple[Path, ...]) -> tuple:
     return tuple(out)
 
 
+def _bases(caching) -> tuple:
+    """Numba's user-provided (``NUMBA_CACHE_DIR``) and in-tree locators (underscored names in older releases)."""
+    return tuple(getattr(caching, name, None) or getattr(caching, "_" + name, None)
+                 for name in ("UserProvidedCacheLocator", "InTreeCacheLocator"))
+
+
 def _locators():
     from numba.core import caching
 
@@ -89,10 +95,12 @@ def _locators():
         def get_source_stamp(self):
             return _stamp(self._volumen_key)
 
-    class _UserProvided(_Stamped, caching.UserProvidedCacheLocator):
+    user_provided, in_tree = _bases(caching)
+
+    class _UserProvided(_Stamped, user_provided):
         pass
 
-    class _InTree(_Stamped, caching.InTreeCacheLocator):
+    class _InTree(_Stamped, in_tree):
         pass
 
     return _UserProvided, _InTree  # Numba's order: NUMBA_CACHE_DIR when set, else beside the sources
@@ -105,7 +113,7 @@ def install() -> bool:
     from numba.core import caching
 
     locators = getattr(getattr(caching, "CacheImpl", None), "_locator_classes", None)
-    bases = [getattr(caching, n, None) for n in ("InTreeCacheLocator", "UserProvidedCacheLocator")]
+    bases = _bases(caching)
     if not isinstance(locators, list) or not all(hasattr(b, "from_function") and hasattr(b, "get_source_stamp")
                                                  for b in bases):
         warnings.warn("this Numba has no cache locator list volumen can extend: cached kernels are keyed on their "

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import Camera, Display, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.data import phantom
 
 SIZE = (96, 96)
@@ -33,7 +33,7 @@ SHADINGS = {
     "shadows-fast": Shading(mode="shadows", light_volume_scale=1.0),
     "shadows-direct": Shading(mode="shadows", shadow_method="direct"),
     "scattering": Shading(mode="scattering", phase_g=0.3, light_volume_scale=1.0),
-    "pathtrace": Shading(mode="pathtrace", pt_samples=4, pt_bounces=2),
+    "pathtrace": Shading(mode="pathtrace", pt_samples=4, pt_bounces=2, pt_denoise=False),
 }
 PROJECTIONS = ("mip", "minip", "average")
 
@@ -68,7 +68,8 @@ def scenes() -> dict:
     out = {}
     for vname, (vol, tf, iso, zoom) in volumes().items():
         cam = Camera.orbit(vol, azimuth=-30, elevation=15, zoom=zoom)
-        base = Scene(volume=vol, transfer=tf, lights=_lights(vol, cam), sampling=Sampling(seed=7))
+        base = Scene(volume=vol, transfer=tf, lights=_lights(vol, cam), sampling=Sampling(seed=7),
+                     display=Display(tonemap="linear"))  # the pictures as rendered before the display transform
         gray = TransferFunction.preset("mip-gray", value_range=vol.value_range())
         for p in PROJECTIONS:
             out[f"{vname}/{p}"] = (base.with_(mode=p, transfer=gray, shading=Shading(mode="none")), cam, SIZE)

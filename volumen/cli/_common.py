@@ -69,6 +69,13 @@ def load_from_args(args: argparse.Namespace, path=None):
         opts["spacing"] = tuple(_floats(args.spacing, 3, "--spacing"))
     if args.byte_order:
         opts["byte_order"] = args.byte_order
+    if str(path).startswith(("dicomweb://", "dimse://")):  # retrieved into the cache, then read from there
+        from volumen.pacs import load as load_archived
+
+        from ._pacs import ask_password, progress_bar
+
+        return load_archived(str(path), progress=progress_bar(not getattr(args, "no_progress", False)),
+                             ask=ask_password, **opts)
     return volumen.load(path, **opts)
 
 

@@ -141,9 +141,7 @@ def _uses_archive(argv: list[str]) -> bool:
 def _run(line: str, workdir: Path, capsys, archive=None) -> str | None:
     """Run one README line; None when it worked, else what went wrong."""
     from volumen.cli import main
-
-    sys.path.insert(0, str(ROOT / "tests" / "endoscopy"))
-    from aorta_data import shared_data
+    from volumen.data import shared_data
 
     argv = shlex.split(line, comments=True)[1:]
     if _uses_archive(argv) and isinstance(archive, str):

@@ -14,7 +14,9 @@ import shutil
 import sys
 from pathlib import Path
 
-__all__ = ["register", "run", "ask_password", "progress_bar"]
+from ._common import ask_password, load_from_args, progress_bar
+
+__all__ = ["register", "run"]
 
 
 def register(sub):
@@ -49,35 +51,6 @@ def register(sub):
     send.add_argument("--picture", help="a PNG / JPEG rendering to send as a secondary capture in the scan's study")
     send.add_argument("--save", metavar="DCM", help="also write the SEG / capture to this file")
     return p
-
-
-def ask_password(label: str, user: str) -> str | None:
-    """Prompt on the terminal (never echoed); None when there is no terminal."""
-    if not sys.stdin.isatty():
-        return None
-    import getpass
-
-    return getpass.getpass(f"password of {user} on {label}: ")
-
-
-def progress_bar(enabled: bool = True, what: str = "retrieving"):
-    """A ``progress(done, total)`` callback drawing a tqdm bar on stderr (None when disabled)."""
-    if not enabled:
-        return None
-    from tqdm import tqdm
-
-    bar = None
-
-    def progress(done: int, total: int) -> None:
-        nonlocal bar
-        if bar is None:
-            bar = tqdm(total=total, unit="file", desc=what, file=sys.stderr, leave=False)
-        bar.n = done
-        bar.refresh()
-        if done >= total:
-            bar.close()
-
-    return progress
 
 
 def _table(rows: list[list[str]], header: list[str]) -> str:
@@ -140,8 +113,6 @@ def _get(args, pacs) -> int:
 
 def _send(args, pacs) -> int:
     import volumen
-
-    from ._common import load_from_args
 
     items: list = []
     for f in args.files:

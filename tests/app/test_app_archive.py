@@ -60,6 +60,9 @@ def test_search_browse_retrieve_and_open(make_window, qtbot, archive, archive_co
     assert np.array_equal(np.asarray(vol.data), np.asarray(truth.data))
     np.testing.assert_allclose(vol.affine, truth.affine, atol=1e-6)
     assert ref in win.recent.items
+    from volumen.app._session import resolve_volume
+
+    assert np.array_equal(np.asarray(resolve_volume(ref).data), np.asarray(truth.data))  # sessions, `volumen view`
     assert win.wait_for_final(120) and win.view3d.frame is not None
     dlg.close()
 

@@ -50,13 +50,11 @@ def free_port() -> int:
 class Orthanc:
     """One Orthanc server in ``folder`` (storage, configuration, log)."""
 
-    def __init__(self, folder: Path, *, store_port: int | None = None, ssl_certificate: Path | None = None,
-                 **settings):
+    def __init__(self, folder: Path, *, store_port: int | None = None, **settings):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
         self.http_port, self.dicom_port = free_port(), free_port()
         self.store_port = store_port or free_port()
-        self.ssl = ssl_certificate is not None
         config = {
             "Name": "volumen-tests", "StorageDirectory": str(self.folder / "db"),
             "IndexDirectory": str(self.folder / "db"), "Plugins": [str(_plugin())],
@@ -69,16 +67,14 @@ class Orthanc:
             "DicomScuTimeout": 5, "DicomAssociationCloseDelay": 0, "ConcurrentJobs": 1,
             "OverwriteInstances": False, "LoadPrivateDictionary": False,
         }
-        if self.ssl:
-            config.update({"SslEnabled": True, "SslCertificate": str(ssl_certificate)})
-        config.update(settings)
+        config.update(settings)  # extra Orthanc settings of a test (e.g. DicomCheckCalledAet)
         self.config = self.folder / "orthanc.json"
         self.config.write_text(json.dumps(config, indent=1))
         self.process: subprocess.Popen | None = None
 
     @property
     def base(self) -> str:
-        return f"{'https' if self.ssl else 'http'}://127.0.0.1:{self.http_port}"
+        return f"http://127.0.0.1:{self.http_port}"
 
     @property
     def dicomweb_url(self) -> str:
@@ -120,7 +116,7 @@ class Orthanc:
     # -- its own REST API, the independent truth ------------------------------
     def rest(self, method: str, path: str, **kw) -> requests.Response:
         kw.setdefault("timeout", 30)
-        return requests.request(method, self.base + path, auth=(USER, PASSWORD), verify=False, **kw)
+        return requests.request(method, self.base + path, auth=(USER, PASSWORD), **kw)
 
     def upload(self, files) -> int:
         """POST each DICOM file to /instances; the number Orthanc accepted."""

@@ -54,6 +54,9 @@ def test_a_study_reference_needs_a_series_when_it_holds_several(archive, archive
     with pytest.raises(MultipleSeriesError) as info:
         volumen.load(f"dicomweb://archive/{archive.study_uids['chest']}")
     assert archive.series["chest"][1].series_uid in str(info.value)
+    scout = archive.series["chest"][1]
+    _same_volume(volumen.load(f"dicomweb://archive/{scout.study_uid}", series=scout.series_uid),
+                 volumen.load(scout.folder))  # what --series UID passes
     head = archive.series["head"][0]
     vol = volumen.load(f"dimse://archive/{head.study_uid}")  # one series: no choice to make
     _same_volume(vol, volumen.load(head.folder))

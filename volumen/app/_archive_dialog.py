@@ -51,7 +51,7 @@ def _pixmap(grey: np.ndarray | None) -> QPixmap:
         return pix
     grey = np.ascontiguousarray(grey, np.uint8)
     image = QImage(grey.data, grey.shape[1], grey.shape[0], grey.strides[0], QImage.Format_Grayscale8)
-    return QPixmap.fromImage(image.copy())
+    return QPixmap.fromImage(image.copy()).scaled(THUMB, THUMB, Qt.KeepAspectRatio, Qt.SmoothTransformation)
 
 
 class ArchiveDialog(QDialog):

@@ -169,11 +169,14 @@ def make_ref(server: str, study_uid: str, series_uid: str | None = None, protoco
 def load(ref: str, *, progress: Progress | None = None, cancel=None, cache=None, ask: Prompt | None = None,
          **options):
     """The volume of ``dicomweb://SERVER/STUDY[/SERIES]``: retrieved into the cache (or found there), then read
-    by :func:`volumen.io.load` with ``options``. Without a series, the study must hold one (else the error
-    lists them)."""
+    by :func:`volumen.io.load` with ``options``. Without a series in the reference, ``series=UID`` (the
+    command line's ``--series``) names it, or the study must hold one (else the error lists them)."""
     from ..io import load as load_file
 
     protocol, name, study_uid, series_uid = parse_ref(ref)
+    chosen = options.pop("series", None)
+    if series_uid is None and chosen:
+        series_uid = check_uid(chosen, "series UID")
     if series_uid is None:
         found = series(name, study_uid, protocol=protocol, ask=ask)
         if len(found) > 1:

@@ -1,4 +1,4 @@
-"""The result of a renderer: premultiplied linear RGBA, depth and statistics (DESIGN.md section 2)."""
+"""The result of a renderer: premultiplied linear RGBA, depth and statistics (docs/design.md section 2)."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ._repr import picture
 from ._tonemap import Display, srgb_encode
 
 __all__ = ["Image"]
@@ -115,10 +116,8 @@ class Image:
         return np.rint(out * 255.0).astype(np.uint8)
 
     def _repr_png_(self) -> bytes:
-        """Notebook display: :meth:`to_uint8` over black as PNG."""
-        from .display import image_png
-
-        return image_png(self)
+        """Notebook display: :meth:`to_uint8` over black as PNG (:mod:`._repr`)."""
+        return picture("image_png", self)
 
     def save(self, path, *, background: tuple[float, float, float] | None = (0.0, 0.0, 0.0),
              encoding: Literal["linear", "srgb"] | None = None, display: Display | None = None) -> None:

@@ -272,19 +272,13 @@ def _path_trace(scene, camera, size, device, out, background):
     steps = [min(FIRST_SAMPLES, total)]
     while sum(steps) < total:
         steps.append(min(max(sum(steps), 1), total - sum(steps)))
-    disp = scene.display.resolved("pathtrace")
     with tqdm(total=total, unit="spp", desc="path tracing", leave=False, disable=None) as bar:
         for i, n in enumerate(steps):
             pt.add(n)
             bar.update(n)
             if i == 0 and len(steps) > 1:
-                _write(_shown(pt.image(), disp), out, background)  # a first picture to look at
-    return _shown(pt.image(), disp)
-
-
-def _shown(image, display):
-    image.display = display
-    return image
+                _write(pt.image(), out, background)  # a first picture to look at
+    return pt.image()
 
 
 def _write(image, out, background) -> None:

@@ -68,6 +68,8 @@ class PathTracer:
         Samples per pixel accumulated so far.
     coverage : (H, W) float32
         The pixels' opacity, ``1 - exp(-optical depth)`` along their view rays (the pictures' alpha).
+    display : Display
+        The scene's display for path-traced pictures (the images carry it).
     """
 
     #: the ``stats["backend"]`` of the images
@@ -86,6 +88,7 @@ class PathTracer:
         self.spp = 0
         self.seconds = 0.0
         self.denoise = scene.shading.pathtrace.denoise
+        self.display = scene.display.resolved("pathtrace")
 
     def _accumulate(self, s0: int, s1: int) -> None:
         """Add samples ``s0 .. s1 - 1`` of every pixel into ``self.acc`` (and, from 0, the coverage)."""
@@ -151,4 +154,4 @@ class PathTracer:
         stats = {"timings": timings, "spp": self.spp, "samples": self.spp * w * h, "rays": w * h,
                  "rays_hit": int(np.count_nonzero(hits)), "backend": self.backend, "mode": "composite",
                  "shading": "pathtrace", "step_mm": f.ds, "reference_step_mm": f.ds0, "denoised": denoised}
-        return Image(rgba=rgba, depth=depth, stats=stats)
+        return Image(rgba=rgba, depth=depth, stats=stats, display=self.display)

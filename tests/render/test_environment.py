@@ -5,30 +5,27 @@ sampler the path tracer tracks and draws with."""
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 import pytest
 from scipy.stats import qmc
 
-from volumen.core import Camera, Environment, Scene, studio_lights, studio_sky
-from volumen.render.raycast._environment import env_pdf, env_sample, pack_environment, sh_irradiance, sh_phase
+from volumen.core import Camera, Environment, Scene, Shading, Volume, studio_lights, studio_sky
+from volumen.render.raycast import pack_frame
+from volumen.render.raycast._environment import env_pdf, env_sample, sh_irradiance, sh_phase
 from volumen.render.raycast._majorant import majorant_grid
 from volumen.render.raycast._precompute import build_blocks
 from volumen.render.raycast._sobol import draw, path_key, sobol_point
 
 
-class _Env(NamedTuple):  # the environment fields of raycast.Arrays, as the kernels read them
-    env: np.ndarray
-    envbasis: np.ndarray
-    envcdf: np.ndarray
-    envsh: np.ndarray
-
-
 def _env(kind="studio", **kw):
+    """``(camera, frame arrays)``: the kernels' own record (``raycast.Arrays``) of a tiny lit scene in the
+    environment (a record of the tests' own would enter Numba's cache index, which other processes then cannot
+    read)."""
     cam = Camera(position=(0.0, -100.0, 0.0), target=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0))
-    mode, (env, basis, cdf, sh) = pack_environment(Environment(kind=kind, **kw), cam)
-    return cam, _Env(env, basis, cdf, sh)
+    vol = Volume(np.zeros((4, 4, 4), np.float32), spacing=(1.0, 1.0, 1.0))
+    scene = Scene(volume=vol, shading=Shading(mode="phong"), environment=Environment(kind=kind, **kw))
+    return cam, pack_frame(scene, cam, (4, 4)).arrays
 
 
 def _sphere(n=200_000, seed=1):

@@ -139,8 +139,14 @@ class DicomWebArchive:
                                               "access)") from None
             if code == 404 and missing:
                 raise ArchiveNotFoundError(label, missing) from None
+            if code == 404:
+                raise ArchiveRefusedError(label, f"{what} failed (HTTP 404: is the url the DICOMweb root, e.g. "
+                                                 "http://host:8042/dicom-web?)") from None
             reason = exc.response.reason if exc.response is not None else ""
             raise ArchiveRefusedError(label, f"{what} failed (HTTP {code} {reason})".replace(" )", ")")) from None
+        except requests.exceptions.JSONDecodeError:
+            raise ArchiveRefusedError(label, f"{what}: the answer is not DICOM JSON (is the url the DICOMweb "
+                                             "root?)") from None
         except requests.exceptions.RequestException as exc:
             raise ArchiveUnreachableError(label, _reason(exc)) from None
         except ValueError as exc:  # dicomweb-client's checks of what the server sent

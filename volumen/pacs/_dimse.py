@@ -20,6 +20,8 @@ __all__ = ["DimseArchive"]
 
 _PENDING = (0xFF00, 0xFF01)
 _OK, _OUT_OF_RESOURCES, _CANNOT_STORE = 0x0000, 0xA702, 0xC211
+_SOME_FAILED = 0xB000  # C-GET / C-MOVE: sub-operations complete, one or more failed (counted in the status)
+_STORE_WARNINGS = (0xB000, 0xB006, 0xB007)  # C-STORE: coerced, elements discarded, data set mismatch
 
 
 def _pynetdicom():
@@ -106,7 +108,7 @@ class DimseArchive:
                     out.append(identifier)
             elif code == 0xFE00:
                 raise ArchiveRefusedError(self.server.label, f"the {what} was cancelled")
-            elif code != _OK and code not in (0xB000,):
+            elif code not in (_OK, _SOME_FAILED):
                 raise ArchiveRefusedError(self.server.label, f"the {what} failed (status 0x{code:04X})")
             else:
                 failed = int(status.get("NumberOfFailedSuboperations", 0) or 0)
@@ -212,7 +214,7 @@ class DimseArchive:
                 code = getattr(status, "Status", None)
                 if code is None:
                     raise ArchiveUnreachableError(self.server.label, "the connection broke during the C-STORE")
-                if code not in (_OK, 0xB000, 0xB007, 0xB006):
+                if code != _OK and code not in _STORE_WARNINGS:
                     raise ArchiveRefusedError(self.server.label, f"refused instance {ds.SOPInstanceUID} "
                                                                  f"(status 0x{code:04X})")
         finally:

@@ -68,7 +68,7 @@ pacs-server:
 	  (apt-get install -y -qq orthanc orthanc-dicomweb >/dev/null 2>&1 || \
 	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq orthanc orthanc-dicomweb >/dev/null 2>&1)) || \
 	  echo "orthanc could not be installed; the archive tests will skip"; \
-	  (systemctl disable --now orthanc >/dev/null 2>&1 || true); \
+	  (systemctl disable --now orthanc || service orthanc stop) >/dev/null 2>&1 || true; \
 	else echo "not root: orthanc not installed; the archive tests will skip"; fi
 
 demo: $(STAMP)

@@ -62,3 +62,11 @@ def test_searches_leave_no_patient_identity_in_the_logs(archive, archive_config,
     assert "PatientName=..." in caplog.text  # the request was logged, without its value
     for secret in ("Doe", "Jane", "PAT-001"):
         assert secret not in caplog.text
+
+
+def test_find_returns_a_table_for_the_notebook(archive, archive_config):
+    found = pacs.find("archive", patient_id="PAT-003")
+    assert isinstance(found, pacs.Studies) and len(found) == 1
+    html = found._repr_html_()
+    assert html.count("<tr>") == 2 and "<td>Doe^John</td>" in html and f"<td>{found[0].uid}</td>" in html
+    assert found.rows()[0][:4] == ["20241120", "MR", "1", "Doe^John"]

@@ -82,6 +82,9 @@ class ArchiveDialog(QDialog):
         self.series_list.setViewMode(QListWidget.IconMode)
         self.series_list.setIconSize(QSize(THUMB, THUMB))
         self.series_list.setResizeMode(QListWidget.Adjust)
+        self.series_list.setGridSize(QSize(THUMB + 96, THUMB + 56))
+        self.series_list.setWordWrap(True)
+        self.series_list.setMinimumHeight(THUMB + 72)
         self.series_list.itemDoubleClicked.connect(lambda *_: self.retrieve())
         layout.addWidget(self.series_list, 1)
         bottom = QHBoxLayout()
@@ -228,9 +231,9 @@ class ArchiveDialog(QDialog):
         self.series, self.thumbnails = result
         self.series_list.clear()
         for s in self.series:
-            n = "?" if s.n_instances is None else s.n_instances
+            n = "? images" if s.n_instances is None else f"{s.n_instances} image{'' if s.n_instances == 1 else 's'}"
             item = QListWidgetItem(QIcon(_pixmap(self.thumbnails.get(s.uid))),
-                                   f"#{s.number or '-'} {s.modality}\n{s.description or '-'}\n{n} images")
+                                   f"#{s.number or '-'} {s.modality}\n{s.description or '-'}\n{n}")
             item.setToolTip(s.uid)
             self.series_list.addItem(item)
         if self.series:

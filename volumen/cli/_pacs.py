@@ -76,11 +76,7 @@ def _find(args, pacs) -> int:
     if args.json:
         print(json.dumps([{**s.__dict__, "modalities": list(s.modalities)} for s in found], indent=2))
         return 0
-    rows = [[s.date or "-", "/".join(s.modalities) or "-", s.n_series if s.n_series is not None else "?",
-             s.patient_name or "-", s.patient_id or "-", s.accession or "-", s.description or "-", s.uid]
-            for s in found]
-    print(_table(rows, ["date", "modality", "series", "patient", "patient ID", "accession", "description",
-                        "StudyInstanceUID"]))
+    print(_table(found.rows(), list(pacs.STUDY_COLUMNS)))
     print(f"{len(found)} stud{'y' if len(found) == 1 else 'ies'}", file=sys.stderr)
     return 0
 

@@ -16,7 +16,7 @@ from ..errors import ArchiveConfigError, ArchiveNotFoundError, MultipleSeriesErr
 from ._cache import SeriesCache
 from ._config import Server, resolve_server
 from ._credentials import Prompt
-from ._records import Query, Series, Study, check_uid
+from ._records import Query, Series, Studies, check_uid
 
 __all__ = ["echo", "find", "series", "retrieve", "load", "send", "parse_ref", "make_ref", "connect", "REF_SCHEMES"]
 
@@ -53,8 +53,9 @@ def echo(server: str | Server, *, protocol: str | None = None, ask: Prompt | Non
         return archive.echo()
 
 
-def find(server: str | Server, *, protocol: str | None = None, ask: Prompt | None = None, **query) -> list[Study]:
-    """The studies matching ``query`` (the fields of :class:`Query`), by date then UID.
+def find(server: str | Server, *, protocol: str | None = None, ask: Prompt | None = None, **query) -> Studies:
+    """The studies matching ``query`` (the fields of :class:`Query`), by date then UID: a list of
+    :class:`Study` that Jupyter shows as a table.
 
     Examples
     --------
@@ -63,7 +64,7 @@ def find(server: str | Server, *, protocol: str | None = None, ask: Prompt | Non
     q = query.pop("query", None) or Query(**query)
     with connect(server, protocol=protocol, ask=ask) as archive:
         found = archive.find_studies(q)
-    return sorted(found, key=lambda s: (s.date, s.uid))
+    return Studies(sorted(found, key=lambda s: (s.date, s.uid)))
 
 
 def series(server: str | Server, study_uid: str, *, protocol: str | None = None,
@@ -121,7 +122,8 @@ def retrieve(server: str | Server, study_uid: str, series_uid: str, *, protocol:
         if not listed:
             raise ArchiveNotFoundError(srv.label, f"has no series {series_uid} in study {study_uid} (deleted since "
                                                   "it was found?)")
-        have = where.present() & set(listed)
+        where.keep_only(set(listed))
+        have = where.present()
         missing = [uid for uid in listed if uid not in have]
         done = len(have)
         if progress:

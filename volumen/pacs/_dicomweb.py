@@ -125,6 +125,7 @@ class DicomWebArchive:
         """Map ``requests`` failures to typed errors: ``what`` is the request in words, ``missing`` what a 404
         means (None: a plain refusal)."""
         import requests
+        from pydicom.errors import InvalidDicomError
 
         label = self.server.label
         try:
@@ -139,10 +140,19 @@ class DicomWebArchive:
                                               "access)") from None
             if code == 404 and missing:
                 raise ArchiveNotFoundError(label, missing) from None
+            if code == 404:
+                raise ArchiveRefusedError(label, f"{what} failed (HTTP 404: is the url the DICOMweb root, e.g. "
+                                                 "http://host:8042/dicom-web?)") from None
             reason = exc.response.reason if exc.response is not None else ""
             raise ArchiveRefusedError(label, f"{what} failed (HTTP {code} {reason})".replace(" )", ")")) from None
+        except requests.exceptions.JSONDecodeError:
+            raise ArchiveRefusedError(label, f"{what}: the answer is not DICOM JSON (is the url the DICOMweb "
+                                             "root?)") from None
         except requests.exceptions.RequestException as exc:
             raise ArchiveUnreachableError(label, _reason(exc)) from None
+        except InvalidDicomError:
+            raise ArchiveRefusedError(label, f"{what}: the server sent an instance that is not a DICOM Part 10 file "
+                                             "(no file meta information)") from None
         except ValueError as exc:  # dicomweb-client's checks of what the server sent
             raise ArchiveRefusedError(label, f"{what}: unexpected answer ({exc})") from None
 

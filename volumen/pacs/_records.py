@@ -14,7 +14,7 @@ from dataclasses import asdict, dataclass
 
 from ..errors import ArchiveConfigError
 
-__all__ = ["Query", "Study", "Series", "check_uid", "STUDY_KEYS", "SERIES_KEYS"]
+__all__ = ["Query", "Study", "Series", "Studies", "check_uid", "STUDY_KEYS", "SERIES_KEYS", "STUDY_COLUMNS"]
 
 _DATE = re.compile(r"^(\d{8})?(-(\d{8})?)?$")
 _UID = re.compile(r"^[0-9]+(\.[0-9]+)*$")
@@ -124,6 +124,28 @@ class Study:
                    patient_id=_text(ds, "PatientID"), accession=_text(ds, "AccessionNumber"),
                    modalities=tuple(m for m in mods if m), n_series=_int(ds, "NumberOfStudyRelatedSeries"),
                    n_instances=_int(ds, "NumberOfStudyRelatedInstances"))
+
+
+#: the columns of a table of studies (``volumen pacs find``, the notebook)
+STUDY_COLUMNS = ("date", "modality", "series", "patient", "patient ID", "accession", "description",
+                 "StudyInstanceUID")
+
+
+class Studies(list):
+    """A list of :class:`Study` that shows itself as a table in Jupyter (what ``volumen.pacs.find`` returns)."""
+
+    def rows(self) -> list[list[str]]:
+        """One row of :data:`STUDY_COLUMNS` per study."""
+        return [[s.date or "-", "/".join(s.modalities) or "-", "?" if s.n_series is None else str(s.n_series),
+                 s.patient_name or "-", s.patient_id or "-", s.accession or "-", s.description or "-", s.uid]
+                for s in self]
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        head = "".join(f"<th>{escape(c)}</th>" for c in STUDY_COLUMNS)
+        body = "".join("<tr>" + "".join(f"<td>{escape(v)}</td>" for v in row) + "</tr>" for row in self.rows())
+        return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test fuzz huge install system-data browser clean
+.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +34,17 @@ system-data:
 	  echo "mricron-data could not be installed; tests using it will skip"; \
 	else echo "not root: mricron-data not installed; tests using it will skip"; fi
 
+# Optional library: Debian's libfreeimage3 lets imageio read HDR environment maps (.hdr, .exr; volumen.io.read_environment).
+# Installing it needs root and apt; without it the environment-map tests skip with the reason printed.
+system-libs:
+	@if ls /usr/lib/*/libfreeimage.so.3 >/dev/null 2>&1; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian package libfreeimage3 (HDR environment maps)"; \
+	  (apt-get install -y -qq libfreeimage3 >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq libfreeimage3 >/dev/null 2>&1)) || \
+	  echo "libfreeimage3 could not be installed; environment-map tests will skip"; \
+	else echo "not root: libfreeimage3 not installed; environment-map tests will skip"; fi
+
 # Optional browser: Debian's chromium opens the notebook viewer's page headless in
 # tests/notebook/test_browser.py. Installing it needs root and apt; without it that test
 # skips with the reason printed.
@@ -46,11 +57,25 @@ browser:
 	  echo "chromium could not be installed; the browser test will skip"; \
 	else echo "not root: chromium not installed; the browser test will skip"; fi
 
+# Optional archive server: Debian's orthanc and its DICOMweb plugin (orthanc-dicomweb). The tests of volumen.pacs
+# (tests/pacs, the application's archive dialog, the README's pacs lines) start it as a plain process on free local
+# ports with a temporary storage folder and stop it after. Installing needs root and apt; without them those tests
+# skip with the reason printed. The package's own system service is not wanted: it is stopped and disabled.
+pacs-server:
+	@if command -v Orthanc >/dev/null && ls /usr/share/orthanc/plugins/libOrthancDicomWeb.so* >/dev/null 2>&1; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian packages orthanc and orthanc-dicomweb (the archive tests' server)"; \
+	  (apt-get install -y -qq orthanc orthanc-dicomweb >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq orthanc orthanc-dicomweb >/dev/null 2>&1)) || \
+	  echo "orthanc could not be installed; the archive tests will skip"; \
+	  (systemctl disable --now orthanc || service orthanc stop) >/dev/null 2>&1 || true; \
+	else echo "not root: orthanc not installed; the archive tests will skip"; fi
+
 demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
-test: $(STAMP) system-data browser
+test: $(STAMP) system-data system-libs browser pacs-server
 	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 

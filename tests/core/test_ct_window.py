@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import volumen
-from volumen.core import WINDOW_PRESETS, Volume, default_window, looks_like_ct, slice_image
+from volumen.core import WINDOW_PRESETS, Volume, default_window, is_ct, slice_image
 from volumen.data import phantom, sample, samples
 
 
@@ -27,7 +27,7 @@ def test_a_ct_without_modality_from_nifti_gets_the_soft_tissue_window(torso, tmp
     nib.save(nib.Nifti1Image(np.ascontiguousarray(torso.data.transpose(2, 1, 0)), torso.affine), path)
     vol = volumen.load(path)
     assert vol.modality != "CT" and vol.units != "HU"
-    assert looks_like_ct(vol)
+    assert is_ct(vol)
     assert default_window(vol) == WINDOW_PRESETS["soft-tissue"]
     assert np.array_equal(slice_image(vol, "axial"), slice_image(vol, "axial", window="soft-tissue"))
 
@@ -39,7 +39,7 @@ def test_other_volumes_are_not_taken_for_ct(torso, case):
            "float PET-like": lambda: _bare(torso, (d * 0.37 + 0.5).astype(np.float32)),
            "no bone": lambda: _bare(torso, np.minimum(d, 250).astype(np.int16)),
            "known MR": lambda: _bare(torso, modality="MR")}[case]()
-    assert not looks_like_ct(vol)
+    assert not is_ct(vol)
     lo, hi = vol.value_range()
     assert default_window(vol).range == pytest.approx((lo, hi))
 
@@ -50,13 +50,13 @@ def test_padding_outside_the_field_of_view_does_not_hide_a_ct(torso):
     nz, ny, nx = d.shape
     y, x = np.mgrid[:ny, :nx]
     d[:, (y - ny / 2) ** 2 + (x - nx / 2) ** 2 > (0.5 * nx) ** 2] = -3024  # the corners, a fifth of each slice
-    assert looks_like_ct(_bare(torso, d))
+    assert is_ct(_bare(torso, d))
 
 
 def test_the_mri_template_is_not_a_ct():
     if "ch2better" not in samples():
         pytest.skip("MRIcron templates not installed (Debian package mricron-data)")
-    assert not looks_like_ct(sample("ch2better"))
+    assert not is_ct(sample("ch2better"))
 
 
 def test_the_app_state_opens_a_bare_ct_in_the_soft_tissue_window(torso):

@@ -6,7 +6,8 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 
 from . import gestures
 from ._camera import VIEWS, Camera
-from ._ct import looks_like_ct
+from ._ct import is_ct
+from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
@@ -22,7 +23,8 @@ from ._slices import (
     slice_image,
     window_to_uint8,
 )
-from ._transfer import PRESETS, TransferFunction
+from ._tonemap import TONEMAPS, Display
+from ._transfer import PRESETS, TransferFunction, default_preset, hu_offset
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
@@ -39,6 +41,9 @@ __all__ = [
     "VIEWS",
     "TransferFunction",
     "PRESETS",
+    "default_preset",
+    "hu_offset",
+    "is_ct",
     "Light",
     "Shading",
     "Sampling",
@@ -49,12 +54,17 @@ __all__ = [
     "MODES",
     "SHADINGS",
     "Image",
+    "Display",
+    "TONEMAPS",
+    "Environment",
+    "ENVIRONMENTS",
+    "studio_lights",
+    "studio_sky",
     "PLANES",
     "WINDOW_PRESETS",
     "Window",
     "canonical",
     "default_window",
-    "looks_like_ct",
     "montage",
     "slice_at",
     "slice_image",

@@ -1,10 +1,10 @@
 """Is this volume a CT in Hounsfield units? From its modality and units, else from its values.
 
 A NIfTI or NRRD file carries no modality, so a CT opened from one looks like any other volume.
-Its values give it away: whole numbers in Hounsfield units reaching about -1000 (air, or the
-scanner's padding below it, -1024 or -3024 outside the field of view), a share of the voxels
-at air (-1100..-900 HU) and some at bone (>= 300 HU). A scan in scanner units (0..4095, air at
-0), an MRI (no negative values) or a PET (real numbers) is not taken for one. The test is
+Its values give it away: Hounsfield units reaching about -1000 (air, or the scanner's padding
+below it, -1024 or -3024 outside the field of view), a share of the voxels at air
+(-1100..-900 HU) and some at bone (>= 300 HU). A scan in scanner units (0..4095, air at 0), an
+MRI (no negative values) or a PET (no air peak at -1000) is not taken for one. The test is
 read on a strided sample of at most about 200,000 voxels (a few planes of a chunked volume).
 """
 
@@ -14,7 +14,7 @@ import numpy as np
 
 from ._volume import is_chunked
 
-__all__ = ["looks_like_ct", "AIR_HU", "BONE_HU"]
+__all__ = ["is_ct", "AIR_HU", "BONE_HU"]
 
 #: the values of air in a CT (HU)
 AIR_HU = (-1100.0, -900.0)
@@ -36,24 +36,23 @@ def _sample(volume) -> np.ndarray:
     return np.asarray(data[::step, ::step, ::step]).ravel()
 
 
-def looks_like_ct(volume) -> bool:
+def is_ct(volume) -> bool:
     """Whether ``volume`` holds a CT in Hounsfield units.
 
-    True for ``modality == "CT"`` or ``units == "HU"``; False for a colour volume or another
-    known modality (MR, PT, ...); otherwise decided from the values (module docstring).
+    True for modality ``CT`` or units in HU (``"HU"``, ``"HU+1000"``: see ``hu_offset``); False for a colour
+    volume, another known modality (MR, PT, ...) or other units; otherwise decided from the values (module
+    docstring).
     """
-    if volume.modality == "CT" or volume.units == "HU":
+    modality = str(volume.modality or "").upper()
+    units = str(volume.units or "")
+    if modality == "CT" or units.upper().startswith("HU"):
         return True
-    if volume.is_color or volume.modality in _NOT_CT or volume.units not in ("", "unknown"):
+    if volume.is_color or modality in _NOT_CT or units not in ("", "unknown"):
         return False
-    v = _sample(volume)
+    v = _sample(volume).astype(np.float64, copy=False)
+    v = v[np.isfinite(v)]
     if v.size == 0:
         return False
-    if np.issubdtype(v.dtype, np.floating):
-        v = v[np.isfinite(v)]
-        if v.size == 0 or not np.array_equal(v, np.round(v)):
-            return False
-    v = v.astype(np.float64, copy=False)
     air = np.count_nonzero((v >= AIR_HU[0]) & (v <= AIR_HU[1])) / v.size
     bone = np.count_nonzero(v >= BONE_HU) / v.size
     return bool(v.min() <= AIR_HU[1] and air >= _MIN_AIR and bone >= _MIN_BONE)

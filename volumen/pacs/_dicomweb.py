@@ -35,7 +35,7 @@ from ..errors import (
     ArchiveUnreachableError,
 )
 from ._config import Server
-from ._credentials import Prompt, password, token
+from ._credentials import Prompt, forget, password, token
 from ._privacy import redact_logs
 from ._records import SERIES_KEYS, STUDY_KEYS, Query, Series, Study
 
@@ -165,6 +165,7 @@ class DicomWebArchive:
         except requests.exceptions.HTTPError as exc:
             code = exc.response.status_code if exc.response is not None else 0
             if code in (401, 403):
+                forget(self.server)
                 who = f"user {self.server.username}" if self.server.username else "requests without credentials"
                 raise ArchiveAuthError(label, f"refused {who} (HTTP {code}: wrong user name or password, or no "
                                               "access)") from None

@@ -1,12 +1,14 @@
 """volumen: seeing inside medical volumes (CT, MRI).
 
 ``import volumen`` is cheap: the readers, renderers and Qt are imported only
-when first used.
+when first used. This root module also hands ``volumen.core`` its notebook picture maker
+(:func:`_notebook_picture`), so the plain data shows itself without importing upward.
 """
 
 from __future__ import annotations
 
 from .core import Volume
+from .core._repr import set_picture_maker
 from .errors import VolumenError, VolumeReadError, VolumeWriteError
 
 __all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "load_labels", "save", "show",
@@ -15,7 +17,12 @@ __version__ = "0.1.0"
 
 
 def load(path, **options) -> Volume:
-    """Read a volume file or DICOM folder; see :func:`volumen.io.load`."""
+    """Read a volume file or DICOM folder (see :func:`volumen.io.load`), or a series of an archive,
+    ``dicomweb://SERVER/STUDY/SERIES``, retrieved into the cache first (see :func:`volumen.pacs.load`)."""
+    if isinstance(path, str) and path.startswith(("dicomweb://", "dimse://")):
+        from .pacs import load as _load_archived
+
+        return _load_archived(path, **options)
     from .io import load as _load
 
     return _load(path, **options)
@@ -41,3 +48,13 @@ def show(volume_or_scene, camera=None, **options):
     from .notebook import show as _show
 
     return _show(volume_or_scene, camera, **options)
+
+
+def _notebook_picture(kind: str, obj):
+    """The notebook picture of an Image, Volume or Mesh (``volumen.core._repr``), made on the notebook floor."""
+    from .notebook import pictures
+
+    return pictures.make(kind, obj)
+
+
+set_picture_maker(_notebook_picture)

@@ -44,7 +44,7 @@ from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from ._plan import checked_centerline, lumen_wall
 from ._pose import Pose, slerp
 from ._scores import FlightScore, dice, keyframes_inside, look_down_ratio, score_flight, wall_offsets
-from ._unfold import Unfolded, unfold
+from ._unfold import Unfolded, WallLook, unfold
 from ._video import VideoWriter
 from ._wall import WallField
 
@@ -91,6 +91,7 @@ __all__ = [
     "VideoWriter",
     "Unfolded",
     "unfold",
+    "WallLook",
     "CPR",
     "curved_reformation",
     "cross_section",

@@ -22,6 +22,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit, prange
+
+from ._march import first_hit
 
 __all__ = ["FlightScore", "score_flight", "dice", "keyframes_inside", "look_down_ratio", "wall_offsets",
            "LOOK_DOWN", "pixel_rays"]
@@ -74,6 +77,13 @@ def pixel_rays(camera, size) -> np.ndarray:
     return d / np.linalg.norm(d, axis=-1, keepdims=True)
 
 
+@njit(parallel=True, cache=True)
+def _first_hits(w, eye, dirs, tmax, out):
+    """:func:`first_hit` of the wall record ``w`` from ``eye`` (3,) along each of ``dirs`` (n, 3) into ``out``."""
+    for n in prange(dirs.shape[0]):
+        out[n] = first_hit(w, (eye[0], eye[1], eye[2]), (dirs[n, 0], dirs[n, 1], dirs[n, 2]), tmax)
+
+
 class _Boundary:
     """A lumen mask's boundary: its wall field (for first hits) and signed distance's gradient (for normals)."""
 
@@ -99,14 +109,14 @@ class _Boundary:
         return g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-12)
 
     def offsets(self, image, camera) -> np.ndarray:
-        from ._march import NO_HIT, first_hits
+        from ._march import NO_HIT, Wall
 
         w = self.wall
         dirs = pixel_rays(camera, image.depth.shape[::-1]).reshape(-1, 3)
         eye = np.asarray(camera.position, float)
         out = np.empty(len(dirs))
-        first_hits(w.field, w.geometry, float(w.level), np.broadcast_to(eye, dirs.shape).copy(),
-                   np.ascontiguousarray(dirs), float(self.volume.diagonal), w.step, out)
+        _first_hits(Wall(w.field, w.geometry, float(w.level), w.step), eye, np.ascontiguousarray(dirs),
+                    float(self.volume.diagonal), out)
         depth = image.depth.reshape(-1).astype(float)
         keep = np.isfinite(depth) & (out < NO_HIT)
         cos = np.abs(np.sum(self.normals(eye + out[keep, None] * dirs[keep]) * dirs[keep], axis=1))

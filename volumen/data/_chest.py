@@ -36,7 +36,7 @@ import numpy as np
 from ..core import Volume
 from ._canvas import Canvas, Grid, ellipse_cylinder_sd, ellipsoid_sd
 from ._texture import smooth_field
-from ._tubes import Path, make_path, tube_field, truth_tube
+from ._tubes import Path, make_path, truth_tube, tube_field
 
 __all__ = ["arch"]
 
@@ -47,7 +47,8 @@ CORTEX, TRABECULAR, DISC = 900.0, 230.0, 80.0
 WALL = 2.0  # mm, vessel and airway walls
 
 AORTA = ([(14, 26, -90), (14, 25, -40), (12, 22, 0), (6, 14, 30), (-4, 0, 42), (-16, -16, 36), (-24, -30, 16),
-          (-25, -36, -20), (-25, -37, -55), (-25, -37, -90)], [14.0, 14.0, 13.5, 13.0, 12.5, 12.0, 11.5, 11.0, 11.0, 11.0])
+          (-25, -36, -20), (-25, -37, -55), (-25, -37, -90)],
+         [14.0, 14.0, 13.5, 13.0, 12.5, 12.0, 11.5, 11.0, 11.0, 11.0])
 BRANCHES = {
     "brachiocephalic": ([(4, 12, 36), (12, 18, 60), (18, 20, 90)], [6.5, 6.0, 6.0]),
     "left_common_carotid": ([(-4, 2, 44), (-6, 6, 64), (-8, 8, 90)], [4.0, 4.0, 4.0]),

@@ -16,8 +16,8 @@ from ..core import Volume
 from ._airways import airways
 from ._chest import arch
 from ._head import head
-from ._tagged import tagged_colon
 from ._shapes import ellipsoid, slab, sphere
+from ._tagged import tagged_colon
 from ._torso import torso
 from ._washout import washout
 

@@ -27,7 +27,7 @@ from ..core import Volume
 from ._canvas import Canvas, Grid, ellipse_cylinder_sd
 from ._colon import _folds
 from ._texture import smooth_field
-from ._tubes import make_path, tube_field, truth_tube
+from ._tubes import make_path, truth_tube, tube_field
 
 __all__ = ["tagged_colon"]
 

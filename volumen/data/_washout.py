@@ -23,7 +23,7 @@ import numpy as np
 from ..core import Volume
 from ._canvas import Canvas, Grid, box_sd, ellipse_cylinder_sd
 from ._texture import smooth_field
-from ._tubes import make_path, tube_field, truth_tube
+from ._tubes import make_path, truth_tube, tube_field
 
 __all__ = ["washout"]
 

@@ -101,7 +101,7 @@ def grow(volume, seed, est, *, lumen=None, max_fraction: float = 0.8) -> Growth:
     seed is in no lumen (``fills``).
     """
     from ..segment import region_grow
-    from ._grow_kernel import flood_levels
+    from ._grow_kernel import Flood, flood_levels
 
     sign = est.sign
     lo, hi = est.value_range
@@ -117,8 +117,8 @@ def grow(volume, seed, est, *, lumen=None, max_fraction: float = 0.8) -> Growth:
         zyx = np.asarray(lumen, np.int64)
         zyx = zyx[sign * np.asarray(data[tuple(zyx.T)], float) <= u_max]
         targets = np.unique(np.ravel_multi_index(tuple(zyx.T), volume.shape)).astype(np.int64)
-    flood_levels(data, float(sign), seed_flat, targets, float(u0), float(u_max), float(step), EXPLOSION,
-                 int(max_fraction * visited.size), visited, out)
+    settings = Flood(float(sign), float(u0), float(u_max), float(step), EXPLOSION, int(max_fraction * visited.size))
+    flood_levels(data, seed_flat, targets, settings, visited, out)
     del visited
     u_grow, reason = float(out[0]), int(out[2])
     t = sign * u_grow

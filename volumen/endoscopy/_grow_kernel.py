@@ -20,8 +20,21 @@ before it, when it adds
 * or more than ``ratio - 1`` times the volume grown before it.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
+
+
+class Flood(NamedTuple):
+    """The flood's settings (Numba compiles the record as a struct)."""
+
+    sign: float   #: +1 air lumen, -1 contrast lumen: u = sign * value
+    u0: float     #: the lowest level checked, u units
+    u_max: float  #: never flood past this level
+    step: float   #: between checked levels, u units
+    ratio: float  #: a step multiplying the volume by more than this is an explosion
+    limit: int    #: voxels at the lowest level that mean the region fills the scan
 
 
 @njit(cache=True)
@@ -67,9 +80,9 @@ def _pop(keys, vals, n):
 
 
 @njit(cache=True)
-def flood_levels(data, sign, seed, targets, u0, u_max, step, ratio, limit, visited, out):
-    """Flood from flat index ``seed``; ``out`` (float64, 5) receives ``(threshold, volume, reason, where,
-    beyond)``.
+def flood_levels(data, seed, targets, f, visited, out):
+    """Flood from flat index ``seed`` with the settings ``f`` (:class:`Flood`); ``out`` (float64, 5) receives
+    ``(threshold, volume, reason, where, beyond)``.
 
     ``targets`` are sorted flat indices (see the module docstring).
     ``threshold`` is the last checked level (``u`` units) before an explosion, or ``u_max``;
@@ -79,6 +92,7 @@ def flood_levels(data, sign, seed, targets, u0, u_max, step, ratio, limit, visit
     the voxels it had added by then. ``visited`` (uint8, zeroed, the data's shape) marks
     the voxels reached.
     """
+    sign, u0, u_max, step, ratio, limit = f.sign, f.u0, f.u_max, f.step, f.ratio, f.limit
     nz, ny, nx = data.shape
     flat = data.ravel()
     vis = visited.ravel()

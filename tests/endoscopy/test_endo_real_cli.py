@@ -96,6 +96,7 @@ def _fails(argv, tmp_path, capsys, match):
     assert code == 1 and len(err.splitlines()) == 1 and err.startswith("volumen fly: error:")
     assert match in err, err
     assert sorted(p.name for p in tmp_path.iterdir() if p.suffix in (".gif", ".mp4", ".json")) == []
+    return err
 
 
 def _p(v):
@@ -132,3 +133,16 @@ def test_two_unconnected_lumens_name_the_end_point(torso):
     colon, airway = torso.meta["truth"]["colon"], torso.meta["truth"]["airway"]
     with pytest.raises(LumenError, match="the end point .* lies in a lumen that does not connect to the start"):
         find_lumen(torso, colon.centerline[0], airway.centerline[0])
+
+
+def test_a_leak_is_refused_in_one_line_and_nothing_written(tmp_path, capsys, unseen):
+    """Issue 23: a start in an air pocket that touches the trachea through a 2 mm neck (about one voxel of air once
+    blurred): growing from it breaks into the airways before the end; one line naming the leak and the flags to
+    try, exit 1, neither video nor flight written."""
+    marks = unseen("airways", fistula=2.0).meta["truth"]["landmarks"]
+    pocket, neck = np.array(marks["pocket"]), np.array(marks["neck"])
+    start = neck + 4.0 * (pocket - neck) / np.linalg.norm(pocket - neck)
+    out = ["-o", str(tmp_path / "f.mp4"), "--save-path", str(tmp_path / "f.json"), *TINY]
+    line = _fails(["fly", "phantom:airways?fistula=2", "--start", _p(start), "--end", _p(marks["end"]), *out],
+                  tmp_path, capsys, "the lumen leaks: growing from the start point")
+    assert all(flag in line for flag in ("--range LO,HI", "--threshold T", "--lumen-mask FILE")), line

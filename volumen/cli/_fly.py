@@ -143,23 +143,20 @@ def _overrides(args) -> dict:
 def _flight(args, volume):
     """The Flight to render: loaded from ``--path`` (flags given override its settings), or made from the
     centerline and the lumen's estimate."""
-    from volumen.endoscopy import Endoscope, Flight, KeyframePath, aim_keyframes
+    from volumen.endoscopy import Flight, KeyframePath, make_flight
 
     if args.path:
         flight = Flight.load(args.path, volume)
         speed = args.speed or flight.path.speed
         return Flight(KeyframePath(flight.path.keyframes, speed=speed), flight.endoscope.with_(**_overrides(args)),
-                      flight.centerline), None
+                      flight.centerline, flight.lumen), None
     if args.end and not args.start:
         raise ValueError("--end needs --start")
     cl, wall = _centerline(args, volume)
     est = wall.estimate
     print(f"centerline: {cl.length:.1f} mm, {len(cl.points)} points, radius "
           f"{cl.radius.min():.1f}..{cl.radius.max():.1f} mm")
-    path = aim_keyframes(KeyframePath.from_centerline(cl, every=args.every, speed=args.speed or 20.0), cl, volume,
-                         wall.mask)
-    settings = {"mode": "isosurface", "threshold": est.threshold, "transfer": est.transfer(), **_overrides(args)}
-    return Flight(path, Endoscope(volume=wall.volume(volume), **settings), cl, wall), est
+    return make_flight(volume, wall, cl, every=args.every, speed=args.speed or 20.0, **_overrides(args)), est
 
 
 def _legs(args, flight, volume):

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, ellipse_cylinder_sd
+from ._canvas import Canvas, Grid, coverage, ellipse_cylinder_sd
 from ._colon import _folds
 from ._texture import smooth_field
 from ._tubes import make_path, truth_tube, tube_field
@@ -71,8 +71,10 @@ def tagged_colon(size=None, *, noise: float = 20.0, seed: int = 0, blur: float =
     tag = TAG * (1.0 + 0.1 * smooth_field(grid, 10.0, seed + 3))[reg.slices]
     below = reg.y - np.float32(level)  # signed distance (mm) to the fluid's surface, < 0 under it
     cv.paint(reg, sdf - np.float32(WALL), WALL_HU)
-    cv.paint(reg, lumen, AIR)
-    cv.paint(reg, np.maximum(lumen, below), tag)
+    # the lumen's content: fluid under the level, air above, mixed by the level's partial-volume coverage, so a
+    # voxel on the fluid-wall edge mixes fluid and wall, one on the level air and fluid
+    under = coverage(below, cv.h, cv.blur * cv.h)
+    cv.paint(reg, lumen, under * tag + (1.0 - under) * np.float32(AIR))
 
     mask = np.zeros(grid.shape, bool)
     mask[reg.slices] = lumen < 0

@@ -40,7 +40,7 @@ from ._lumen_file import check_points_in_mask, load_lumen_mask
 from ._lumen_wall import LumenWall
 from ._mask_estimate import estimate_from_mask
 from ._navigation import GuidedNavigator, ManualNavigator
-from ._plan import checked_centerline, lumen_wall
+from ._plan import checked_centerline, lumen_wall, make_flight
 from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from ._pose import Pose, slerp
 from ._scores import FlightScore, dice, keyframes_inside, look_down_ratio, score_flight, wall_offsets
@@ -61,6 +61,7 @@ __all__ = [
     "LumenWall",
     "lumen_wall",
     "checked_centerline",
+    "make_flight",
     "score_flight",
     "FlightScore",
     "dice",

@@ -280,8 +280,12 @@ def _check_end(volume, grown, end, start, rng) -> None:
 def _bridge_radius(volume, mask, seeds) -> float:
     from scipy import ndimage
 
-    dist = ndimage.distance_transform_edt(mask, sampling=tuple(float(s) for s in volume.spacing))
-    return float(min(max(volume.spacing), 0.5 * min(dist[s] for s in seeds)))
+    from ._grow import _bbox
+
+    box = _bbox(mask, 1)
+    dist = ndimage.distance_transform_edt(mask[box], sampling=tuple(float(s) for s in volume.spacing))
+    at = [dist[tuple(int(v) - b.start for v, b in zip(s, box, strict=True))] for s in seeds]
+    return float(min(max(volume.spacing), 0.5 * min(at)))
 
 
 def _connected(mask, seeds) -> bool:

@@ -8,16 +8,18 @@ collided with, and unfolded) from the lumen mask (grown, or a segmentation) and
 the :class:`LumenEstimate`, on the mask's box (plus a margin), in the scan's own
 units so the estimate's threshold and transfer function apply unchanged. With
 ``s`` the signed distance (mm, < 0 inside) of each voxel centre to the mask's
-boundary and ``h`` the largest voxel spacing:
+boundary (half a voxel at the voxels either side of it) and ``h`` the largest voxel
+spacing:
 
-* **data held to the mask** (the data separates lumen and wall): voxels deeper
-  than ``h / 2`` inside take the lumen's value (no noise speck can stand in the lumen);
-  voxels farther than ``h / 2`` outside keep the data where it is on the wall's side
-  of the threshold and take the wall's value elsewhere (no lung, no neighbouring
-  lumen shows through); the voxels straddling the boundary keep the data, so the
-  drawn wall is the data's own partial-volume edge where the data agrees with the
-  mask, and where it does not, the crossing lies between a kept voxel less than
-  ``h / 2`` from the boundary and a held one at most a voxel beyond it: within a
+* **data held to the mask** (the data separates lumen and wall): the two layers of
+  voxels that straddle the boundary (``|s| < 3 h / 4``) keep the data, so the drawn
+  wall is the data's own partial-volume edge where the data agrees with the mask;
+  deeper inside, voxels take the lumen's value (no noise speck stands in the
+  lumen); farther outside, they keep the data where it is on the wall's side of the
+  threshold and take the wall's value elsewhere (no lung, no neighbouring lumen
+  shows through). Where the data disagrees with the mask, the crossing lies between
+  a kept voxel half a voxel from the boundary and a held one at most a voxel and a
+  half from it, half-way when the kept one is fully on the other side: within a
   voxel of the mask's boundary either way. Tagged fluid in an air lumen is cleansed: deep inside it is air like
   the rest; near the wall its values between the wall's and the fluid's are mapped
   linearly onto those between the wall's and the air's, so the wall under the fluid is
@@ -106,7 +108,7 @@ class LumenWall:
         from scipy import ndimage
 
         e = self.estimate
-        h = 0.5 * float(max(spacing))  # the band's half-width (see the module docstring)
+        h = 0.75 * float(max(spacing))  # the band's half-width (see the module docstring)
         out = np.array(data, np.float32)
         if e.tag is not None:  # cleanse: the fluid-wall edge mapped onto an air-wall edge, near the fluid only
             fluid = ndimage.binary_dilation(sub & (out > 0.5 * (e.wall + e.tag)), iterations=2)

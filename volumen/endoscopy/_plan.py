@@ -6,6 +6,9 @@ What ``volumen fly`` and the application's endoscopy panel do alike:
   the estimate made there (:func:`~volumen.endoscopy.find_lumen`), or given as a mask,
   whose boundary values give the estimate (:func:`estimate_from_mask`); ``--range`` and
   ``--threshold`` override either;
+* :func:`make_flight` -- the :class:`~volumen.endoscopy.Flight` along a centerline: keyframes
+  every ``every`` mm aimed down the lumen (:func:`~volumen.endoscopy.aim_keyframes`), the
+  wall drawn as an isosurface of the lumen's field at the estimate's threshold;
 * :func:`checked_centerline` -- the centerline between the points
   (:func:`~volumen.endoscopy.compute_centerline`), refused as a leak when it is both
   more than twice as long as the straight line between its ends and runs through a
@@ -20,7 +23,7 @@ import numpy as np
 
 from ..errors import LumenError
 
-__all__ = ["lumen_wall", "checked_centerline", "DETOUR", "WIDENING"]
+__all__ = ["lumen_wall", "checked_centerline", "make_flight", "DETOUR", "WIDENING"]
 
 #: a path longer than this times the straight distance between its ends is a detour ...
 DETOUR = 2.0
@@ -77,3 +80,21 @@ def checked_centerline(volume, lumen, start, end):
                          f"{straight:.0f} mm in a straight line, through a region {2 * cl.radius[k]:.0f} mm wide at "
                          f"{_fmt(cl.points[k])}, though the lumen is {2 * ends:.0f} mm wide at its ends; {FLAGS}")
     return cl
+
+
+def make_flight(volume, wall, centerline, *, every: float = 10.0, speed: float = 20.0, **endoscope):
+    """The :class:`~volumen.endoscopy.Flight` along ``centerline`` through the lumen of ``wall`` (a
+    :class:`~volumen.endoscopy.LumenWall`) on ``volume``: keyframes every ``every`` mm, played at ``speed``
+    mm/s, each aimed at the farthest centerline point it sees; the endoscope draws ``wall``'s field
+    (isosurface at the estimate's threshold, its transfer function for composite mode), ``endoscope``
+    overriding its settings (``mode``, ``shading``, ``fov``...)."""
+    from ._aim import aim_keyframes
+    from ._flight import Flight
+    from ._flythrough import Endoscope
+    from ._keyframes import KeyframePath
+
+    path = aim_keyframes(KeyframePath.from_centerline(centerline, every=every, speed=speed), centerline, volume,
+                         wall.mask)
+    est = wall.estimate
+    settings = {"mode": "isosurface", "threshold": est.threshold, "transfer": est.transfer(), **endoscope}
+    return Flight(path, Endoscope(volume=wall.volume(volume), **settings), centerline, wall)

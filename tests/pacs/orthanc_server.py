@@ -53,8 +53,16 @@ class Orthanc:
     def __init__(self, folder: Path, *, store_port: int | None = None, **settings):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
-        self.http_port, self.dicom_port = free_port(), free_port()
         self.store_port = store_port or free_port()
+        self.settings = settings  # extra Orthanc settings of a test (e.g. DicomCheckCalledAet)
+        self.config = self.folder / "orthanc.json"
+        self.process: subprocess.Popen | None = None
+        self.started = False
+        self._configure()
+
+    def _configure(self) -> None:
+        """Pick free ports and write the configuration."""
+        self.http_port, self.dicom_port = free_port(), free_port()
         config = {
             "Name": "volumen-tests", "StorageDirectory": str(self.folder / "db"),
             "IndexDirectory": str(self.folder / "db"), "Plugins": [str(_plugin())],
@@ -65,12 +73,9 @@ class Orthanc:
             "DicomWeb": {"Enable": True, "Root": "/dicom-web/", "EnableWado": False},
             "SaveJobs": False, "StorageCompression": False, "HttpCompressionEnabled": False,
             "DicomScuTimeout": 5, "DicomAssociationCloseDelay": 0, "ConcurrentJobs": 1,
-            "OverwriteInstances": False, "LoadPrivateDictionary": False,
+            "OverwriteInstances": False, "LoadPrivateDictionary": False, **self.settings,
         }
-        config.update(settings)  # extra Orthanc settings of a test (e.g. DicomCheckCalledAet)
-        self.config = self.folder / "orthanc.json"
         self.config.write_text(json.dumps(config, indent=1))
-        self.process: subprocess.Popen | None = None
 
     @property
     def base(self) -> str:
@@ -85,6 +90,20 @@ class Orthanc:
         return f"{AET}@127.0.0.1:{self.dicom_port}"
 
     def start(self, timeout: float = 30.0) -> Orthanc:
+        """Start (or restart, on the same ports and storage); a first start retries on new ports when another
+        process took one of the free ports in between."""
+        for attempt in range(1 if self.started else 3):
+            try:
+                self._launch(timeout)
+                self.started = True
+                return self
+            except RuntimeError:
+                if self.started or attempt == 2:
+                    raise
+                self._configure()
+        return self
+
+    def _launch(self, timeout: float) -> None:
         log = open(self.folder / "orthanc.log", "ab")
         self.process = subprocess.Popen(["Orthanc", str(self.config)], stdout=log, stderr=subprocess.STDOUT,
                                         cwd=self.folder)
@@ -96,7 +115,7 @@ class Orthanc:
                                    f"{(self.folder / 'orthanc.log').read_text(errors='replace')[-2000:]}")
             try:
                 if self.rest("get", "/system", timeout=1).ok:
-                    return self
+                    return
             except requests.RequestException:
                 pass
             time.sleep(0.05)

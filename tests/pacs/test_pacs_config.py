@@ -78,3 +78,17 @@ def test_queries():
     # wildcards travel as they are (Orthanc 1.10 does not decode %2A); the rest is percent-encoded
     assert query_string({"PatientName": "Doe*Ja?e", "StudyDescription": "CT chest&x=1", "includefield": ["A", "B"]}) \
         == "PatientName=Doe*Ja?e&StudyDescription=CT%20chest%26x%3D1&includefield=A&includefield=B"
+
+
+def test_cache_keeps_only_listed_instances_and_finishes_by_rename(tmp_path):
+    where = pacs.SeriesCache("archive", "1.2", "1.2.3", tmp_path)
+    where.partial.mkdir(parents=True)
+    for uid in ("1.2.3.1", "1.2.3.2", "1.2.3.9"):
+        (where.partial / f"{uid}.dcm").write_bytes(b"x")
+    (where.partial / "1.2.3.4.dcm.tmp").write_bytes(b"half")  # a write cut in the middle
+    assert where.present() == {"1.2.3.1", "1.2.3.2", "1.2.3.9"} and not where.complete()
+    where.keep_only({"1.2.3.1", "1.2.3.2", "1.2.3.4"})  # 1.2.3.9 was deleted on the server since
+    assert where.present() == {"1.2.3.1", "1.2.3.2"}
+    assert where.finish() == tmp_path / "archive" / "1.2" / "1.2.3" and where.complete()
+    assert sorted(p.name for p in where.folder.iterdir()) == ["1.2.3.1.dcm", "1.2.3.2.dcm"]
+    assert not where.partial.exists()

@@ -163,3 +163,19 @@ def test_secrets_stay_off_the_command_line_and_out_of_readable_files(faulty, con
     os.chmod(config, 0o600)
     assert main(["pacs", "echo", NAME]) == 0
     assert repr(pacs.resolve_server(NAME)).count(PASSWORD) == 0
+
+
+def test_a_password_asked_for_when_none_is_configured(faulty, config):
+    server, made = faulty
+    bare = pacs.Server(name="asked", url=server.dicomweb_url, username=USER)
+    asked = []
+
+    def ask(label, user):
+        asked.append((label, user))
+        return PASSWORD
+
+    found = pacs.find(bare, patient_id="PAT-001", ask=ask)
+    assert [s.uid for s in found] == [made["chest"][0].study_uid]
+    assert asked == [(f"asked ({server.dicomweb_url})", USER)]
+    with pytest.raises(pacs._config.ArchiveConfigError, match="user alice has no password"):
+        pacs.find(bare, patient_id="PAT-001")  # no terminal to ask in: one line saying where a password goes

@@ -122,7 +122,8 @@ def retrieve(server: str | Server, study_uid: str, series_uid: str, *, protocol:
         if not listed:
             raise ArchiveNotFoundError(srv.label, f"has no series {series_uid} in study {study_uid} (deleted since "
                                                   "it was found?)")
-        have = where.present() & set(listed)
+        where.keep_only(set(listed))
+        have = where.present()
         missing = [uid for uid in listed if uid not in have]
         done = len(have)
         if progress:

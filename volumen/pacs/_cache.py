@@ -77,6 +77,11 @@ class SeriesCache:
         os.replace(tmp, final)
         return final
 
+    def keep_only(self, uids: set[str]) -> None:
+        """Drop fetched instances the server no longer lists (deleted since an earlier, cut retrieve)."""
+        for uid in self.present() - set(uids):
+            (self.partial / f"{uid}.dcm").unlink()
+
     def finish(self) -> Path:
         """The partial folder becomes the series (an older copy, if any, is replaced)."""
         for stale in self.partial.glob("*.tmp"):

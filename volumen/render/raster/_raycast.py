@@ -92,6 +92,7 @@ def _set_lights(prog, a, s) -> None:
     off[:m] = a.lvm[:m, 1]   # LV_OFF, exact as an integer past float32's 2**24
     set_uniform(prog, "u_lvm", lvm.tobytes())
     set_uniform(prog, "u_lvoff", off.tobytes())
+    set_uniform(prog, "u_envsh", _vec3s(a.envsh, 9))
 
 
 def _set_settings(prog, s) -> None:
@@ -99,8 +100,9 @@ def _set_settings(prog, s) -> None:
                  "albedo", "g"):
         set_uniform(prog, f"u_{name}", float(getattr(s, name)))
     set_uniform(prog, "u_iso_rgb", (float(s.iso_r), float(s.iso_g), float(s.iso_b)))
-    for name in ("nearest", "jitter", "skip", "gradop", "sobel", "color"):
+    for name in ("nearest", "jitter", "skip", "gradop", "sobel", "color", "hdr"):
         set_uniform(prog, f"u_{name}", bool(getattr(s, name)))
+    set_uniform(prog, "u_envmode", int(s.envmode))
     set_uniform(prog, "u_seed", int(s.seed))
     set_uniform(prog, "u_block", int(s.block))
 

@@ -1,4 +1,4 @@
-"""What the test archive holds: three made studies (multi-slice CT and MR series, written with pydicom through
+"""What the test archive holds: four made studies (multi-slice CT and MR series, written with pydicom through
 ``tests/io/dicom_factory.py``) and every file of pydicom's own test data that Orthanc accepts.
 
 ``running_archive`` (the ``archive`` fixture of ``tests/conftest.py``) starts one Orthanc per test session
@@ -31,6 +31,8 @@ STUDIES = (
     ("chest", "Doe^Jane", "PAT-001", "20240102", "CT chest", "ACC-1", [("CT", 8, "axial 2 mm"), ("CT", 3, "scout")]),
     ("abdomen", "Roe^Richard", "PAT-002", "20230615", "CT abdomen", "ACC-2", [("CT", 5, "portal venous")]),
     ("head", "Doe^John", "PAT-003", "20241120", "MR head", "ACC-3", [("MR", 4, "t1")]),
+    # what "Doe?Jane" and "CT?chest" also match: a search for Doe^Jane or "CT chest" must not find it
+    ("lookalike", "Doe Jane", "PAT-004", "20220301", "CT-chest", "ACC-4", [("CT", 2, "axial")]),
 )
 
 

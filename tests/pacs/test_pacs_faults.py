@@ -165,17 +165,23 @@ def test_secrets_stay_off_the_command_line_and_out_of_readable_files(faulty, con
     assert repr(pacs.resolve_server(NAME)).count(PASSWORD) == 0
 
 
-def test_a_password_asked_for_when_none_is_configured(faulty, config):
+def test_a_password_asked_for_once_and_again_after_a_refusal(faulty, config, monkeypatch):
     server, made = faulty
+    monkeypatch.setattr(pacs._credentials, "_asked", {})
     bare = pacs.Server(name="asked", url=server.dicomweb_url, username=USER)
-    asked = []
+    with pytest.raises(pacs._config.ArchiveConfigError, match="user alice has no password"):
+        pacs.find(bare, patient_id="PAT-001")  # no terminal to ask in: one line saying where a password goes
+    answers, asked = ["not-the-password-XYZ", PASSWORD], []
 
     def ask(label, user):
         asked.append((label, user))
-        return PASSWORD
+        return answers[len(asked) - 1]
 
-    found = pacs.find(bare, patient_id="PAT-001", ask=ask)
-    assert [s.uid for s in found] == [made["chest"][0].study_uid]
-    assert asked == [(f"asked ({server.dicomweb_url})", USER)]
-    with pytest.raises(pacs._config.ArchiveConfigError, match="user alice has no password"):
-        pacs.find(bare, patient_id="PAT-001")  # no terminal to ask in: one line saying where a password goes
+    with pytest.raises(ArchiveAuthError):
+        pacs.find(bare, patient_id="PAT-001", ask=ask)
+    found = pacs.find(bare, patient_id="PAT-001", ask=ask)  # the refused one was forgotten: asked again
+    chest = made["chest"]
+    assert [s.uid for s in found] == [chest[0].study_uid]
+    assert [s.uid for s in pacs.series(bare, chest[0].study_uid, ask=ask)] == [s.series_uid for s in chest]
+    assert len(list(pacs.retrieve(bare, chest[1].study_uid, chest[1].series_uid, ask=ask).iterdir())) == 3
+    assert asked == [(f"asked ({server.dicomweb_url})", USER)] * 2  # remembered after it worked

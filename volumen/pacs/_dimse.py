@@ -181,6 +181,7 @@ class DimseArchive:
 
         classes = self._sop_classes or tuple(cx.abstract_syntax for cx in StoragePresentationContexts[:126])
         assoc = self._associate([GET], storage=classes, handlers=[(evt.EVT_C_STORE, received.handle)])
+        received.on_stop = lambda: assoc.send_c_cancel(1, query_model=GET)
         try:
             self._run("C-GET", assoc.send_c_get(_identifier("IMAGE", (), filters), GET))
         finally:
@@ -200,6 +201,7 @@ class DimseArchive:
                               evt_handlers=[(evt.EVT_C_STORE, received.handle)])
         try:
             assoc = self._associate([MOVE])
+            received.on_stop = lambda: assoc.send_c_cancel(1, query_model=MOVE)
             try:
                 self._run("C-MOVE", assoc.send_c_move(_identifier("IMAGE", (), filters),
                                                       self.server.calling_ae_title, MOVE))
@@ -236,16 +238,21 @@ class DimseArchive:
 
 
 class _Receiver:
-    """The C-STORE handler of C-GET / C-MOVE: each instance to ``sink``; stops storing once ``stop()``."""
+    """The C-STORE handler of C-GET / C-MOVE: each instance to ``sink``; once ``stop()`` (or a failed store) it
+    refuses them and calls ``on_stop`` once (a C-CANCEL of the retrieve, so the archive sends no more)."""
 
     def __init__(self, sink: Callable, stop: Callable[[], bool]):
         self.sink, self.stop = sink, stop
         self.error: BaseException | None = None
         self.count = 0
         self.lock = threading.Lock()
+        self.on_stop: Callable[[], None] | None = None
 
     def handle(self, event) -> int:
         if self.error is not None or self.stop():
+            if self.on_stop is not None:
+                self.on_stop, cancel = None, self.on_stop
+                cancel()
             return _OUT_OF_RESOURCES
         ds = event.dataset
         ds.file_meta = event.file_meta

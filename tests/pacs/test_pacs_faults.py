@@ -134,6 +134,26 @@ def test_server_down_and_refused_association(faulty, config, capsys):
     assert "answers C-ECHO" in capsys.readouterr().out
 
 
+def test_a_rejection_seen_as_an_abort_is_asked_again(faulty, config, monkeypatch):
+    """Under load pynetdicom was seen to report Orthanc's rejection of a wrong called AE title as an abort: the
+    association is requested once more before saying which."""
+    import pynetdicom
+
+    server, _ = faulty
+    associate, calls = pynetdicom.AE.associate, []
+
+    def first_aborted(self, *args, **kwargs):
+        calls.append(kwargs["ae_title"])
+        if len(calls) == 1:
+            return type("Aborted", (), {"is_established": False, "is_rejected": False})()
+        return associate(self, *args, **kwargs)
+
+    monkeypatch.setattr(pynetdicom.AE, "associate", first_aborted)
+    with pytest.raises(ArchiveRefusedError, match="rejected the association .*its AE title NOT-ORTHANC"):
+        pacs.echo(f"NOT-ORTHANC@127.0.0.1:{server.dicom_port}")
+    assert calls == ["NOT-ORTHANC"] * 2
+
+
 def test_study_deleted_between_find_and_get(faulty, config, capsys):
     server, made = faulty
     abdomen = made["abdomen"][0]

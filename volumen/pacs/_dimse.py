@@ -84,13 +84,17 @@ class DimseArchive:
                 for ts in _GET_SYNTAXES[: max(1, (127 - len(contexts)) // len(storage))]:
                     ae.add_requested_context(sop_class, [ts])
             roles = [pn.build_role(uid, scp_role=True) for uid in storage]
-        assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
-                             evt_handlers=handlers)
+        for attempt in range(2):
+            assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
+                                 evt_handlers=handlers)
+            if assoc.is_established or assoc.is_rejected or attempt or self._reachable() is not None:
+                break  # else ask once more: an archive that rejects and hangs up at once is seen, under load, to abort
         if assoc.is_established:
             return assoc
         if assoc.is_rejected:
-            raise ArchiveRefusedError(self.server.label, f"rejected the association (is the calling AE title "
-                                                         f"{self.server.calling_ae_title} known to it?)")
+            raise ArchiveRefusedError(self.server.label, f"rejected the association (is its AE title "
+                                                         f"{self.server.ae_title}, and is volumen's, "
+                                                         f"{self.server.calling_ae_title}, known to it?)")
         reachable = self._reachable()
         if reachable is not None:
             raise ArchiveUnreachableError(self.server.label, f"did not answer ({reachable})")

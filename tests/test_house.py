@@ -11,7 +11,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: top-level folders that exist on one machine only (a checkout, a home, a mount); ``/usr/share`` (a
 #: distribution's packages), ``/proc`` and ``/dev`` name the same thing everywhere and are allowed
-_MACHINE_ROOTS = ("work", "home", "Users", "root", "mnt", "media", "opt", "srv", "scratch", "shared", "data")
+_MACHINE_ROOTS = ("work", "home", "Users", "root", "mnt", "media", "opt", "srv", "scratch")
 _MACHINE_PATH = re.compile(r"(?<![\w.~/-])/(?:" + "|".join(_MACHINE_ROOTS) + r")/[\w.-]+|\b[A-Z]:\\Users\\")
 #: packages whose functions take at most this many parameters (more: a record, as ``render/raycast/_frame.py``)
 MAX_PARAMETERS = 8

@@ -11,7 +11,7 @@ Per pixel sample (the ray through the pixel centre):
   light's from a point drawn uniformly in its ball; the environment's radiance in a direction drawn from its
   importance-sampling tables (:mod:`._environment`), weighted against the phase function's sampling of the same
   direction by the power heuristic (multiple importance sampling); each times a ratio-tracking transmittance
-  to the light or the edge of the drawn region, from ``shadow_offset`` off the event for the lights (DESIGN.md
+  to the light or the edge of the drawn region, from ``shadow_offset`` off the event for the lights (docs/design.md
   section 3: no self-shadowing), from the event itself for the environment (the paths it is weighted against
   see the whole medium);
 * ``pt_bounces == 1`` (single scattering): the event also adds the environment's ambient term unshadowed (the

@@ -1,0 +1,89 @@
+"""The page's three slice views: windowed axial, coronal and sagittal slices through a world point, as PNG.
+
+Drawn by ``volumen.core.slice_image`` in radiological display orientation (axial seen from the feet with the
+patient's right on the left; coronal from the front; sagittal from the patient's left), square pixels, with
+the lines where the two other planes cut the slice. :func:`slice_png` also returns the slice's pixel -> world
+map, so a click on the picture moves the crosshair to the world point under it.
+"""
+
+from __future__ import annotations
+
+import functools
+import weakref
+
+import numpy as np
+
+from volumen.core import PLANES, Window, canonical, slice_image
+from volumen.core.display import png_bytes
+
+__all__ = ["slice_png", "pixel_map", "PLANE_COLOURS"]
+
+#: line colour of each plane where the other views show it (those of the application and the notebook)
+PLANE_COLOURS = {"axial": (60, 120, 255), "coronal": (230, 60, 60), "sagittal": (60, 200, 60)}
+#: numpy axis of the canonical volume each plane cuts, and the (row, column) voxel axes of its picture
+_AXES = {"axial": (0, (1, 2)), "coronal": (1, (0, 2)), "sagittal": (2, (0, 1))}
+_canonical: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _can(volume):
+    c = _canonical.get(volume)
+    if c is None:
+        c = _canonical[volume] = canonical(volume)
+    return c
+
+
+@functools.lru_cache(maxsize=64)
+def _zoomed(n_in: int, n_out: int) -> float:
+    """Input pixel per output pixel of ``ndimage.zoom`` (corners aligned)."""
+    return (n_in - 1) / (n_out - 1) if n_out > 1 else 0.0
+
+
+def pixel_map(can, plane: str, index: int, out_shape) -> np.ndarray:
+    """(3, 3) float: world mm of the displayed pixel centre ``(col, row)`` is ``m[0] + col m[1] + row m[2]``."""
+    ax, (ra, ca) = _AXES[plane]
+    nz, ny, nx = can.shape
+    n = (nz, ny, nx)
+    # display flips: axial rows A->P (j reversed) and columns R->L (i reversed); coronal / sagittal rows S->I
+    # (k reversed), coronal columns R->L (i reversed), sagittal columns A->P (j reversed)
+    def voxel(row, col):
+        zyx = [0.0, 0.0, 0.0]
+        zyx[ax] = float(index)
+        zyx[ra] = n[ra] - 1 - row * _zoomed(n[ra], out_shape[0])
+        zyx[ca] = n[ca] - 1 - col * _zoomed(n[ca], out_shape[1])
+        return can.index_to_world([zyx[2], zyx[1], zyx[0]])
+
+    o = voxel(0.0, 0.0)
+    return np.array([o, voxel(0.0, 1.0) - o, voxel(1.0, 0.0) - o])
+
+
+def slice_png(volume, plane: str, world, level: float, width: float) -> tuple[bytes, np.ndarray]:
+    """``(PNG bytes, pixel map)`` of the ``plane`` slice through the world point ``world`` (mm) with the
+    window ``level`` / ``width`` (data units); the other planes through ``world`` are drawn as lines."""
+    if plane not in PLANES:
+        raise ValueError(f"unknown plane {plane!r}; valid: {', '.join(PLANES)}")
+    world = np.asarray(world, float)
+    if world.shape != (3,) or not np.all(np.isfinite(world)):
+        raise ValueError("the slice point must be three finite numbers (mm)")
+    if not (np.isfinite(level) and np.isfinite(width) and width > 0):
+        raise ValueError("the window needs a finite level and a width > 0")
+    can = _can(volume)
+    ijk = np.clip(np.rint(can.world_to_index(world)), 0, np.array(can.shape[::-1]) - 1).astype(int)
+    ax, _ = _AXES[plane]
+    index = int(ijk[2 - ax])
+    gray = slice_image(can, plane, index=index, window=Window(level=level, width=width), canonical_volume=can)
+    rgb = np.repeat(gray[..., None], 3, axis=2) if gray.ndim == 2 else gray.copy()
+    m = pixel_map(can, plane, index, rgb.shape[:2])
+    # where the world point is on this picture: the other planes cross there
+    col, row = np.linalg.lstsq(m[1:].T, world - m[0], rcond=None)[0]
+    h, w = rgb.shape[:2]
+    for other in PLANES:
+        if other == plane:
+            continue
+        oax = _AXES[other][0]
+        line_is_row = _AXES[plane][1][0] == oax   # the other plane's axis runs down this picture's rows
+        at = int(np.clip(np.rint(row if line_is_row else col), 0, (h if line_is_row else w) - 1))
+        if line_is_row:
+            rgb[at, :] = PLANE_COLOURS[other]
+        else:
+            rgb[:, at] = PLANE_COLOURS[other]
+    return png_bytes(rgb), m

@@ -10,7 +10,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test fuzz huge install system-data browser clean
+.PHONY: demo test fuzz huge install system-data browser web-deps clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -46,11 +46,23 @@ browser:
 	  echo "chromium could not be installed; the browser test will skip"; \
 	else echo "not root: chromium not installed; the browser test will skip"; fi
 
+# The browser viewer's tests (tests/web) emulate a headset with the npm package iwer (the Immersive Web Emulation
+# Runtime, MIT), installed here into the git-ignored .web-deps/ (nothing else from npm; the page itself needs
+# nothing but a browser). Without npm or the registry those tests skip with the reason printed.
+IWER_VERSION ?= 2.5.0
+web-deps:
+	@if [ -f .web-deps/node_modules/iwer/build/iwer.min.js ]; then :; \
+	elif command -v npm >/dev/null; then \
+	  echo "installing iwer $(IWER_VERSION) from npm into .web-deps (headset emulator of the browser tests)"; \
+	  npm install --silent --no-audit --no-fund --prefix .web-deps iwer@$(IWER_VERSION) >/dev/null 2>&1 || \
+	  echo "iwer could not be installed; the WebXR tests will skip"; \
+	else echo "npm not found: iwer not installed; the WebXR tests will skip"; fi
+
 demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
-test: $(STAMP) system-data browser
+test: $(STAMP) system-data browser web-deps
 	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 
@@ -67,4 +79,4 @@ huge: $(STAMP)
 	$(VENV)/bin/volumen bench scale --huge
 
 clean:
-	rm -rf $(VENV) out test-output
+	rm -rf $(VENV) out test-output .web-deps

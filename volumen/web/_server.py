@@ -250,7 +250,7 @@ class ViewerServer:
             if entry is None:
                 status = 404
                 return web.Response(status=404, text="404: not found")
-            route = path
+            route = path or "/"
             method, name = entry
             if request.method != method:
                 status = 405

@@ -17,7 +17,7 @@ import { readRGBA } from './gl.js';
 
 const BUTTON = { trigger: 0, squeeze: 1, a: 4 };
 // volume axes (RAS) -> room axes (x right, y up, z toward the viewer)
-const TABLE_TOP = [-1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1];   // anterior up, superior away, lying
+const TABLE_TOP = [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1];   // lying: anterior up, superior away
 const LIFE_SIZE = [-1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 1];    // standing, facing the viewer
 const GOVERNOR_LEVELS = [[1, 1], [0.5, 1], [0.25, 1], [0.25, 0.75], [0.25, 0.5]];   // (samples per voxel, scale)
 

@@ -134,9 +134,7 @@ class _Handlers:
     async def frame(self, request, path):
         from ._frames import encode, web_frame
 
-        body = await request.content.read(_MAX_BODY + 1)
-        if len(body) > _MAX_BODY:
-            raise web.HTTPRequestEntityTooLarge(max_size=_MAX_BODY, actual_size=len(body))
+        body = await request.read()   # past client_max_size (1 MiB): 413
         try:
             req = json.loads(body)
             served = self.served(int(req.get("max3d", DEFAULT_MAX_3D)))

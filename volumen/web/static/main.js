@@ -114,6 +114,7 @@ async function boot() {
       return shots.map((s) => ({ ...s, rgba: base64(s.rgba) }));
     },
     stateVR() { return { model: xr.model, scene: viewer.scene, stats: xr.stats(), eyes: xr.lastEyes }; },
+    framesVR(n) { return xr.afterFrames(n); },
     timeFrames(n) { return viewer.timeFrames(n); },
   };
   document.body.dataset.ready = 'yes';

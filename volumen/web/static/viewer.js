@@ -25,7 +25,7 @@ export class Viewer {
     this.waiters = [];
     this.idleWaiters = [];
     this.error = null;
-    this.lastDraw = { ms: 0, size: [0, 0] };
+    this.lastDraw = { ms: 0, size: [0, 0], scale: 1 };
   }
 
   get maxLights() { return this.info.limits.max_lights; }
@@ -136,9 +136,9 @@ export class Viewer {
       gl.viewport(0, 0, w, h);
       gl.clearColor(0, 0, 0, 0);
       gl.clear(gl.COLOR_BUFFER_BIT);
-      this.drawView(null, [0, 0, w, h], (pw, ph) => packCamera(this.camera, pw, ph), this.camera,
-        this.interacting ? REDUCED_FRACTION : 1);
-      this.lastDraw = { ms: performance.now() - t0, size: [w, h] };
+      const scale = this.interacting ? REDUCED_FRACTION : 1;
+      this.drawView(null, [0, 0, w, h], (pw, ph) => packCamera(this.camera, pw, ph), this.camera, scale);
+      this.lastDraw = { ms: performance.now() - t0, size: [w, h], scale };
     }
     this.listeners.forEach((fn) => fn('drawn'));
     if (this.pending === 0 && this.frame) {

@@ -33,6 +33,7 @@ export class XRView {
     this.level = 0;
     this.frameTimes = [];
     this.captures = [];
+    this.frameWaiters = [];
     this.hands = new Map();     // handedness -> {buttons, grab, light}
     this.placement = 'table-top';
   }
@@ -108,6 +109,12 @@ export class XRView {
     }
     this.lastEyes = eyes;
     this.govern(t, performance.now() - t0);
+    this.frameWaiters = this.frameWaiters.filter((w) => --w.n > 0 || (w.resolve(), false));
+  }
+
+  // resolves after `n` more XR frames were drawn
+  afterFrames(n = 1) {
+    return new Promise((resolve) => this.frameWaiters.push({ n, resolve }));
   }
 
   // the next frame's pictures of both eyes (after the pending frame of the server, if any, arrived)

@@ -111,7 +111,8 @@ def test_gestures_move_the_camera_and_lights_as_the_application_does(browser, he
     centre = (ox + 60, oy + 50)
     steps = [(6, 2), (10, -3), (4, 5)]
     scale_during = _drag(browser, centre, steps, during=lambda: browser.evaluate(
-        "new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(() => r(volumen.viewer.lastDraw.scale))))"))
+        "new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(() => "
+        "r(volumen.viewer.lastDraw.scale))))"))
     expected = cam
     for dx, dy in steps:
         expected = gestures.orbit(expected, dx, dy)

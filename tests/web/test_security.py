@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))  # the DICOM writer of the reader's tests
-from dicom_factory import PATIENT, write_series  # noqa: E402
+from dicom_factory import PATIENT, write_series
 
-from volumen.web._server import ROUTES  # noqa: E402
+from volumen.web._server import ROUTES
 
 TRAVERSALS = ["/../etc/passwd", "/static/../../etc/passwd", "/static/%2e%2e/%2e%2e/etc/passwd",
               "/%2E%2E/%2E%2E/etc/passwd", "/static/..%2f..%2fetc%2fpasswd", "/static/%252e%252e/etc/passwd",

@@ -58,6 +58,12 @@ def _set(browser, what: str, position, q) -> None:
                      f"d.quaternion.set({', '.join(map(str, q))}); }})()")
 
 
+def _button(browser, ctrl: str, button: str, value: float, before: int, after: int) -> None:
+    """After ``before`` XR frames set the controller's button, then wait ``after`` frames."""
+    browser.evaluate(f"volumen.framesVR({before}).then(() => {ctrl}.updateButtonValue('{button}', {value}))"
+                     f".then(() => volumen.framesVR({after}))")
+
+
 def eye_cameras(model, head_position, head_q, ipd, fovy) -> dict:
     """The two eyes as Cameras in volume mm: the emulator's head pose (global), the eyes ``ipd / 2`` either
     side along the head's x axis, seen through the inverse of the page's placement ``model``."""
@@ -119,7 +125,7 @@ def test_headset_eyes_light_and_grab(xr_browser, head_server, output_dir):
     aim /= np.linalg.norm(aim)
     q = _quat(np.cross([0, 0, -1], aim), np.degrees(np.arccos(-aim[2])))
     _set(b, ctrl, where, q)
-    b.evaluate(f"volumen.framesVR(3).then(() => {ctrl}.updateButtonValue('trigger', 0)).then(() => volumen.framesVR(3))")
+    _button(b, ctrl, "trigger", 0, 3, 3)
     lights = [Light.from_dict(x) for x in b.evaluate("volumen.viewer.scene.lights")]
     inv = np.linalg.inv(model)
     pose = _pose(where - HEAD0, q)
@@ -139,11 +145,11 @@ def test_headset_eyes_light_and_grab(xr_browser, head_server, output_dir):
     ctrl = "iwerDevice.controllers.left"
     p, q0 = HEAD0 + [-0.1, -0.2, -0.45], _quat([1, 0, 0], -30)
     _set(b, ctrl, p, q0)
-    b.evaluate(f"volumen.framesVR(2).then(() => {ctrl}.updateButtonValue('squeeze', 1)).then(() => volumen.framesVR(3))")
+    _button(b, ctrl, "squeeze", 1, 2, 3)
     turn = _quat([0.2, 1.0, 0.3], 35)
     q1 = np.r_[turn[3] * q0[:3] + q0[3] * turn[:3] + np.cross(turn[:3], q0[:3]), turn[3] * q0[3] - turn[:3] @ q0[:3]]
     _set(b, ctrl, p, q1)
-    b.evaluate(f"volumen.framesVR(3).then(() => {ctrl}.updateButtonValue('squeeze', 0)).then(() => volumen.framesVR(2))")
+    _button(b, ctrl, "squeeze", 0, 3, 2)
     after = _model(b.evaluate("volumen.stateVR()"))
     delta = after @ np.linalg.inv(model)
     angle = np.degrees(np.arccos(np.clip((np.trace(delta[:3, :3]) - 1) / 2, -1, 1)))

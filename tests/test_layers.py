@@ -1,4 +1,4 @@
-"""The layers of DESIGN.md section 1 as failing tests, not hopes."""
+"""The layers of docs/design.md section 1 as failing tests, not hopes."""
 
 import os
 import subprocess

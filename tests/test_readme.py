@@ -113,9 +113,7 @@ def _outputs(argv: list[str]) -> list[str]:
 def _run(line: str, workdir: Path, capsys) -> str | None:
     """Run one README line; None when it worked, else what went wrong."""
     from volumen.cli import main
-
-    sys.path.insert(0, str(ROOT / "tests" / "endoscopy"))
-    from aorta_data import shared_data
+    from volumen.data import shared_data
 
     argv = shlex.split(line, comments=True)[1:]
     argv = [a.replace("1.2.840...", SERIES) for a in argv]

@@ -1,12 +1,14 @@
 """volumen: seeing inside medical volumes (CT, MRI).
 
 ``import volumen`` is cheap: the readers, renderers and Qt are imported only
-when first used.
+when first used. This root module also hands ``volumen.core`` its notebook picture maker
+(:func:`_notebook_picture`), so the plain data shows itself without importing upward.
 """
 
 from __future__ import annotations
 
 from .core import Volume
+from .core._repr import set_picture_maker
 from .errors import VolumenError, VolumeReadError, VolumeWriteError
 
 __all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "load_labels", "save", "show",
@@ -41,3 +43,13 @@ def show(volume_or_scene, camera=None, **options):
     from .notebook import show as _show
 
     return _show(volume_or_scene, camera, **options)
+
+
+def _notebook_picture(kind: str, obj):
+    """The notebook picture of an Image, Volume or Mesh (``volumen.core._repr``), made on the notebook floor."""
+    from .notebook import pictures
+
+    return pictures.make(kind, obj)
+
+
+set_picture_maker(_notebook_picture)

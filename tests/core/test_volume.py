@@ -36,8 +36,18 @@ def test_world_index_round_trip_oblique():
     assert v.is_oblique
 
 
+def test_spacing_comes_from_the_affine():
+    """``Volume(data, affine=A)`` takes (dz, dy, dx) from A's column lengths (an oblique one too)."""
+    v = Volume(np.zeros((2, 2, 2)), affine=np.diag([2.0, 3.0, 4.0, 1.0]))
+    assert v.spacing == (4.0, 3.0, 2.0)
+    oblique = Volume(np.zeros((5, 6, 7), np.float32), affine=_oblique_affine())
+    np.testing.assert_allclose(oblique.spacing, (2.5, 0.8, 0.6), rtol=1e-12)
+    assert Volume(np.zeros((2, 2, 2))).spacing == (1.0, 1.0, 1.0)
+
+
 def test_spacing_must_match_affine():
-    with pytest.raises(ValueError, match="disagrees"):
+    with pytest.raises(ValueError, match=r"\(dz, dy, dx\) = \(1, 1, 1\) mm disagrees with the affine's column "
+                                         r"lengths \(1, 1, 2\) mm"):
         Volume(np.zeros((2, 2, 2)), spacing=(1, 1, 1), affine=np.diag([2.0, 1, 1, 1]))
     with pytest.raises(ValueError, match="3-D"):
         Volume(np.zeros((2, 2)))

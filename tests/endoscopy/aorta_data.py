@@ -1,41 +1,30 @@
 """VMTK's public aorta CTA with its reference centerline and lumen surface (shared/data/vmtk-aorta).
 
-Found through ``VOLUMEN_SHARED_DATA`` or the ``shared/data`` folder beside the
-repository (or the worktrees' parent). The reference files are in volumen's
+Found by :func:`volumen.data.shared_data` (``VOLUMEN_SHARED_DATA``, or ``shared/data`` beside
+the repository or beside its folder). The reference files are in volumen's
 world coordinates (the folder's README says how).
 """
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+from volumen.data import shared_data, shared_data_candidates
+
 START = (222.1, 175.9, 21.7)  # in the aorta, VMTK's centerlines' common start
 ENDS = {"right iliac": (234.4, 101.3, 29.0), "left iliac": (210.2, 103.0, 31.7)}
 
 
-def _candidates() -> list[Path]:
-    env = os.environ.get("VOLUMEN_SHARED_DATA")
-    return ([Path(env)] if env else []) + [ROOT.parent / "shared" / "data", ROOT.parents[1] / "shared" / "data",
-                                           Path("/work/shared/data")]
-
-
-def shared_data() -> Path | None:
-    """The shared data folder (``VOLUMEN_SHARED_DATA``, or ``shared/data`` beside the repository), or None."""
-    return next((c for c in _candidates() if (c / "vmtk-aorta" / "aorta.mha").exists()), None)
-
-
 def aorta_folder() -> Path:
     """The aorta's folder, or a pytest skip naming where it was looked for."""
-    found = shared_data()
+    found = shared_data("vmtk-aorta", "aorta.mha")
     if found is None:
         pytest.skip(f"VMTK aorta data not found (set VOLUMEN_SHARED_DATA; looked in "
-                    f"{', '.join(map(str, _candidates()))})")
-    return found / "vmtk-aorta"
+                    f"{', '.join(map(str, shared_data_candidates()))})")
+    return found.parent
 
 
 def reference_lines(folder: Path) -> list[np.ndarray]:

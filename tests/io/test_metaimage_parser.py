@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import SimpleITK as sitk
 
 import volumen
+from volumen.data import shared_data, shared_data_candidates
 
-AORTA = Path("/work/shared/data/vmtk-aorta/aorta.mha")
+AORTA = shared_data("vmtk-aorta", "aorta.mha")
 FLIP = np.diag([-1.0, -1.0, 1.0, 1.0])
 
 
@@ -25,8 +24,8 @@ def sitk_volume(path):
 
 
 def test_shared_aorta_matches_simpleitk():
-    if not AORTA.is_file():
-        pytest.skip(f"shared data {AORTA} is not on this machine")
+    if AORTA is None:
+        pytest.skip(f"VMTK aorta not in the shared data folder (looked in {shared_data_candidates()})")
     vol = volumen.load(AORTA)
     data, affine = sitk_volume(AORTA)
     assert vol.data.dtype == data.dtype and np.array_equal(vol.data, data)

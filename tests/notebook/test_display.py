@@ -1,4 +1,4 @@
-"""Pictures that display themselves (volumen.core.display) and the linked slice views."""
+"""Pictures that display themselves (volumen.notebook.pictures) and the linked slice views."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 from PIL import Image as PILImage
 
 from volumen.core import Image, Window, canonical, montage, slice_at, window_to_uint8
-from volumen.core.display import MESH_COLOR, mesh_picture
 from volumen.data import phantom
+from volumen.notebook.pictures import MESH_COLOR, mesh_picture
 
 
 def _decode(png: bytes) -> np.ndarray:

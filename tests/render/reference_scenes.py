@@ -16,15 +16,15 @@ from __future__ import annotations
 
 import sys
 from functools import cache
-from pathlib import Path
 
 import numpy as np
 
 from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
-from volumen.data import phantom
+from volumen.data import phantom, shared_data
 
 SIZE = (96, 96)
-AORTA = Path("/work/shared/data/vmtk-aorta/aorta.mha")
+#: the VMTK aorta, or None where the shared data folder is missing
+AORTA = shared_data("vmtk-aorta", "aorta.mha")
 #: shading name -> Shading (the two lit-model variants of shadows: fast and direct)
 SHADINGS = {
     "none": Shading(mode="none"),
@@ -49,7 +49,7 @@ def volumes() -> dict:
     """name -> (Volume, composite TransferFunction, isosurface value, camera zoom); the aorta where its file exists."""
     out = {"head": (phantom("head", size=(40, 48, 48)), TransferFunction.preset("ct-skin-bone"), 300.0, 1.2),
            "torso": (phantom("torso", size=(40, 48, 48)), TransferFunction.preset("ct-bone"), 200.0, 1.2)}
-    if AORTA.exists():  # scanner units: the CT presets shifted by +1000, contrast lumen ~1600-2200
+    if AORTA is not None:  # scanner units: the CT presets shifted by +1000, contrast lumen ~1600-2200
         out["aorta"] = (_aorta(), TransferFunction.preset("ct-vessels").shifted(1000.0), 1400.0, 2.0)
     return out
 

@@ -1,6 +1,6 @@
 """Shadows: the illumination volumes (``fast``) against direct shadow rays (the reference definition).
 
-Both implement DESIGN.md section 3: the light reaching a sample is
+Both implement docs/design.md section 3: the light reaching a sample is
 ``1 - opacity accumulated`` from ``shadow_offset`` voxels off the sample toward
 the light, stopping at the light or the clip box. Tolerances (issue 4): mean
 absolute difference <= 0.01 and 99th percentile <= 0.05 per channel, and the

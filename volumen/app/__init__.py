@@ -1,4 +1,4 @@
-"""volumen.app: the desktop application (PySide6), the only package that imports Qt (DESIGN.md section 1).
+"""volumen.app: the desktop application (PySide6), the only package that imports Qt (docs/design.md section 1).
 
 ``run(path, screenshot=..., session=..., size=...)`` opens it (``volumen view``);
 :class:`MainWindow` is the window; :class:`AppState` its Qt-free model.

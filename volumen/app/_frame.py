@@ -114,7 +114,7 @@ def raycast_device(job: FrameJob) -> str:
 def _render_one(job: FrameJob, camera: Camera, size, fraction: float, interacting: bool) -> Image:
     """One eye's picture; a chunked (OME-Zarr) volume is drawn out of core from a coarse pyramid level while
     ``interacting`` (``volumen.scale.render_view``)."""
-    from ..render.raster import render_reduced
+    from ..render import render_reduced
 
     if job.mesh is not None and job.mesh_display == "instead":
         vol_img = None

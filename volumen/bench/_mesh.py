@@ -43,17 +43,10 @@ QUICK_AORTA = {"aorta-61x50x56": (61, 50, 56)}
 
 
 def aorta_path():
-    """The VMTK aorta (``$VOLUMEN_SHARED_DATA`` or ``shared/data`` beside the checkout or its parent), or None."""
-    from pathlib import Path
+    """The VMTK aorta (found by :func:`volumen.data.shared_data`), or None."""
+    from volumen.data import shared_data
 
-    here = Path(__file__).resolve()
-    roots = [os.environ.get("VOLUMEN_SHARED_DATA", ""), here.parents[2].parent / "shared" / "data",
-             here.parents[3].parent / "shared" / "data", "/work/shared/data"]
-    for r in roots:
-        p = Path(r) / "vmtk-aorta" / "aorta.mha"
-        if r and p.exists():
-            return p
-    return None
+    return shared_data("vmtk-aorta", "aorta.mha")
 
 
 def upsampled_aorta(size_xyz):

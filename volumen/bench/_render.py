@@ -58,14 +58,10 @@ AORTA_OFFSET = 1000.0
 
 
 def aorta_path() -> Path | None:
-    """The VMTK aorta (``$VOLUMEN_SHARED_DATA`` or ``../shared/data`` beside the checkout), or None."""
-    roots = [os.environ.get("VOLUMEN_SHARED_DATA", ""), Path(__file__).resolve().parents[3] / "shared" / "data",
-             "/work/shared/data"]
-    for r in roots:
-        p = Path(r) / "vmtk-aorta" / "aorta.mha"
-        if r and p.exists():
-            return p
-    return None
+    """The VMTK aorta (found by :func:`volumen.data.shared_data`), or None."""
+    from volumen.data import shared_data
+
+    return shared_data("vmtk-aorta", "aorta.mha")
 
 
 def load_dataset(kind: str, shape):

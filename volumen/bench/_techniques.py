@@ -82,8 +82,7 @@ def _mc_rows(table, name, volume, iso):
 def _cases(base, size, gl: bool, planes) -> list:
     """(technique, case, function of a camera) rows of the frame-time table for the scene ``base``."""
     from volumen.core import Sampling, Shading
-    from volumen.render import render
-    from volumen.render.raster import render_reduced
+    from volumen.render import render, render_reduced
 
     def frame(scene=base, fraction=1.0, **how):
         return lambda c: render_reduced(scene, c, size, fraction, **how)

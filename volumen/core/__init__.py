@@ -1,9 +1,10 @@
 """Plain data of volumen: volumes, slices, cameras, transfer functions, lights, scenes, images. numpy only.
 
-:mod:`volumen.core.gestures` turns mouse drags into cameras and lights (the app and the notebook share it);
-:mod:`volumen.core.display` makes the PNG and HTML with which Image, Volume and Mesh show themselves in notebooks."""
+:mod:`volumen.core.gestures` turns mouse drags into cameras and lights (the app and the notebook share it).
+Image, Volume and Mesh show themselves in notebooks through pictures made above core
+(:mod:`volumen.notebook.pictures`, registered by the root package: :mod:`._repr`)."""
 
-from . import display, gestures
+from . import gestures
 from ._camera import VIEWS, Camera
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
@@ -15,7 +16,6 @@ from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
     "gestures",
-    "display",
     "Volume",
     "LabelMap",
     "LabelLayer",

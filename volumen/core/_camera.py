@@ -1,6 +1,6 @@
 """The camera: a right-handed look-at pinhole or parallel projection in world RAS+ mm.
 
-Conventions (DESIGN.md section 2):
+Conventions (docs/design.md section 2):
 
 * ``position`` is the eye, ``target`` the point looked at, ``up`` a hint for the
   picture's vertical (made orthogonal to the view direction);

@@ -1,4 +1,4 @@
-"""The result of a renderer: premultiplied linear RGBA, depth and statistics (DESIGN.md section 2)."""
+"""The result of a renderer: premultiplied linear RGBA, depth and statistics (docs/design.md section 2)."""
 
 from __future__ import annotations
 
@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
+
+from ._repr import picture
 
 __all__ = ["Image"]
 
@@ -97,10 +99,8 @@ class Image:
         return np.rint(out * 255.0).astype(np.uint8)
 
     def _repr_png_(self) -> bytes:
-        """Notebook display: :meth:`to_uint8` over black as PNG."""
-        from .display import image_png
-
-        return image_png(self)
+        """Notebook display: :meth:`to_uint8` over black as PNG (:mod:`._repr`)."""
+        return picture("image_png", self)
 
     def save(self, path, *, background: tuple[float, float, float] | None = (0.0, 0.0, 0.0),
              encoding: Literal["linear", "srgb"] = "linear") -> None:

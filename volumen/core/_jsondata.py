@@ -1,4 +1,4 @@
-"""JSON round trip for the settings dataclasses (DESIGN.md section 2: settings are data).
+"""JSON round trip for the settings dataclasses (docs/design.md section 2: settings are data).
 
 Every dataclass that decides a picture (Camera, TransferFunction, Light,
 Shading, Sampling, Clipping, ...) inherits :class:`JsonData`: ``to_dict``

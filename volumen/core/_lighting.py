@@ -1,4 +1,4 @@
-"""Lights and shading models: the settings that decide how samples are lit (DESIGN.md section 3).
+"""Lights and shading models: the settings that decide how samples are lit (docs/design.md section 3).
 
 Plain data that round-trips through JSON (:class:`~volumen.core._jsondata.JsonData`);
 the renderers read them, nothing here computes light.
@@ -233,7 +233,7 @@ FLAT = {"ambient": ("phong", "ambient"), "diffuse": ("phong", "diffuse"), "specu
 
 @dataclass(frozen=True, kw_only=True)
 class Shading(JsonData):
-    """Lighting of samples (DESIGN.md section 3): one ``mode``, all from the same kernels, and the settings of
+    """Lighting of samples (docs/design.md section 3): one ``mode``, all from the same kernels, and the settings of
     each model grouped.
 
     Parameters

@@ -1,6 +1,6 @@
 """Transfer functions: data value -> colour and opacity, piecewise linear.
 
-Values are in the data's own units (HU for CT, DESIGN.md section 2). Opacity
+Values are in the data's own units (HU for CT, docs/design.md section 2). Opacity
 is given per reference step ``ds0`` = one voxel (the volume's smallest
 spacing): a renderer stepping ``ds`` corrects it as
 ``a' = 1 - (1 - a) ** (ds / ds0)`` (render/optics.py). Outside its first and

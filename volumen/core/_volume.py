@@ -1,6 +1,6 @@
 """The Volume: a 3-D scalar field with its geometry in patient space.
 
-Conventions (DESIGN.md section 2):
+Conventions (docs/design.md section 2):
 
 * ``data`` is a C-contiguous numpy array indexed ``[z, y, x]`` (slice, row, column);
 * ``spacing`` is ``(dz, dy, dx)`` in millimetres, the same order as the array;
@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from ._repr import picture
 
 __all__ = ["Volume", "axis_codes", "is_chunked", "LUMA_WEIGHTS"]
 
@@ -74,8 +76,9 @@ class Volume:
         A lazy chunked array (``is_chunked``, e.g. an OME-Zarr level) is kept
         as it is: slices read only the chunks they need.
         A trailing axis of 3 holds colour (R, G, B; channel last): see ``is_color``.
-    spacing : (3,) float, mm
-        ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``.
+    spacing : (3,) float, mm, or None
+        ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``; None (the
+        default) takes them from ``affine``, or 1 mm each without one.
     affine : (4, 4) float, optional
         Voxel ``(i, j, k, 1)`` -> world RAS+ mm. Default: axis-aligned RAS with
         the given spacing and voxel (0, 0, 0) at the origin.
@@ -91,7 +94,7 @@ class Volume:
     """
 
     data: np.ndarray
-    spacing: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    spacing: tuple[float, float, float] | None = None
     affine: np.ndarray | None = None
     modality: str = "OT"
     units: str = ""
@@ -107,26 +110,23 @@ class Volume:
         if data.dtype == np.bool_:
             data = data.view(np.uint8)
         self.data = data if is_chunked(data) else np.ascontiguousarray(data)
-        spacing = tuple(float(s) for s in np.asarray(self.spacing, dtype=float).ravel())
-        if len(spacing) != 3 or not all(np.isfinite(spacing)) or min(spacing) <= 0:
-            raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {self.spacing}")
-        self.spacing = spacing
-        if self.affine is None:
-            self.affine = _default_affine(spacing)
-        else:
-            aff = np.array(self.affine, dtype=float)
+        aff = None if self.affine is None else np.array(self.affine, dtype=float)
+        if aff is not None:
             if aff.shape != (4, 4) or not np.all(np.isfinite(aff)):
                 raise ValueError("affine must be a finite 4x4 matrix")
             if abs(np.linalg.det(aff[:3, :3])) < 1e-12:
                 raise ValueError("affine is singular")
-            col_len = np.linalg.norm(aff[:3, :3], axis=0)  # |i|, |j|, |k| = dx, dy, dz
-            expected = np.array(spacing[::-1])
-            if not np.allclose(col_len, expected, rtol=1e-4, atol=1e-6):
-                raise ValueError(
-                    f"spacing (dz, dy, dx) = {spacing} disagrees with the affine's column "
-                    f"lengths (dz, dy, dx) = {tuple(col_len[::-1].round(6))}"
-                )
-            self.affine = aff
+        col_len = None if aff is None else np.linalg.norm(aff[:3, :3], axis=0)[::-1]  # |k|, |j|, |i| = dz, dy, dx
+        given = self.spacing if self.spacing is not None else (1.0, 1.0, 1.0) if aff is None else col_len
+        spacing = tuple(float(s) for s in np.asarray(given, dtype=float).ravel())
+        if len(spacing) != 3 or not all(np.isfinite(spacing)) or min(spacing) <= 0:
+            raise ValueError(f"spacing must be three positive mm values (dz, dy, dx), got {self.spacing}")
+        if col_len is not None and not np.allclose(col_len, spacing, rtol=1e-4, atol=1e-6):
+            lengths = ", ".join(f"{v:.6g}" for v in col_len)
+            raise ValueError(f"spacing (dz, dy, dx) = ({', '.join(f'{v:.6g}' for v in spacing)}) mm disagrees with "
+                             f"the affine's column lengths ({lengths}) mm; leave spacing out to take the affine's")
+        self.spacing = spacing
+        self.affine = _default_affine(spacing) if aff is None else aff
         self.meta = dict(self.meta)
         # each volume owns its warnings (derived volumes copy meta shallowly: large truth arrays are shared)
         self.meta["warnings"] = list(self.meta.get("warnings", []))
@@ -305,16 +305,12 @@ class Volume:
                       name=self.name, meta=meta)
 
     def _repr_png_(self) -> bytes:
-        """Notebook display: the axial, coronal and sagittal planes through the centre."""
-        from .display import volume_png
-
-        return volume_png(self)
+        """Notebook display: the axial, coronal and sagittal planes through the centre (:mod:`._repr`)."""
+        return picture("volume_png", self)
 
     def _repr_html_(self) -> str:
-        """Notebook display: the geometry as a table beside the three planes."""
-        from .display import volume_html
-
-        return volume_html(self)
+        """Notebook display: the geometry as a table beside the three planes (:mod:`._repr`)."""
+        return picture("volume_html", self)
 
     def __repr__(self) -> str:
         lo, hi = self.value_range()

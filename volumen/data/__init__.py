@@ -3,12 +3,15 @@
 ``phantom(name, size=None, **params)`` builds one of ``PHANTOMS``; ground truth for
 tests lives in ``volume.meta["truth"]`` (landmarks, :class:`Tube` entries for tubular
 structures, the exact analytic shapes). ``sample(name)`` loads real data found on the
-machine (``samples()`` lists it).
+machine (``samples()`` lists it); ``shared_data(*parts)`` finds the shared data folder
+(``VOLUMEN_SHARED_DATA``, else ``shared/data`` beside the repository or beside its folder).
 """
 
+from ..io._shared_data import shared_data, shared_data_candidates
 from ._organs import ORGANS, organ_phantom
 from ._phantom import PHANTOMS, phantom
 from ._samples import sample, samples
 from ._tubes import Tube
 
-__all__ = ["PHANTOMS", "phantom", "organ_phantom", "ORGANS", "sample", "samples", "Tube"]
+__all__ = ["PHANTOMS", "phantom", "organ_phantom", "ORGANS", "sample", "samples", "Tube", "shared_data",
+           "shared_data_candidates"]

@@ -12,7 +12,7 @@ signed distances: intersection ``max(a, b)``, union ``min(a, b)``, complement
 ``-a``; layers (skin over fat over muscle) and shells (a skull of varying
 thickness) are offsets of one distance, and every primitive stays vectorised.
 
-World coordinates follow DESIGN.md: RAS+ millimetres; voxel ``(i, j, k)``
+World coordinates follow docs/design.md section 2: RAS+ millimetres; voxel ``(i, j, k)``
 (column, row, slice) sits at ``origin + (i * dx, j * dy, k * dz)``, so the
 affine is diagonal with i toward the patient's Right, j Anterior, k Superior.
 """

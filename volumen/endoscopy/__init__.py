@@ -33,7 +33,7 @@ from ._lumen_file import check_points_in_mask, load_lumen_mask
 from ._navigation import GuidedNavigator, ManualNavigator
 from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from ._pose import Pose, slerp
-from ._unfold import Unfolded, unfold
+from ._unfold import Unfolded, WallLook, unfold
 from ._video import VideoWriter
 from ._wall import WallField
 
@@ -69,6 +69,7 @@ __all__ = [
     "VideoWriter",
     "Unfolded",
     "unfold",
+    "WallLook",
     "CPR",
     "curved_reformation",
     "cross_section",

@@ -25,11 +25,12 @@ but never closer to the wall than it was.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from ._march import NO_HIT, fibonacci_directions, first_hit, probe, wall_gradient
+from ._march import NO_HIT, Wall, fibonacci_directions, first_hit, probe, wall_gradient
 from ._wall import WallField
 
 __all__ = ["Collider", "MoveResult"]
@@ -37,27 +38,39 @@ __all__ = ["Collider", "MoveResult"]
 FREE, SLID, STOPPED = 0, 1, 2
 
 
+class Keep(NamedTuple):
+    """What the collision kernels keep the eye away from, as one record (Numba compiles it as a struct)."""
+
+    wall: Wall         #: the wall field, its geometry, level and marching step
+    dirs: np.ndarray   #: probe directions (n, 3), unit vectors spread over the sphere
+    margin: float      #: safety distance, mm
+    tol: float         #: a point is clear when no probe meets the wall within ``margin - tol`` mm
+
+
 @njit(cache=True)
-def _clear(field, geo, level, x, y, z, dirs, need, step):
-    t, k = probe(field, geo, level, x, y, z, dirs, need, step)
+def _clear(c, p, need):
+    t, k = probe(c.wall, p, c.dirs, need)
     return t >= need, t, k
 
 
 @njit(cache=True)
-def _advance(field, geo, level, px, py, pz, dx, dy, dz, length, margin, tol, step, dirs, out):
-    """Move from p along unit d by up to ``length`` mm; write the wall normal met (or zeros) into ``out[0:3]``.
+def _advance(c, p, d, length, out):
+    """Move from ``p`` along unit ``d`` (tuples, world mm) by up to ``length`` mm, keeping ``c`` (:class:`Keep`).
 
-    Returns the distance moved (mm).
+    Writes the wall normal met (or zeros) into ``out[0:3]``; returns the distance moved (mm).
     """
+    w, dirs, margin, tol = c.wall, c.dirs, c.margin, c.tol
+    px, py, pz = p
+    dx, dy, dz = d
     out[0] = 0.0
     out[1] = 0.0
     out[2] = 0.0
     if length <= 0.0:
         return 0.0
     # how clear must the eye stay: the margin, or what it has when it starts closer
-    ok0, t0, k0 = _clear(field, geo, level, px, py, pz, dirs, margin - tol, step)
+    ok0, t0, k0 = _clear(c, p, margin - tol)
     need = margin - tol if ok0 else t0
-    th = first_hit(field, geo, level, px, py, pz, dx, dy, dz, length + margin, step)
+    th = first_hit(w, p, d, length + margin)
     s = length
     wx = 0.0
     wy = 0.0
@@ -69,14 +82,14 @@ def _advance(field, geo, level, px, py, pz, dx, dy, dz, length, margin, tol, ste
             wx, wy, wz = px + th * dx, py + th * dy, pz + th * dz
             have_wall = True
     # sweep: the first point that is not clear, every margin / 2 and at the end
-    h = max(0.5 * margin, step)
+    h = max(0.5 * margin, w.step)
     good = 0.0
     bad = -1.0
     kbad = -1
     q = h
     while True:
         q = min(q, s)
-        ok, t, k = _clear(field, geo, level, px + q * dx, py + q * dy, pz + q * dz, dirs, need, step)
+        ok, t, k = _clear(c, (px + q * dx, py + q * dy, pz + q * dz), need)
         if not ok:
             bad = q
             kbad = k
@@ -88,7 +101,7 @@ def _advance(field, geo, level, px, py, pz, dx, dy, dz, length, margin, tol, ste
     if bad >= 0.0:
         while bad - good > 0.01:
             mid = 0.5 * (good + bad)
-            ok, t, k = _clear(field, geo, level, px + mid * dx, py + mid * dy, pz + mid * dz, dirs, need, step)
+            ok, t, k = _clear(c, (px + mid * dx, py + mid * dy, pz + mid * dz), need)
             if ok:
                 good = mid
             else:
@@ -97,12 +110,12 @@ def _advance(field, geo, level, px, py, pz, dx, dy, dz, length, margin, tol, ste
         s = good
         if kbad >= 0:
             cx, cy, cz = px + bad * dx, py + bad * dy, pz + bad * dz
-            tw = first_hit(field, geo, level, cx, cy, cz, dirs[kbad, 0], dirs[kbad, 1], dirs[kbad, 2], margin, step)
+            tw = first_hit(w, (cx, cy, cz), (dirs[kbad, 0], dirs[kbad, 1], dirs[kbad, 2]), margin)
             if tw < NO_HIT:
                 wx, wy, wz = cx + tw * dirs[kbad, 0], cy + tw * dirs[kbad, 1], cz + tw * dirs[kbad, 2]
                 have_wall = True
     if have_wall and s < length:
-        gx, gy, gz = wall_gradient(field, geo, wx, wy, wz)
+        gx, gy, gz = wall_gradient(w, (wx, wy, wz))
         g = np.sqrt(gx * gx + gy * gy + gz * gz)
         if g > 0.0:
             out[0] = -gx / g  # into the lumen
@@ -112,41 +125,43 @@ def _advance(field, geo, level, px, py, pz, dx, dy, dz, length, margin, tol, ste
 
 
 @njit(cache=True)
-def _slide(field, geo, level, p, tx, ty, tz, length, margin, tol, step, dirs, nrm):
-    """Slide the eye ``p`` (3,, updated in place) along the wall by ``length`` mm, starting along unit t.
+def _slide(c, p, t, length, nrm):
+    """Slide the eye ``p`` (3,, updated in place) along the wall by ``length`` mm, starting along unit ``t`` (tuple).
 
     The slide goes in sub-steps of ``margin / 2``; each is checked like a move, then the eye is
     pushed back out to the margin from the nearest wall (so it follows curved walls), and the
     direction is projected again onto the tangent plane of that wall (normal ``nrm``, into the lumen).
     Returns the length slid (mm).
     """
-    h = max(0.5 * margin, step)
+    dirs, margin, tol = c.dirs, c.margin, c.tol
+    tx, ty, tz = t
+    h = max(0.5 * margin, c.wall.step)
     n_sub = int(np.ceil(length / h))
     sub = length / n_sub
     done = 0.0
     need = margin - tol
     for _ in range(n_sub):
-        s = _advance(field, geo, level, p[0], p[1], p[2], tx, ty, tz, sub, margin, tol, step, dirs, nrm)
+        s = _advance(c, (p[0], p[1], p[2]), (tx, ty, tz), sub, nrm)
         qx, qy, qz = p[0] + s * tx, p[1] + s * ty, p[2] + s * tz
         done += s
         if s < sub - 1e-9:
             # blocked in this sub-step: turn along the wall that stopped it, or give up
-            c = tx * nrm[0] + ty * nrm[1] + tz * nrm[2]
-            if c >= 0.0 or (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0):
+            cn = tx * nrm[0] + ty * nrm[1] + tz * nrm[2]
+            if cn >= 0.0 or (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0):
                 p[0], p[1], p[2] = qx, qy, qz
                 break
-            ux, uy, uz = tx - c * nrm[0], ty - c * nrm[1], tz - c * nrm[2]
+            ux, uy, uz = tx - cn * nrm[0], ty - cn * nrm[1], tz - cn * nrm[2]
             ul = np.sqrt(ux * ux + uy * uy + uz * uz)
             if ul < 1e-6:
                 p[0], p[1], p[2] = qx, qy, qz
                 break
             tx, ty, tz = ux / ul, uy / ul, uz / ul
         # push out from the nearest wall to a little beyond the margin, if that spot is clear
-        t, k = probe(field, geo, level, qx, qy, qz, dirs, margin + 4 * tol, step)
-        if k >= 0 and t < margin + 2 * tol:
-            push = margin + 2 * tol - t
+        tn, k = probe(c.wall, (qx, qy, qz), dirs, margin + 4 * tol)
+        if k >= 0 and tn < margin + 2 * tol:
+            push = margin + 2 * tol - tn
             rx, ry, rz = qx - push * dirs[k, 0], qy - push * dirs[k, 1], qz - push * dirs[k, 2]
-            ok, t2, k2 = _clear(field, geo, level, rx, ry, rz, dirs, need, step)
+            ok, t2, k2 = _clear(c, (rx, ry, rz), need)
             if ok:
                 qx, qy, qz = rx, ry, rz
         p[0], p[1], p[2] = qx, qy, qz
@@ -154,8 +169,8 @@ def _slide(field, geo, level, p, tx, ty, tz, length, margin, tol, step, dirs, nr
 
 
 @njit(cache=True)
-def _move(field, geo, level, p, m, margin, tol, step, dirs, max_length, slide, out):
-    """Move the eye ``p`` (3,) by ``m`` (3,) mm; write the new position into ``out[0:3]``.
+def _move(c, p, m, max_length, slide, out):
+    """Move the eye ``p`` (3,) by ``m`` (3,) mm keeping ``c`` (:class:`Keep`); write the new position into ``out``.
 
     Returns ``(status, moved)``: FREE / SLID / STOPPED and the length moved (mm): along the
     motion, plus along the wall when sliding (the small push-outs from the wall not counted).
@@ -167,22 +182,22 @@ def _move(field, geo, level, p, m, margin, tol, step, dirs, max_length, slide, o
     dx, dy, dz = m[0] / length, m[1] / length, m[2] / length
     length = min(length, max_length)
     nrm = np.zeros(3)
-    s = _advance(field, geo, level, p[0], p[1], p[2], dx, dy, dz, length, margin, tol, step, dirs, nrm)
+    s = _advance(c, (p[0], p[1], p[2]), (dx, dy, dz), length, nrm)
     out[0] += s * dx
     out[1] += s * dy
     out[2] += s * dz
     if s >= length - 1e-9:
         return FREE, s
     # what remains, projected onto the tangent plane of the wall that blocked it
-    c = dx * nrm[0] + dy * nrm[1] + dz * nrm[2]
+    cn = dx * nrm[0] + dy * nrm[1] + dz * nrm[2]
     rem = length - s
-    if not slide or c >= 0.0 or (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0):
+    if not slide or cn >= 0.0 or (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0):
         return STOPPED, s
-    tx, ty, tz = dx - c * nrm[0], dy - c * nrm[1], dz - c * nrm[2]
+    tx, ty, tz = dx - cn * nrm[0], dy - cn * nrm[1], dz - cn * nrm[2]
     tl = np.sqrt(tx * tx + ty * ty + tz * tz)
     if tl * rem < 1e-6:
         return STOPPED, s
-    slid = _slide(field, geo, level, out, tx / tl, ty / tl, tz / tl, tl * rem, margin, tol, step, dirs, nrm)
+    slid = _slide(c, out, (tx / tl, ty / tl, tz / tl), tl * rem, nrm)
     return (SLID if slid > 0.0 else STOPPED), s + slid
 
 
@@ -252,7 +267,8 @@ class Collider:
         if not self.step > 0:
             raise ValueError(f"step must be > 0 mm, got {step}")
         self.directions = fibonacci_directions(int(directions))
-        self._geo = wall.geometry
+        self._wall = Wall(wall.field, wall.geometry, wall.level, self.step)
+        self._keep = Keep(self._wall, self.directions, self.margin, self.tolerance)
 
     def first_hit(self, origin, direction, max_length: float) -> float:
         """Distance (mm) from ``origin`` along ``direction`` (world, any length) to the wall; inf if none within
@@ -260,15 +276,14 @@ class Collider:
         o = np.asarray(origin, float)
         d = np.asarray(direction, float)
         d = d / np.linalg.norm(d)
-        t = first_hit(self.wall.field, self._geo, self.wall.level, o[0], o[1], o[2], d[0], d[1], d[2],
-                      float(max_length), self.step)
+        t = first_hit(self._wall, (o[0], o[1], o[2]), (d[0], d[1], d[2]), float(max_length))
         return float("inf") if t >= NO_HIT else float(t)
 
     def clearance(self, point, radius: float | None = None) -> float:
         """Distance (mm) to the nearest wall seen by the probe rays, inf beyond ``radius`` (default 4 margins)."""
         p = np.asarray(point, float)
         r = 4 * self.margin if radius is None else float(radius)
-        t, _ = probe(self.wall.field, self._geo, self.wall.level, p[0], p[1], p[2], self.directions, r, self.step)
+        t, _ = probe(self._wall, (p[0], p[1], p[2]), self.directions, r)
         return float("inf") if t >= NO_HIT else float(t)
 
     def is_clear(self, point) -> bool:
@@ -278,7 +293,7 @@ class Collider:
     def normal(self, point) -> np.ndarray:
         """Unit wall normal at a world ``point`` near the wall, pointing into the lumen (zeros where flat)."""
         p = np.asarray(point, float)
-        g = np.array(wall_gradient(self.wall.field, self._geo, p[0], p[1], p[2]))
+        g = np.array(wall_gradient(self._wall, (p[0], p[1], p[2])))
         n = np.linalg.norm(g)
         return -g / n if n > 0 else g
 
@@ -289,6 +304,5 @@ class Collider:
         if not (np.all(np.isfinite(p)) and np.all(np.isfinite(m))):
             raise ValueError("position and motion must be finite (x, y, z) mm")
         out = np.empty(3)
-        status, moved = _move(self.wall.field, self._geo, self.wall.level, p, m, self.margin, self.tolerance,
-                              self.step, self.directions, self.max_length, self.slide, out)
+        status, moved = _move(self._keep, p, m, self.max_length, self.slide, out)
         return MoveResult(position=out, moved=float(moved), blocked=status != FREE, slid=status == SLID)

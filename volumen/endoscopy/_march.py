@@ -10,22 +10,34 @@ renderer's trilinear reconstruction (``_sample.sample_value``) and a crossing
 between the two samples around it is located by the renderer's regula falsi
 (``_trace.iso_refine``), so no reconstruction formula is written twice.
 
-Arrays and scalars only; every function is ``@njit(cache=True)``.
+The kernels take the wall as one record, :class:`Wall` (field, packed geometry,
+level, marching step), and points and directions as ``(x, y, z)`` tuples;
+every function is ``@njit(cache=True)``.
 """
 
 from __future__ import annotations
 
-import numpy as np
-from numba import njit, prange
+from typing import NamedTuple
 
-# Private kernels of the renderer, imported (not copied) as DESIGN.md section 4 asks;
-# they should become public names of volumen.render.raycast (see the endoscopy report).
+import numpy as np
+from numba import njit
+
+# The renderer's sampling and crossing refinement, imported (not copied) as docs/design.md section 4 asks.
 from ..render.raycast import G_BOX, iso_refine, sample_value, to_index
 
-__all__ = ["NO_HIT", "first_hit", "wall_gradient", "probe", "fibonacci_directions", "first_hits"]
+__all__ = ["NO_HIT", "Wall", "first_hit", "wall_gradient", "probe", "fibonacci_directions"]
 
 #: returned by :func:`first_hit` when no wall lies within the asked length
 NO_HIT = 1e30
+
+
+class Wall(NamedTuple):
+    """A wall field as the kernels take it (Numba compiles it as a struct)."""
+
+    field: np.ndarray  #: samples [z, y, x]; the wall is where their trilinear interpolation is >= level
+    geo: np.ndarray    #: packed float64 geometry (world -> index affine, index box)
+    level: float       #: wall threshold, field units
+    step: float        #: marching step, mm
 
 
 def fibonacci_directions(n: int) -> np.ndarray:
@@ -44,18 +56,19 @@ def _inside_box(geo, i, j, k):
 
 
 @njit(cache=True)
-def first_hit(field, geo, level, ox, oy, oz, dx, dy, dz, tmax, step):
-    """Distance (mm) along the ray ``o + t d`` to the first point where the field reaches ``level``.
+def first_hit(w, o, d, tmax):
+    """Distance (mm) along the ray ``o + t d`` (tuples, world mm, ``d`` unit) to the first point of the wall ``w``.
 
-    The ray is sampled every ``step`` mm from ``t = 0`` up to ``tmax``; the
+    The ray is sampled every ``w.step`` mm from ``t = 0`` up to ``tmax``; the
     crossing between the last sample below the level and the first at or
     above it is refined by regula falsi on the trilinear field. Leaving the
     volume's box of voxel centres counts as a hit at the last sample inside.
     Returns 0 when the origin is already in the wall, :data:`NO_HIT` when
     nothing is met within ``tmax``.
     """
-    oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
-    di, dj, dk = to_index(geo, dx, dy, dz, 0.0)
+    field, geo, level, step = w.field, w.geo, w.level, w.step
+    oi, oj, ok = to_index(geo, o[0], o[1], o[2], 1.0)
+    di, dj, dk = to_index(geo, d[0], d[1], d[2], 0.0)
     if not _inside_box(geo, oi, oj, ok):
         return 0.0
     vp = sample_value(field, oi, oj, ok, False)
@@ -78,14 +91,15 @@ def first_hit(field, geo, level, ox, oy, oz, dx, dy, dz, tmax, step):
 
 
 @njit(cache=True)
-def wall_gradient(field, geo, x, y, z):
-    """World-space gradient (field units per mm) of the trilinear field at world point (x, y, z).
+def wall_gradient(w, p):
+    """World-space gradient (field units per mm) of the wall's trilinear field at the world point ``p`` (tuple).
 
     Central differences of half a voxel in index space, mapped to world space
     through the transpose of the inverse affine (``geo[0:12]``, rows of the
     world -> index matrix). Points into the wall (toward larger values).
     """
-    i, j, k = to_index(geo, x, y, z, 1.0)
+    field, geo = w.field, w.geo
+    i, j, k = to_index(geo, p[0], p[1], p[2], 1.0)
     h = 0.5
     gi = (sample_value(field, i + h, j, k, False) - sample_value(field, i - h, j, k, False)) / (2 * h)
     gj = (sample_value(field, i, j + h, k, False) - sample_value(field, i, j - h, k, False)) / (2 * h)
@@ -97,8 +111,8 @@ def wall_gradient(field, geo, x, y, z):
 
 
 @njit(cache=True)
-def probe(field, geo, level, x, y, z, dirs, radius, step):
-    """Nearest wall seen from (x, y, z) along the probe directions ``dirs`` (n, 3), within ``radius`` mm.
+def probe(w, p, dirs, radius):
+    """Nearest wall seen from ``p`` (tuple, world mm) along the probe directions ``dirs`` (n, 3), within ``radius`` mm.
 
     Returns ``(t, k)``: the smallest hit distance (mm, :data:`NO_HIT` if none)
     and the index of its direction (-1 if none). With directions spread
@@ -108,18 +122,10 @@ def probe(field, geo, level, x, y, z, dirs, radius, step):
     best = NO_HIT
     kbest = -1
     for n in range(dirs.shape[0]):
-        t = first_hit(field, geo, level, x, y, z, dirs[n, 0], dirs[n, 1], dirs[n, 2], min(radius, best), step)
+        t = first_hit(w, p, (dirs[n, 0], dirs[n, 1], dirs[n, 2]), min(radius, best))
         if t < best:
             best = t
             kbest = n
             if t == 0.0:
                 break
     return best, kbest
-
-
-@njit(parallel=True, cache=True)
-def first_hits(field, geo, level, origins, directions, tmax, step, out):
-    """:func:`first_hit` for many rays in parallel: ``origins``, ``directions`` (n, 3) world mm -> ``out`` (n,) mm."""
-    for n in prange(origins.shape[0]):
-        out[n] = first_hit(field, geo, level, origins[n, 0], origins[n, 1], origins[n, 2], directions[n, 0],
-                           directions[n, 1], directions[n, 2], tmax, step)

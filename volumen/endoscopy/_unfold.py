@@ -19,19 +19,43 @@ Rows run over angles 0..360 degrees (top to bottom), columns over the arc.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange
 
 from ..render.optics import phong_terms
-from ._march import NO_HIT, first_hit, wall_gradient
+from ._march import NO_HIT, Wall, first_hit, wall_gradient
 
-__all__ = ["Unfolded", "unfold"]
+__all__ = ["Unfolded", "WallLook", "unfold"]
+
+
+class WallLook(NamedTuple):
+    """How the unfolded wall is shaded: Phong terms lit from the centerline point (the kernel gets ``color`` as an
+    array: a parallel loop takes no tuple)."""
+
+    color: tuple[float, float, float] = (0.93, 0.6, 0.52)  #: linear RGB of the wall
+    ambient: float = 0.15
+    diffuse: float = 0.75
+    specular: float = 0.2
+    shininess: float = 20.0  #: specular exponent
+
+
+class _Rays(NamedTuple):
+    """The rays of one unfolded view: per column a centerline point and the frame's two vectors, per row an angle."""
+
+    pts: np.ndarray    #: centerline points (N, 3), world mm
+    nrm: np.ndarray    #: angle-0 vectors (N, 3)
+    bin_: np.ndarray   #: angle-90 vectors (N, 3)
+    cos_a: np.ndarray  #: cosine of each row's angle (M,)
+    sin_a: np.ndarray  #: sine of each row's angle (M,)
+    tmax: float        #: how far a ray looks for the wall, mm
 
 
 @njit(parallel=True, cache=True)
-def _unfold_kernel(field, geo, level, pts, nrm, bin_, cos_a, sin_a, tmax, step, color, ka, kd, ks, shininess,
-                   rgb, radius):
+def _unfold_kernel(w, r, look, rgb, radius):
+    pts, nrm, bin_, cos_a, sin_a = r.pts, r.nrm, r.bin_, r.cos_a, r.sin_a
+    color, ka, kd, ks = look.color, look.ambient, look.diffuse, look.specular
     n = pts.shape[0]
     m = cos_a.shape[0]
     for i in prange(n):
@@ -39,7 +63,7 @@ def _unfold_kernel(field, geo, level, pts, nrm, bin_, cos_a, sin_a, tmax, step, 
             dx = cos_a[j] * nrm[i, 0] + sin_a[j] * bin_[i, 0]
             dy = cos_a[j] * nrm[i, 1] + sin_a[j] * bin_[i, 1]
             dz = cos_a[j] * nrm[i, 2] + sin_a[j] * bin_[i, 2]
-            t = first_hit(field, geo, level, pts[i, 0], pts[i, 1], pts[i, 2], dx, dy, dz, tmax, step)
+            t = first_hit(w, (pts[i, 0], pts[i, 1], pts[i, 2]), (dx, dy, dz), r.tmax)
             if t >= NO_HIT:
                 radius[j, i] = np.inf
                 rgb[j, i, 0] = 0.0
@@ -47,7 +71,7 @@ def _unfold_kernel(field, geo, level, pts, nrm, bin_, cos_a, sin_a, tmax, step, 
                 rgb[j, i, 2] = 0.0
                 continue
             radius[j, i] = t
-            gx, gy, gz = wall_gradient(field, geo, pts[i, 0] + t * dx, pts[i, 1] + t * dy, pts[i, 2] + t * dz)
+            gx, gy, gz = wall_gradient(w, (pts[i, 0] + t * dx, pts[i, 1] + t * dy, pts[i, 2] + t * dz))
             g = np.sqrt(gx * gx + gy * gy + gz * gz)
             diff = 1.0
             spec = 0.0
@@ -55,9 +79,10 @@ def _unfold_kernel(field, geo, level, pts, nrm, bin_, cos_a, sin_a, tmax, step, 
                 nx, ny, nz = gx / g, gy / g, gz / g
                 if nx * dx + ny * dy + nz * dz > 0.0:  # face the centerline (two-sided)
                     nx, ny, nz = -nx, -ny, -nz
-                diff, spec = phong_terms(nx, ny, nz, -dx, -dy, -dz, -dx, -dy, -dz, shininess)
-            for c in range(3):
-                rgb[j, i, c] = min(color[c] * (ka + kd * diff) + ks * spec, 1.0)
+                diff, spec = phong_terms(nx, ny, nz, -dx, -dy, -dz, -dx, -dy, -dz, look.shininess)
+            rgb[j, i, 0] = min(color[0] * (ka + kd * diff) + ks * spec, 1.0)
+            rgb[j, i, 1] = min(color[1] * (ka + kd * diff) + ks * spec, 1.0)
+            rgb[j, i, 2] = min(color[2] * (ka + kd * diff) + ks * spec, 1.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,8 +134,7 @@ class Unfolded:
 
 
 def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, max_radius: float | None = None,
-           color: tuple[float, float, float] = (0.93, 0.6, 0.52), ambient: float = 0.15, diffuse: float = 0.75,
-           specular: float = 0.2, shininess: float = 20.0, normal=None) -> Unfolded:
+           look: WallLook | None = None, normal=None) -> Unfolded:
     """Unfold the wall around a centerline into an (angles x samples) picture.
 
     Parameters
@@ -124,10 +148,8 @@ def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, ma
         Column spacing along the arc; None keeps the centerline's own points.
     max_radius : float or None, mm
         How far a ray looks for the wall (default: 3 x the largest centerline radius, at least 20 mm).
-    color : (3,) float
-        Linear RGB of the wall.
-    ambient, diffuse, specular, shininess : float
-        Phong coefficients (light at the centerline point).
+    look : WallLook or None
+        The wall's linear RGB colour and Phong coefficients (light at the centerline point).
     normal : (3,) float or None
         First normal of the rotation-minimizing frame (angle 0), see :meth:`Centerline.frames`.
 
@@ -139,6 +161,9 @@ def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, ma
 
     if angles < 4:
         raise ValueError(f"angles must be >= 4, got {angles}")
+    look = WallLook() if look is None else look
+    if len(look.color) != 3:
+        raise ValueError(f"look.color must be linear (r, g, b), got {look.color}")
     cl = centerline
     if step is not None:
         if not step > 0:
@@ -152,8 +177,8 @@ def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, ma
     theta = np.radians(np.arange(angles) * 360.0 / angles)
     rgb = np.zeros((angles, len(cl.points), 3), np.float32)
     radius = np.zeros((angles, len(cl.points)), np.float32)
-    _unfold_kernel(wall.field, wall.geometry, float(wall.level), cl.points, np.ascontiguousarray(nrm),
-                   np.ascontiguousarray(bin_), np.cos(theta), np.sin(theta), float(max_radius), wall.step,
-                   np.asarray(color, np.float64), float(ambient), float(diffuse), float(specular), float(shininess),
-                   rgb, radius)
+    rays = _Rays(cl.points, np.ascontiguousarray(nrm), np.ascontiguousarray(bin_), np.cos(theta), np.sin(theta),
+                 float(max_radius))
+    look = WallLook(np.asarray(look.color, np.float64), *(float(v) for v in look[1:]))  # the kernel's record
+    _unfold_kernel(Wall(wall.field, wall.geometry, float(wall.level), wall.step), rays, look, rgb, radius)
     return Unfolded(rgb, radius, cl.arc.copy(), np.degrees(theta), nrm, bin_)

@@ -5,7 +5,7 @@
 (:mod:`volumen.core.gestures`); frames are rendered on a background thread, at a reduced viewport
 while dragging and at full size once the mouse rests. ``viewer.scene`` and ``viewer.camera`` read and
 set the picture. The jupyter packages are imported by :func:`show`, not by ``import volumen.notebook``.
-Pictures (Image, Volume, Mesh) display themselves through :mod:`volumen.core.display`.
+Pictures (Image, Volume, Mesh) display themselves through :mod:`volumen.notebook.pictures`.
 """
 
 from __future__ import annotations

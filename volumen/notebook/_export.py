@@ -13,7 +13,7 @@ import json
 
 import numpy as np
 
-from ..core import display
+from . import pictures
 
 __all__ = ["export_html"]
 
@@ -55,5 +55,5 @@ def export_html(frame: np.ndarray) -> str:
     h, w = frame.shape[:2]
     traits = {"css_width": f"{w}px", "css_height": f"{h}px", "resizable": False, "has_titlebar": False,
               "title": "", "cursor": "default", "_frame_feedback": {}, "_has_visible_views": False}
-    png = base64.b64encode(display.png_bytes(frame)).decode()
+    png = base64.b64encode(pictures.png_bytes(frame)).decode()
     return _PAGE.format(css=CSS, js=JS.replace("</script", "<\\/script"), traits=json.dumps(traits), png=png)

@@ -12,7 +12,8 @@ from __future__ import annotations
 import ipywidgets as widgets
 import numpy as np
 
-from ..core import PLANES, Window, canonical, display, slice_image
+from ..core import PLANES, Window, canonical, slice_image
+from . import pictures
 
 __all__ = ["SliceViews", "slice_picture", "crosshair_pixels", "PLANE_AXIS", "PLANE_COLOURS"]
 
@@ -95,4 +96,4 @@ class SliceViews:
     def refresh(self) -> None:
         """Redraw the three views (after a slider or window change)."""
         for plane in PLANES:
-            self.images[plane].value = display.png_bytes(self.picture(plane))
+            self.images[plane].value = pictures.png_bytes(self.picture(plane))

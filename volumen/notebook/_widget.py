@@ -14,7 +14,8 @@ import base64
 import ipywidgets as widgets
 from jupyter_rfb import RemoteFrameBuffer
 
-from ..core import Camera, Scene, display
+from ..core import Camera, Scene
+from . import pictures
 from ._view import View
 
 __all__ = ["Canvas", "Viewer"]
@@ -111,7 +112,7 @@ class Viewer(widgets.VBox):
             data = data[0]
         data = dict(data or {"text/plain": repr(self)})
         if self.frame is not None:
-            data["image/png"] = base64.b64encode(display.png_bytes(self.frame)).decode()
+            data["image/png"] = base64.b64encode(pictures.png_bytes(self.frame)).decode()
         return data
 
     def snapshot_html(self) -> str:

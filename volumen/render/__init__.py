@@ -1,20 +1,22 @@
-"""Renderers: each takes (Scene, Camera, size) and returns an Image (DESIGN.md section 1).
+"""Renderers: each takes (Scene, Camera, size) and returns an Image (docs/design.md section 1).
 
 ``render(scene, camera, size, device=None, technique="raycast", **options)`` is the entry point: the
 device (:data:`DEVICES`: cpu, cuda, gl, auto) says where the picture is computed, the technique
 (:data:`TECHNIQUES`: raycast, slicing, mesh) how, with its options (:func:`option_choices`);
 a :class:`Technique` holds a name with its options and round-trips through JSON.
 ``render_volume(volume, ...)`` is a one-call convenience; ``PathTracer(scene, camera, size)``
-accumulates path-traced samples progressively (``.step(n)``). The Numba kernels are imported (and
-compiled, or loaded from Numba's cache) on first use; OpenGL on the first rasterized picture.
+accumulates path-traced samples progressively (``.step(n)``); ``render_reduced`` draws at a fraction of
+the size and upscales (any device and technique: what a view shows while the user drags). The Numba
+kernels are imported (and compiled, or loaded from Numba's cache) on first use; OpenGL on the first
+rasterized picture.
 """
 
 from ._api import clear_cache, default_transfer, render, render_volume
+from ._reduced import reduced_size, render_reduced, upscale
 from ._techniques import DEVICES, TECHNIQUES, Technique, legacy_backend, option_choices, resolve_device
-from .raster import render_reduced
 
-__all__ = ["render", "render_volume", "render_reduced", "default_transfer", "clear_cache", "DEVICES", "TECHNIQUES",
-           "Technique", "option_choices", "resolve_device", "legacy_backend", "PathTracer"]
+__all__ = ["render", "render_volume", "render_reduced", "reduced_size", "upscale", "default_transfer", "clear_cache",
+           "DEVICES", "TECHNIQUES", "Technique", "option_choices", "resolve_device", "legacy_backend", "PathTracer"]
 
 
 def __getattr__(name):

@@ -1,4 +1,4 @@
-"""The optical model, in one place (DESIGN.md section 3).
+"""The optical model, in one place (docs/design.md section 3).
 
 Every renderer composes samples with these functions; they are Numba
 ``@njit`` functions of scalars only, so the CPU kernels and (later) CUDA

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..core import Image, is_chunked
 from ..io import open_levels
-from ..render.raster import reduced_size, render_reduced, upscale
+from ..render import reduced_size, render_reduced, upscale
 from ._outofcore import pick_level, render_bricked
 
 __all__ = ["render_view", "VIEW_MEMORY"]

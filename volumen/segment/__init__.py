@@ -1,4 +1,4 @@
-"""volumen.segment: thresholds, region growing, connected components, morphology (DESIGN.md section 1).
+"""volumen.segment: thresholds, region growing, connected components, morphology (docs/design.md section 1).
 
 Masks are uint8 0/1 :class:`~volumen.core.Volume` objects on the grid of the volume they
 come from (``Volume.with_data``); seeds are world RAS+ mm or voxel ``(i, j, k)``.

@@ -1,4 +1,4 @@
-"""volumen.surface: marching cubes, mesh processing and mesh files (DESIGN.md section 1).
+"""volumen.surface: marching cubes, mesh processing and mesh files (docs/design.md section 1).
 
 Meshes are :class:`Mesh` objects: float32 vertices in world RAS+ millimetres, int32
 triangles wound counter-clockwise seen from outside, unit outward vertex normals.

@@ -90,10 +90,10 @@ class Mesh:
                     meta={**self.meta, **meta})
 
     def _repr_png_(self) -> bytes:
-        """Notebook display: a shaded thumbnail (``volumen.core`` draws it without OpenGL)."""
-        from ..core.display import mesh_png
+        """Notebook display: a shaded thumbnail drawn without OpenGL (``volumen.notebook.pictures``)."""
+        from ..core._repr import picture
 
-        return mesh_png(self)
+        return picture("mesh_png", self)
 
     def __repr__(self) -> str:
         return f"Mesh({self.n_vertices} vertices, {self.n_faces} triangles)"

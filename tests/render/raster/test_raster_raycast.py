@@ -54,8 +54,8 @@ def test_gl_equals_cpu_every_mode_and_shading(gl, data):
     x none, headlight, phong, shadows fast and direct, scattering; two lights, jitter on) drawn by both
     devices, perspective, orthographic and with a crop box and a clip plane: mean <= 0.01, p99 <= 0.05."""
     if data not in reference_scenes.volumes():
-        print(f"skipped: {reference_scenes.AORTA} is not on this machine")
-        pytest.skip(f"{reference_scenes.AORTA} is not on this machine")
+        print("skipped: the VMTK aorta is not in the shared data folder (volumen.data.shared_data)")
+        pytest.skip("the VMTK aorta is not in the shared data folder (volumen.data.shared_data)")
     rows = []
     for name, (scene, cam, size) in reference_scenes.scenes().items():
         if not name.startswith(data + "/") or "pathtrace" in name:

@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction
-from volumen.render import TECHNIQUES, option_choices, render
-from volumen.render.raster import render_reduced, upscale
+from volumen.render import TECHNIQUES, option_choices, render, render_reduced, upscale
 
 TF = TransferFunction(color=((-1000, 0.9, 0.4, 0.2), (1000, 1.0, 1.0, 0.9)),
                       opacity=((-1000, 0.0), (-200, 0.0), (300, 0.04), (1000, 0.12)))

@@ -20,10 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .._shared_data import shared_data
+
 __all__ = ["Seed", "FAMILIES", "build_seeds"]
 
 FAMILIES = ("nifti", "nrrd", "nhdr", "mha", "mhd", "vtk", "npy", "npz", "raw", "dicom")
-AORTA = Path("/work/shared/data/vmtk-aorta/aorta.mha")
 _DICOM_MAX_BYTES = 100_000  # larger pydicom files slow the campaign without adding header variety
 _TEMPLATES = ("JHU-WhiteMatter-labels-2mm.nii.gz", "AICHAmc.nii.gz")
 
@@ -102,8 +103,9 @@ def _handmade() -> list[Seed]:
 
 def _real() -> list[Seed]:
     seeds = []
-    if AORTA.is_file():
-        seeds.append(Seed("vmtk-aorta", "mha", {"aorta.mha": AORTA.read_bytes()}, "aorta.mha"))
+    aorta = shared_data("vmtk-aorta", "aorta.mha")
+    if aorta is not None:
+        seeds.append(Seed("vmtk-aorta", "mha", {"aorta.mha": aorta.read_bytes()}, "aorta.mha"))
     templates = Path("/usr/share/mricron/templates")
     for name in _TEMPLATES:
         if (templates / name).is_file():

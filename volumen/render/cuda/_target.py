@@ -19,7 +19,7 @@ them and calls the dispatcher (compiled for the CPU, same source). The
 simulator thus checks everything the CUDA path adds -- grids, thread-to-pixel
 maps, uploads, device caches, the per-ray sweep -- and the kernels' CUDA
 compilation is checked by compiling them to PTX where a CUDA compiler exists
-(``tests/render/test_cuda_ptx.py``).
+(``tests/render/test_cuda_backend.py``, which runs ``tests/render/cuda_ptx_check.py``).
 """
 
 from __future__ import annotations

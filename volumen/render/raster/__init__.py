@@ -7,8 +7,7 @@
 * meshes (:func:`render_mesh`, :func:`render_isosurface_mesh`,
   :class:`MeshOptions`): Phong or Gouraud, any lights, ``Image.depth`` written;
 * ray casting (:func:`render_raycast_gl`): the CPU ray caster's packed frame marched
-  by a fragment shader, every mode and shading model but path tracing;
-* reduced viewport (:func:`render_reduced`) for any device and technique.
+  by a fragment shader, every mode and shading model but path tracing.
 
 Slicing and mesh are techniques of ``volumen.render.render`` on device ``gl``
 (registered in ``volumen.render.TECHNIQUES``, their options the dataclasses
@@ -20,7 +19,6 @@ from ._context import PRECISIONS, RasterUnavailable, context_info, get_context, 
 from ._mesh import MeshOptions, clear_mesh_cache, isosurface_mesh, render_isosurface_mesh, render_mesh
 from ._planes import ADAPTIVE, slab_boundaries, slice_polygons
 from ._raycast import MAX_LIGHTS, MAX_PLANES, render_raycast_gl
-from ._reduced import reduced_size, render_reduced, upscale
 from ._slicing import SlicingOptions, render_slicing
 from ._textures import clear_cache
 
@@ -39,9 +37,6 @@ __all__ = [
     "render_isosurface_mesh",
     "isosurface_mesh",
     "MeshOptions",
-    "render_reduced",
-    "reduced_size",
-    "upscale",
     "get_context",
     "context_info",
     "RasterUnavailable",

@@ -1,6 +1,6 @@
 """Texture slicing: the volume as a 3-D texture cut by view-aligned planes, blended in order (OpenGL).
 
-It computes the ray caster's integral (DESIGN.md section 3) another way: each
+It computes the ray caster's integral (docs/design.md section 3) another way: each
 plane polygon stands for the slab of view depth around it, its samples'
 opacity corrected to the path a ray travels through that slab
 (``gap / cos(theta)`` against the reference step ``ds0``), so orthographic

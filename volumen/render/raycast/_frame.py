@@ -13,7 +13,8 @@ the compile cache keys (Numba keys compiled code by these records' types).
 Adding a per-frame setting touches its declaration and its use only: a field
 here, with its default (``Settings``) -- set from the scene in ``_pack`` when
 the default does not do -- and ``s.<name>`` where a kernel reads it
-(``tests/render/test_frame.py`` checks that every field reaches both targets).
+(``tests/render/test_layout.py`` checks that every array reaches the device and that a setting needs
+only its declaration and its use).
 Compile-time choices (the mode and the shading model) are not settings but
 tags (:mod:`._pieces`), which pick the pieces a kernel is built from.
 """

@@ -5,7 +5,7 @@ tracking (:mod:`._pathtrace`) all read the medium through :func:`depth_at`, so t
 rays draw:
 
 * without labels, the transfer function's optical depth per reference step ``sig`` of the trilinear value
-  (DESIGN.md section 3);
+  (docs/design.md section 3);
 * with a label map (``nlab > 0``), the label-aware classification of the primary rays
   (:func:`._labelled.classify`: per-structure colour and opacity, hidden structures transparent), turned
   from the opacity ``A`` of one sample step into optical depth per reference step:

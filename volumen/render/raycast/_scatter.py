@@ -1,6 +1,6 @@
 """Single scattering: the medium's coefficients and the per-light in-scattering weight.
 
-The medium of the ``scattering`` and ``pathtrace`` models (DESIGN.md section 3):
+The medium of the ``scattering`` and ``pathtrace`` models (docs/design.md section 3):
 extinction ``sigma_t = (sigma_a + sigma_s) * tau(v) / ds0`` with ``tau`` the
 transfer function's optical depth per reference step, albedo
 ``sigma_s / (sigma_a + sigma_s)`` times the transfer function's colour.

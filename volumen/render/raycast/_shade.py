@@ -82,7 +82,7 @@ def light_vector(lights, li, wx, wy, wz):
 def light_visibility(li, w, lv, dist, a, s):
     """Fraction of light ``li`` reaching the world point ``w`` (unit ``lv`` toward the light, ``dist`` mm away).
 
-    The transmittance from ``w + offset lv`` to the light (DESIGN.md section 3):
+    The transmittance from ``w + offset lv`` to the light (docs/design.md section 3):
     read from the light's illumination volume (``LATTICE``, the first
     ``NEAR_STEPS`` reference steps marched) or marched (``DIRECT``, :mod:`._shadow`).
     """

@@ -1,6 +1,6 @@
 """Direct shadow rays: the transmittance from a point toward a light, marched through the volume.
 
-The reference definition (DESIGN.md section 3) that the illumination volumes
+The reference definition (docs/design.md section 3) that the illumination volumes
 (:mod:`._lightvol`) must match: along the ray ``y + s L`` (world mm, ``L`` unit,
 ``y`` already moved ``shadow_offset`` off the sample toward the light), over
 ``s`` in ``[0, distance to the light]`` intersected with the drawn region

@@ -1,5 +1,5 @@
 // Lighting of one sample or surface point: the Phong model of volumen.render.optics
-// (DESIGN.md section 3), included by the programs that shade. Needs MAX_LIGHTS defined.
+// (docs/design.md section 3), included by the programs that shade. Needs MAX_LIGHTS defined.
 // Two-sided: the normal is turned toward the viewer; a zero gradient counts every
 // light as head-on (diffuse 1, no specular). Spot factor max(dot(L, D), 0)^exponent,
 // L the unit vector from the light to the point; exponent 0 is a point light.

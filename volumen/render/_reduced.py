@@ -1,4 +1,4 @@
-"""Reduced viewport: render at a fraction of the size, then upscale (any device and technique).
+"""Reduced viewport: render at a fraction of the size, then upscale (any device and technique, so beside ``_api``).
 
 While the user drags the camera, the application renders at half the size
 (the source found one half keeps the picture's quality while dragging) and
@@ -16,6 +16,9 @@ from __future__ import annotations
 import time
 
 import numpy as np
+
+from ..core import Image
+from ._api import render
 
 __all__ = ["render_reduced", "reduced_size", "upscale"]
 
@@ -42,8 +45,6 @@ def upscale(image, size):
 
     ``rgba`` bilinear, ``depth`` (and ``value``) nearest; ``stats`` kept.
     """
-    from ...core import Image
-
     w, h = (int(s) for s in size)
     hs, ws = image.rgba.shape[:2]
     scale = hs / h
@@ -79,8 +80,6 @@ def render_reduced(scene, camera, size, fraction: float = 0.5, **how):
         Of ``size``; ``stats`` are the small render's plus ``reduced``:
         ``fraction``, ``render_size``, and ``timings["upscale"]`` (seconds).
     """
-    from .._api import render
-
     small = reduced_size(size, fraction)
     img = render(scene, camera, small, **how)
     if small == tuple(int(s) for s in size):

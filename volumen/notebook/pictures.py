@@ -1,7 +1,8 @@
 """Pictures that display themselves in notebooks: PNG bytes and HTML for Image, Volume and Mesh.
 
 ``Image._repr_png_``, ``Volume._repr_png_`` / ``_repr_html_`` and ``Mesh._repr_png_`` call these
-functions (IPython asks for them; nothing here imports IPython). Pillow is imported when a PNG is made.
+functions through ``volumen.core._repr`` (the root package registers :func:`make`; IPython asks for
+them; nothing here imports IPython). Pillow is imported when a PNG is made.
 
 :func:`mesh_picture` draws a triangle mesh without OpenGL: each triangle is sampled on a barycentric
 grid no coarser than one pixel, the samples are projected orthographically, and a depth sort keeps
@@ -17,7 +18,9 @@ import io
 
 import numpy as np
 
-__all__ = ["png_bytes", "image_png", "volume_png", "volume_html", "mesh_picture", "mesh_png",
+from ..core import montage
+
+__all__ = ["make", "png_bytes", "image_png", "volume_png", "volume_html", "mesh_picture", "mesh_png",
            "MESH_VIEW", "MESH_COLOR"]
 
 #: direction (RAS+) from the mesh toward the eye of :func:`mesh_picture`: anterior, a little left and above
@@ -43,8 +46,6 @@ def image_png(image) -> bytes:
 
 def volume_png(volume) -> bytes:
     """PNG of the axial, coronal and sagittal planes through the centre (:func:`~volumen.core.montage`)."""
-    from ._slices import montage
-
     return png_bytes(montage(volume))
 
 
@@ -112,3 +113,11 @@ def mesh_picture(vertices, faces, size: int = 256, *, view=MESH_VIEW, color=MESH
 def mesh_png(mesh, size: int = 256) -> bytes:
     """PNG of :func:`mesh_picture` of a :class:`~volumen.surface.Mesh`."""
     return png_bytes(mesh_picture(mesh.vertices, mesh.faces, size))
+
+
+_KINDS = {"image_png": image_png, "volume_png": volume_png, "volume_html": volume_html, "mesh_png": mesh_png}
+
+
+def make(kind: str, obj):
+    """The picture ``kind`` (``image_png``, ``volume_png``, ``volume_html``, ``mesh_png``) of ``obj``."""
+    return _KINDS[kind](obj)

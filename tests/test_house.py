@@ -1,0 +1,72 @@
+"""Checks anyone can run on the house itself (issue 26): no path of one machine, short parameter lists."""
+
+from __future__ import annotations
+
+import ast
+import re
+import subprocess
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: top-level folders that exist on one machine only (a checkout, a home, a mount); ``/usr/share`` (a
+#: distribution's packages), ``/proc`` and ``/dev`` name the same thing everywhere and are allowed
+_MACHINE_ROOTS = ("work", "home", "Users", "root", "mnt", "media", "opt", "srv", "scratch", "shared", "data")
+_MACHINE_PATH = re.compile(r"(?<![\w.~/-])/(?:" + "|".join(_MACHINE_ROOTS) + r")/[\w.-]+|\b[A-Z]:\\Users\\")
+#: packages whose functions take at most this many parameters (more: a record, as ``render/raycast/_frame.py``)
+MAX_PARAMETERS = 8
+_RECORD_PACKAGES = ("volumen/endoscopy",)
+
+
+def _repository_files() -> list[Path]:
+    """Files of the repository: tracked and untracked but not ignored (the working tree as it will be committed)."""
+    out = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard", "-z"], cwd=ROOT,
+                         capture_output=True, check=True).stdout
+    return [ROOT / name for name in out.decode().split("\0") if name and (ROOT / name).is_file()]
+
+
+def test_no_absolute_path_of_a_particular_machine():
+    """Data is found through ``volumen.data.shared_data`` (``VOLUMEN_SHARED_DATA`` or beside the repository)."""
+    found = []
+    for path in _repository_files():
+        try:
+            text = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            continue  # pictures, compressed tables
+        for n, line in enumerate(text.splitlines(), 1):
+            found += [f"{path.relative_to(ROOT)}:{n}: {m.group(0)}" for m in _MACHINE_PATH.finditer(line)]
+    print(f"{len(_repository_files())} files checked")
+    assert not found, "\n".join(found)
+
+
+def _parameters(node: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
+    a = node.args
+    names = [p.arg for p in a.posonlyargs + a.args + a.kwonlyargs]
+    extra = (a.vararg is not None) + (a.kwarg is not None)
+    return len(names) - (names[:1] in (["self"], ["cls"])) + extra
+
+
+def test_no_function_in_surface_or_endoscopy_takes_more_than_eight_parameters():
+    """Long positional lists (a kernel's arrays and settings) are records there, as in the ray caster."""
+    long = []
+    for package in _RECORD_PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and _parameters(node) > MAX_PARAMETERS:
+                    long.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}: {_parameters(node)}")
+    assert not long, "\n".join(long)
+
+
+def test_the_design_document_is_in_the_repository_and_every_citation_finds_its_section():
+    """Code, tests, README and the layer contract cite ``docs/design.md section N``: each N is a heading there."""
+    design = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    sections = {int(n) for n in re.findall(r"^## (\d+)\. ", design, flags=re.M)}
+    cited: dict[int, list[str]] = {}
+    for path in _repository_files():
+        if path.suffix in (".py", ".md", ".toml") and path.name != "design.md":
+            for n in re.findall(r"docs/design\.md section (\d+)", path.read_text(encoding="utf-8")):
+                cited.setdefault(int(n), []).append(str(path.relative_to(ROOT)))
+    print(f"sections {sorted(sections)}; cited {sorted(cited)} by {sum(map(len, cited.values()))} places")
+    assert {1, 2, 3, 4, 5} <= sections
+    assert len(cited) >= 4 and set(cited) <= sections, {n: cited[n] for n in set(cited) - sections}
+    assert not re.search(r"(?<!docs/)DESIGN\.md", " ".join(p.read_text(encoding="utf-8") for p in _repository_files()
+                                                            if p.suffix in (".py", ".toml")))

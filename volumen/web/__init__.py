@@ -9,7 +9,8 @@ picture; in an ``immersive-vr`` session each eye is ray cast with its own pose a
 * :func:`web_frame`, :func:`encode`, :func:`decode`: the frames the page draws and their binary layout;
 * :class:`Chromium`: headless Chromium driven over the DevTools protocol (tests, ``volumen bench web``).
 
-Layer: beside ``app`` and ``notebook``; it imports the renderers' packing code and nothing imports it.
+Layer: beside ``app`` and ``notebook``; it imports the renderers' packing code and nothing imports it
+(docs/design.md section 10).
 """
 
 from ._browser import BrowserUnavailable, Chromium, find_chromium

@@ -149,6 +149,10 @@ class Chromium:
             raise ScriptError(d.get("exception", {}).get("description") or d.get("text", "script error"))
         return r["result"].get("value")
 
+    def version(self) -> str:
+        """The browser's product and version (``Chrome/150.0...``; the page's user agent may be an emulator's)."""
+        return self.call("Browser.getVersion").get("product", "Chromium")
+
     def add_script(self, source: str) -> None:
         """Run ``source`` in every document opened from now on, before the page's own scripts."""
         self.call("Page.addScriptToEvaluateOnNewDocument", source=source)

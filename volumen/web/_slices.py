@@ -9,12 +9,12 @@ map, so a click on the picture moves the crosshair to the world point under it.
 from __future__ import annotations
 
 import functools
+import io
 import weakref
 
 import numpy as np
 
 from volumen.core import PLANES, Window, canonical, slice_image
-from volumen.core.display import png_bytes
 
 __all__ = ["slice_png", "pixel_map", "PLANE_COLOURS"]
 
@@ -86,4 +86,12 @@ def slice_png(volume, plane: str, world, level: float, width: float) -> tuple[by
             rgb[at, :] = PLANE_COLOURS[other]
         else:
             rgb[:, at] = PLANE_COLOURS[other]
-    return png_bytes(rgb), m
+    return _png(rgb), m
+
+
+def _png(rgb: np.ndarray) -> bytes:
+    from PIL import Image as PILImage
+
+    buf = io.BytesIO()
+    PILImage.fromarray(np.ascontiguousarray(rgb, np.uint8)).save(buf, format="PNG")
+    return buf.getvalue()

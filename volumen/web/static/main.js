@@ -116,6 +116,9 @@ async function boot() {
     stateVR() { return { model: xr.model, scene: viewer.scene, stats: xr.stats(), eyes: xr.lastEyes }; },
     framesVR(n) { return xr.afterFrames(n); },
     timeFrames(n) { return viewer.timeFrames(n); },
+    timeFramesVR(n) { return xr.timeFrames(n); },
+    // a new scene during an XR session: resolves once its frame arrived
+    async sceneVR(scene) { viewer.setScene(scene); await viewer.idle(); await xr.afterFrames(1); },
   };
   document.body.dataset.ready = 'yes';
 }

@@ -159,3 +159,59 @@ def test_headset_eyes_light_and_grab(xr_browser, head_server, output_dir):
     expected = _pose(c, [0, 0, 0, 1]) @ _pose([0, 0, 0], turn) @ _pose(-c, [0, 0, 0, 1]) @ model
     assert np.allclose(after, expected, atol=1e-6)
     check_eyes(b, lit, eye_cameras(expected, head, head_q, dev["ipd"], dev["fovy"]), output_dir, "grabbed")
+
+
+def test_headset_controls_and_governor(xr_browser, head_server):
+    """A / X deletes the light nearest the controller; the thumbstick pushed right cycles to the next preset;
+    both grips drawn apart scale the volume by the ratio of the hands' distances; the governor, fed slow frames,
+    halves the samples per voxel twice and then the resolution, and gives them back on fast frames; frame
+    times are reported."""
+    b = xr_browser
+    vol = head_server.handlers.served().volume
+    scene, cam, _ = reference_scenes.scenes()["head/composite/phong"]
+    scene = scene.with_(volume=vol)
+    b.evaluate(f"volumen.show({{scene: {scene_json(scene)}, camera: {cam.to_json()}}})")
+    if not b.evaluate("volumen.xr.session !== null"):
+        b.evaluate("volumen.enterVR({governor: false})")
+    model = _model(b.evaluate("volumen.stateVR()"))
+    inv = np.linalg.inv(model)
+    # the right controller at the second light (its position in the room)
+    near = (model @ np.r_[scene.lights[1].position, 1.0])[:3]
+    ctrl = "iwerDevice.controllers.right"
+    _set(b, ctrl, near + HEAD0, [0, 0, 0, 1])
+    before = [np.linalg.norm((inv @ np.r_[near, 1.0])[:3] - lt.position) for lt in scene.lights]
+    _button(b, ctrl, "a-button", 1, 2, 3)
+    _button(b, ctrl, "a-button", 0, 1, 2)
+    lights = [Light.from_dict(x) for x in b.evaluate("volumen.viewer.scene.lights")]
+    assert int(np.argmin(before)) == 1 and lights == [scene.lights[0]]
+    name = b.evaluate("volumen.viewer.scene.transfer.name")
+    b.evaluate(f"{ctrl}.updateAxes('thumbstick', 1, 0); volumen.framesVR(3)"
+               f".then(() => {ctrl}.updateAxes('thumbstick', 0, 0)).then(() => volumen.framesVR(2))")
+    names = [n for n in b.evaluate("volumen.info.presets") if n != "mip-gray"]
+    assert b.evaluate("volumen.viewer.scene.transfer.name") == names[(names.index(name) + 1) % len(names)]
+
+    left, right = "iwerDevice.controllers.left", "iwerDevice.controllers.right"
+    _set(b, left, HEAD0 + [-0.1, -0.2, -0.4], [0, 0, 0, 1])
+    _set(b, right, HEAD0 + [0.1, -0.2, -0.4], [0, 0, 0, 1])
+    start = _model(b.evaluate("volumen.stateVR()"))
+    b.evaluate(f"volumen.framesVR(2).then(() => {{ {left}.updateButtonValue('squeeze', 1); "
+               f"{right}.updateButtonValue('squeeze', 1); }}).then(() => volumen.framesVR(3))")
+    _set(b, left, HEAD0 + [-0.15, -0.2, -0.4], [0, 0, 0, 1])
+    _set(b, right, HEAD0 + [0.15, -0.2, -0.4], [0, 0, 0, 1])
+    b.evaluate(f"volumen.framesVR(3).then(() => {{ {left}.updateButtonValue('squeeze', 0); "
+               f"{right}.updateButtonValue('squeeze', 0); }}).then(() => volumen.framesVR(2))")
+    scaled = _model(b.evaluate("volumen.stateVR()"))
+    assert np.isclose(np.linalg.norm(scaled[:3, 0]) / np.linalg.norm(start[:3, 0]), 1.5, rtol=1e-6)
+
+    spv = b.evaluate("volumen.viewer.scene.sampling.samples_per_voxel")
+    levels = b.evaluate("(async () => { const xr = volumen.xr; xr.governor = true; xr.base = "
+                        "volumen.viewer.scene.sampling.samples_per_voxel; const out = []; for (let k = 0; k < 4; k++) "
+                        "{ for (let i = 0; i < 10; i++) xr.govern(0, 1000); await volumen.viewer.idle(); "
+                        "out.push(xr.stats()); } return out; })()")
+    assert [(s["level"], s["scale"]) for s in levels] == [(1, 1), (2, 1), (3, 0.75), (4, 0.5)]
+    assert [s["samples_per_voxel"] for s in levels] == [spv / 2, spv / 4, spv / 4, spv / 4]
+    stats = b.evaluate("volumen.framesVR(2).then(() => volumen.stateVR().stats)")
+    assert stats["frames"] >= 1 and stats["mean_ms"] > 0
+    back = b.evaluate("(async () => { const xr = volumen.xr; for (let i = 0; i < 60; i++) xr.govern(0, 0.01); "
+                      "await volumen.viewer.idle(); return xr.stats(); })()")
+    assert back["level"] == 0 and back["samples_per_voxel"] == spv

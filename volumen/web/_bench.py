@@ -27,8 +27,8 @@ __all__ = ["bench_web", "WEB_CASES", "WEB_DATASETS", "WEB_QUICK", "iwer_script"]
 WEB_CASES = [("composite", "headlight", "ct-bone"), ("composite", "shadows", "ct-bone"), ("mip", "none", None),
              ("isosurface", "headlight", None)]
 WEB_DATASETS = {"head-phantom-128": ("head", (128, 128, 128)), "aorta-157x393x34": ("aorta", None)}
-WEB_QUICK = {"datasets": {"head-phantom-48": ("head", (48, 48, 48))}, "size": (96, 96), "eye": (64, 64),
-             "frames": 3}
+WEB_QUICK = {"datasets": {"head-phantom-32": ("head", (32, 32, 32))}, "size": (48, 48), "eye": (32, 32),
+             "frames": 2, "cases": [("composite", "headlight", "ct-bone"), ("mip", "none", None)]}
 
 
 def iwer_script() -> str | None:

@@ -20,6 +20,8 @@ import threading
 import time
 from pathlib import Path
 
+from volumen.errors import VolumenError
+
 __all__ = ["Chromium", "BrowserUnavailable", "find_chromium", "FLAGS"]
 
 #: a browser without network, GPU, sandbox (containers) or first-run chores; WebGL2 on SwiftShader
@@ -31,7 +33,7 @@ FLAGS = ("--headless=new", "--no-sandbox", "--enable-unsafe-swiftshader", "--use
          "--disable-backgrounding-occluded-windows", "--remote-debugging-port=0")
 
 
-class BrowserUnavailable(RuntimeError):
+class BrowserUnavailable(VolumenError, RuntimeError):
     """No Chromium here, or it did not start; the message says which."""
 
 

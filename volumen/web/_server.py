@@ -77,8 +77,8 @@ def _static() -> dict[str, tuple[bytes, str]]:
 class _Handlers:
     """What each route answers, from the served scan (:class:`~volumen.web.ViewerServer` holds one)."""
 
-    def __init__(self, source, scene, camera, budget_mb: float):
-        self.source, self.scene, self.camera, self.budget_mb = source, scene, camera, budget_mb
+    def __init__(self, source, scene, camera, budget_mb: float, shift: float):
+        self.source, self.scene, self.camera, self.budget_mb, self.shift = source, scene, camera, budget_mb, shift
         self.static = _static()
         self._served: dict[int, ServedVolume] = {}
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="volumen-web")
@@ -107,7 +107,8 @@ class _Handlers:
         vr = served.volume.value_range()
         transfers = {name: TransferFunction.preset(name, value_range=vr).to_dict() for name in PRESETS}
         body = {"volume": served.info(), "scene": self.scene_dict(served), "camera": self.camera.to_dict(),
-                "presets": list(PRESETS), "transfers": transfers, "notices": list(served.notices),
+                "presets": list(PRESETS), "transfers": transfers, "shift": self.shift,
+                "notices": list(served.notices),
                 "limits": {"max_lights": MAX_LIGHTS, "max_planes": MAX_PLANES, "budget_mb": self.budget_mb}}
         return json.dumps(body).encode(), "application/json"
 
@@ -150,12 +151,13 @@ class _Handlers:
         served = self.served(_int(request, "max3d", DEFAULT_MAX_3D))
         q = request.query
         try:
-            png, m = await self._work(slice_png, served.volume, q.get("plane", ""),
-                                      tuple(float(q.get(a, "nan")) for a in "xyz"),
-                                      float(q.get("level", "nan")), float(q.get("width", "nan")))
+            png, m, crossing = await self._work(slice_png, served.volume, q.get("plane", ""),
+                                                tuple(float(q.get(a, "nan")) for a in "xyz"),
+                                                float(q.get("level", "nan")), float(q.get("width", "nan")))
         except ValueError as exc:
             raise web.HTTPBadRequest(text=_one_line(exc)) from None
-        return png, "image/png", {"X-Slice-Map": json.dumps(np.round(m, 6).tolist())}
+        return png, "image/png", {"X-Slice-Map": json.dumps(np.round(m, 6).tolist()),
+                                  "X-Slice-Cross": json.dumps(crossing)}
 
     def close(self):
         self._pool.shutdown(wait=False, cancel_futures=True)
@@ -192,14 +194,16 @@ class ViewerServer:
         Memory budget of the volume texture on the client, MiB.
     token : str or None
         The access token (None: a new random one).
+    shift : float
+        Where the page's preset shift starts (data units; the scene's transfer function is already shifted).
     ssl_context : ssl.SSLContext or None
         Serve HTTPS (WebXR needs a secure origin on any host but ``localhost``).
     """
 
     def __init__(self, volume, scene, camera, *, host: str = "127.0.0.1", port: int = 0,
-                 budget_mb: float = DEFAULT_BUDGET_MB, token: str | None = None, ssl_context=None):
+                 budget_mb: float = DEFAULT_BUDGET_MB, token: str | None = None, ssl_context=None, shift: float = 0.0):
         self.host, self.token, self.ssl_context = host, token or new_token(), ssl_context
-        self.handlers = _Handlers(volume, scene, camera, budget_mb)
+        self.handlers = _Handlers(volume, scene, camera, budget_mb, shift)
         self.sock = socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET)
         self.port = self.sock.getsockname()[1]
         self._loop = self._runner = self._thread = None

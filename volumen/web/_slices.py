@@ -1,9 +1,9 @@
 """The page's three slice views: windowed axial, coronal and sagittal slices through a world point, as PNG.
 
 Drawn by ``volumen.core.slice_image`` in radiological display orientation (axial seen from the feet with the
-patient's right on the left; coronal from the front; sagittal from the patient's left), square pixels, with
-the lines where the two other planes cut the slice. :func:`slice_png` also returns the slice's pixel -> world
-map, so a click on the picture moves the crosshair to the world point under it.
+patient's right on the left; coronal from the front; sagittal from the patient's left), square pixels.
+:func:`slice_png` also returns the slice's pixel -> world map (a click on the picture moves the crosshair to
+the world point under it) and where the two other planes cut it (the page draws those lines).
 """
 
 from __future__ import annotations
@@ -16,10 +16,8 @@ import numpy as np
 
 from volumen.core import PLANES, Window, canonical, slice_image
 
-__all__ = ["slice_png", "pixel_map", "PLANE_COLOURS"]
+__all__ = ["slice_png", "pixel_map"]
 
-#: line colour of each plane where the other views show it (those of the application and the notebook)
-PLANE_COLOURS = {"axial": (60, 120, 255), "coronal": (230, 60, 60), "sagittal": (60, 200, 60)}
 #: numpy axis of the canonical volume each plane cuts, and the (row, column) voxel axes of its picture
 _AXES = {"axial": (0, (1, 2)), "coronal": (1, (0, 2)), "sagittal": (2, (0, 1))}
 _canonical: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -56,9 +54,11 @@ def pixel_map(can, plane: str, index: int, out_shape) -> np.ndarray:
     return np.array([o, voxel(0.0, 1.0) - o, voxel(1.0, 0.0) - o])
 
 
-def slice_png(volume, plane: str, world, level: float, width: float) -> tuple[bytes, np.ndarray]:
-    """``(PNG bytes, pixel map)`` of the ``plane`` slice through the world point ``world`` (mm) with the
-    window ``level`` / ``width`` (data units); the other planes through ``world`` are drawn as lines."""
+def slice_png(volume, plane: str, world, level: float, width: float) -> tuple[bytes, np.ndarray, dict]:
+    """``(PNG bytes, pixel map, crossing)`` of the ``plane`` slice through the world point ``world`` (mm) with
+    the window ``level`` / ``width`` (data units). ``crossing``: where the other two planes through ``world``
+    cut the picture, ``{"row": r, "col": c, "row_plane": name, "col_plane": name}`` (the page draws them as
+    lines in the planes' colours, at any scale)."""
     if plane not in PLANES:
         raise ValueError(f"unknown plane {plane!r}; valid: {', '.join(PLANES)}")
     world = np.asarray(world, float)
@@ -68,25 +68,14 @@ def slice_png(volume, plane: str, world, level: float, width: float) -> tuple[by
         raise ValueError("the window needs a finite level and a width > 0")
     can = _can(volume)
     ijk = np.clip(np.rint(can.world_to_index(world)), 0, np.array(can.shape[::-1]) - 1).astype(int)
-    ax, _ = _AXES[plane]
+    ax, (ra, ca) = _AXES[plane]
     index = int(ijk[2 - ax])
     gray = slice_image(can, plane, index=index, window=Window(level=level, width=width), canonical_volume=can)
-    rgb = np.repeat(gray[..., None], 3, axis=2) if gray.ndim == 2 else gray.copy()
-    m = pixel_map(can, plane, index, rgb.shape[:2])
-    # where the world point is on this picture: the other planes cross there
-    col, row = np.linalg.lstsq(m[1:].T, world - m[0], rcond=None)[0]
-    h, w = rgb.shape[:2]
-    for other in PLANES:
-        if other == plane:
-            continue
-        oax = _AXES[other][0]
-        line_is_row = _AXES[plane][1][0] == oax   # the other plane's axis runs down this picture's rows
-        at = int(np.clip(np.rint(row if line_is_row else col), 0, (h if line_is_row else w) - 1))
-        if line_is_row:
-            rgb[at, :] = PLANE_COLOURS[other]
-        else:
-            rgb[:, at] = PLANE_COLOURS[other]
-    return _png(rgb), m
+    m = pixel_map(can, plane, index, gray.shape[:2])
+    col, row = np.linalg.lstsq(m[1:].T, world - m[0], rcond=None)[0]   # the world point on this picture
+    by_axis = {a: p for p, (a, _) in _AXES.items()}
+    crossing = {"row": float(row), "col": float(col), "row_plane": by_axis[ra], "col_plane": by_axis[ca]}
+    return _png(gray), m, crossing
 
 
 def _png(rgb: np.ndarray) -> bytes:

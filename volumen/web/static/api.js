@@ -27,10 +27,11 @@ export async function postBinary(route, body) {
   return decode(await (await checked(r)).arrayBuffer());
 }
 
-// a slice picture (an object URL of the PNG) and its pixel -> world map
+// a slice picture (an object URL of the PNG), its pixel -> world map and where the other planes cut it
 export async function getSlice(params) {
   const r = await checked(await fetch('slice.png' + query(params), { headers: HEADERS }));
-  return { url: URL.createObjectURL(await r.blob()), map: JSON.parse(r.headers.get('X-Slice-Map')) };
+  return { url: URL.createObjectURL(await r.blob()), map: JSON.parse(r.headers.get('X-Slice-Map')),
+    cross: JSON.parse(r.headers.get('X-Slice-Cross')) };
 }
 
 // {header, arrays: {name: {data: TypedArray, shape}}}

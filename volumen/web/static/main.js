@@ -79,7 +79,7 @@ async function boot() {
   new ResizeObserver(() => fitCanvases(viewer, overlay)).observe(canvas.parentElement);
   fitCanvases(viewer, overlay);
   viewer.requestFrame();
-  slices.update();
+  const slicesShown = slices.update();
   status.textContent = `${lim.renderer} | ${lim.version}`;
 
   window.volumen = {
@@ -94,7 +94,12 @@ async function boot() {
       }
       if (camera) viewer.camera = camera;
       if (scene) viewer.setScene(scene); else viewer.requestFrame();
-      await viewer.settled();
+      if (viewer.xrActive) {   // the canvas is the XR layer: wait for the frame and one XR picture
+        await viewer.idle();
+        await xr.afterFrames(1);
+      } else {
+        await viewer.settled();
+      }
       return { error: viewer.error };
     },
     // the canvas: RGBA8 (base64), rows from the top, with the scene and camera it shows
@@ -116,6 +121,8 @@ async function boot() {
     stateVR() { return { model: xr.model, scene: viewer.scene, stats: xr.stats(), eyes: xr.lastEyes }; },
     framesVR(n) { return xr.afterFrames(n); },
     timeFrames(n) { return viewer.timeFrames(n); },
+    // resolves once the first picture and the slice views are shown
+    async shown() { await Promise.all([viewer.settled(), slicesShown]); },
     timeFramesVR(n) { return xr.timeFrames(n); },
     // a new scene during an XR session: resolves once its frame arrived
     async sceneVR(scene) { viewer.setScene(scene); await viewer.idle(); await xr.afterFrames(1); },

@@ -42,10 +42,10 @@ export class Panel {
     Object.assign(this, { root, viewer, slices, xr });
     this.selected = null;
     this.presetName = viewer.scene.transfer.name || viewer.info.presets[0];
-    this.shift = 0;
     const info = viewer.info;
+    this.shift = info.shift || 0;
     const [lo, hi] = info.volume.value_range;
-    const span = hi - lo;
+    const span = Math.max(hi - lo, Math.abs(this.shift) * 2);
     this.notices = el('ul', { className: 'notices' });
     this.timing = el('p', { className: 'timing' });
     this.lightList = el('select', { size: 4, className: 'lights' });
@@ -57,7 +57,10 @@ export class Panel {
       el('h2', { textContent: 'volumen' }),
       this.notices,
       labelled('preset', select(info.presets, this.presetName, (n) => { this.presetName = n; this.applyPreset(); })),
-      labelled('shift', slider(-span / 2, span / 2, span / 500, 0, (v) => { this.shift = v; this.applyPreset(); })),
+      labelled('shift', slider(-span / 2, span / 2, span / 500, this.shift, (v) => {
+        this.shift = v;
+        this.applyPreset();
+      })),
       labelled('mode', select(MODES, sc.mode, (m) => this.setMode(m))),
       labelled('iso value', this.iso),
       labelled('shading', select(SHADINGS, sc.shading.mode, (m) => this.edit({ shading: { ...viewer.scene.shading,

@@ -106,8 +106,9 @@ export class Viewer {
 
   // draw the ray caster into framebuffer `target`'s region `viewport` = [x, y, w, h]; `scaleDown` < 1 draws a
   // smaller picture offscreen and stretches it (reduced resolution); `shift` moves the picture's centre by
-  // that fraction of its size (an XR eye's off-axis projection)
-  drawView(target, viewport, packedFor, camera, scaleDown = 1, shift = [0, 0]) {
+  // that fraction of its size (an XR eye's off-axis projection); `opaque` leaves the target's alpha at 1 (an
+  // XR layer: the picture over black, as a headset shows it)
+  drawView(target, viewport, packedFor, camera, scaleDown = 1, shift = [0, 0], opaque = false) {
     const gl = this.gl;
     const [x, y, w, h] = viewport;
     const p = this.program.variant(this.frame.defines);
@@ -122,8 +123,19 @@ export class Viewer {
     } else {
       gl.bindFramebuffer(gl.FRAMEBUFFER, target);
       gl.viewport(x, y, w, h);
+      if (opaque) gl.colorMask(true, true, true, false);
       this.program.set(p, this.uniforms(packedFor(w, h), camera, [x + shift[0] * w, y + shift[1] * h]));
       this.program.draw();
+      gl.colorMask(true, true, true, true);
+    }
+    if (opaque && scaleDown < 1) {   // the blit copied the picture's alpha: back to 1
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(x, y, w, h);
+      gl.colorMask(false, false, false, true);
+      gl.clearColor(0, 0, 0, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      gl.colorMask(true, true, true, true);
+      gl.disable(gl.SCISSOR_TEST);
     }
   }
 

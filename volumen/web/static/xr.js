@@ -98,7 +98,7 @@ export class XRView {
       const { packed, camera, shift } = this.eye(view, vp);
       const s = this.governor ? GOVERNOR_LEVELS[this.level][1] : 1;
       viewer.drawView(layer.framebuffer, [vp.x, vp.y, vp.width, vp.height], (w, h) => ({ ...packed, u_wh: [w, h] }),
-        camera, s, shift);
+        camera, s, shift, true);
       eyes.push({ eye: view.eye, viewport: [vp.x, vp.y, vp.width, vp.height], camera });
     }
     const waiting = this.captures.splice(0);
@@ -143,15 +143,14 @@ export class XRView {
   // ---- controllers ----
   controllers(frame) {
     for (const src of frame.session.inputSources) {
-      if (!src.gamepad || !src.gripSpace) continue;
-      const grip = frame.getPose(src.gripSpace, this.ref);
+      if (!src.gamepad) continue;
       const ray = frame.getPose(src.targetRaySpace, this.ref);
-      if (!grip || !ray) continue;
+      if (!ray) continue;
       const hand = this.hands.get(src.handedness) ?? { pressed: [], light: null, grab: null };
       this.hands.set(src.handedness, hand);
       const b = src.gamepad.buttons.map((x) => x.pressed || x.value > 0.5);
       const was = hand.pressed;
-      hand.matrix = Array.from(grip.transform.matrix);
+      hand.matrix = Array.from(ray.transform.matrix);   // the controller (its grip space moves rigidly with it)
       if (b[BUTTON.squeeze] && !was[BUTTON.squeeze]) hand.grab = { start: hand.matrix, model: this.model };
       if (!b[BUTTON.squeeze]) hand.grab = null;
       if (b[BUTTON.trigger] && !was[BUTTON.trigger]) this.placeLight(hand, ray.transform.matrix);

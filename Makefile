@@ -10,7 +10,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test fuzz huge install system-data browser web-deps clean
+.PHONY: demo test fuzz huge install system-data browser pacs-server web-deps clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -46,6 +46,20 @@ browser:
 	  echo "chromium could not be installed; the browser test will skip"; \
 	else echo "not root: chromium not installed; the browser test will skip"; fi
 
+# Optional archive server: Debian's orthanc and its DICOMweb plugin (orthanc-dicomweb). The tests of volumen.pacs
+# (tests/pacs, the application's archive dialog, the README's pacs lines) start it as a plain process on free local
+# ports with a temporary storage folder and stop it after. Installing needs root and apt; without them those tests
+# skip with the reason printed. The package's own system service is not wanted: it is stopped and disabled.
+pacs-server:
+	@if command -v Orthanc >/dev/null && ls /usr/share/orthanc/plugins/libOrthancDicomWeb.so* >/dev/null 2>&1; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian packages orthanc and orthanc-dicomweb (the archive tests' server)"; \
+	  (apt-get install -y -qq orthanc orthanc-dicomweb >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq orthanc orthanc-dicomweb >/dev/null 2>&1)) || \
+	  echo "orthanc could not be installed; the archive tests will skip"; \
+	  (systemctl disable --now orthanc || service orthanc stop) >/dev/null 2>&1 || true; \
+	else echo "not root: orthanc not installed; the archive tests will skip"; fi
+
 # The browser viewer's tests (tests/web) emulate a headset with the npm package iwer (the Immersive Web Emulation
 # Runtime, MIT), installed here into the git-ignored .web-deps/ (nothing else from npm; the page itself needs
 # nothing but a browser). Without npm or the registry those tests skip with the reason printed.
@@ -62,7 +76,7 @@ demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
-test: $(STAMP) system-data browser web-deps
+test: $(STAMP) system-data browser pacs-server web-deps
 	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 

@@ -18,3 +18,29 @@ def output_dir() -> Path:
     d = ROOT / "test-output"
     d.mkdir(exist_ok=True)
     return d
+
+
+@pytest.fixture(scope="session")
+def archive(tmp_path_factory):
+    """A running Orthanc (Debian's package, free local ports, temporary storage) holding the test studies and
+    pydicom's files (tests/pacs/archive_data.py); stopped at the end. Skips, saying why, without Orthanc."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tests" / "pacs"))
+    from archive_data import running_archive
+
+    yield from running_archive(tmp_path_factory)
+
+
+@pytest.fixture
+def archive_config(archive, tmp_path, monkeypatch):
+    """``archive`` named ``archive`` in a servers.toml under a temporary XDG_CONFIG_HOME (the password in an
+    environment variable) and an empty temporary cache; returns the servers.toml path."""
+    from archive_data import PASSWORD_ENV, write_servers_toml
+    from orthanc_server import PASSWORD
+
+    monkeypatch.delenv("VOLUMEN_CONFIG_DIR", raising=False)
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    monkeypatch.setenv("VOLUMEN_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv(PASSWORD_ENV, PASSWORD)
+    return write_servers_toml(tmp_path / "config", archive.server)

@@ -17,7 +17,12 @@ __version__ = "0.1.0"
 
 
 def load(path, **options) -> Volume:
-    """Read a volume file or DICOM folder; see :func:`volumen.io.load`."""
+    """Read a volume file or DICOM folder (see :func:`volumen.io.load`), or a series of an archive,
+    ``dicomweb://SERVER/STUDY/SERIES``, retrieved into the cache first (see :func:`volumen.pacs.load`)."""
+    if isinstance(path, str) and path.startswith(("dicomweb://", "dimse://")):
+        from .pacs import load as _load_archived
+
+        return _load_archived(path, **options)
     from .io import load as _load
 
     return _load(path, **options)

@@ -27,6 +27,13 @@ __all__ = [
     "UnexpectedReadError",
     "OutsideFolderError",
     "DeviceLimitError",
+    "ArchiveError",
+    "ArchiveConfigError",
+    "ArchiveUnreachableError",
+    "ArchiveAuthError",
+    "ArchiveRefusedError",
+    "ArchiveNotFoundError",
+    "RetrieveCancelled",
 ]
 
 
@@ -135,3 +142,47 @@ class DeviceLimitError(VolumenError, ValueError):
 class LabelError(VolumeReadError, ValueError):
     """A segmentation that cannot be used: a names table that does not match its label map, labels whose grid
     does not overlap the scan, a DICOM SEG that segments another series. The message names the file."""
+
+
+class ArchiveError(VolumenError):
+    """A PACS or research archive (DICOMweb, DIMSE) failed; the message names the server, never a password.
+
+    Parameters
+    ----------
+    server : str or None
+        How the server is named to the user (``archive (http://host:8042/dicom-web)``).
+    problem : str
+        What went wrong, in one line.
+    """
+
+    def __init__(self, server: str | None, problem: str):
+        self.server = server
+        self.problem = problem
+        super().__init__(f"server {server}: {problem}" if server else problem)
+
+
+class ArchiveConfigError(ArchiveError, ValueError):
+    """The server configuration (``servers.toml``, a server given on the command line) is unusable: an unknown
+    name, a bad key, a password in a file others can read, a password given on the command line."""
+
+
+class ArchiveUnreachableError(ArchiveError, ConnectionError):
+    """The server did not answer, or stopped answering in the middle of a transfer (what was fetched is kept
+    and a rerun resumes)."""
+
+
+class ArchiveAuthError(ArchiveError, PermissionError):
+    """The server refused the credentials (HTTP 401 / 403)."""
+
+
+class ArchiveRefusedError(ArchiveError):
+    """The server refused or aborted the request: a rejected DIMSE association, a failed C-FIND / C-GET /
+    C-MOVE / C-STORE, an HTTP error other than authentication."""
+
+
+class ArchiveNotFoundError(ArchiveError, LookupError):
+    """The study, series or instance asked for is not on the server (deleted since it was found?)."""
+
+
+class RetrieveCancelled(ArchiveError):
+    """The user cancelled a retrieve; what was fetched is kept (under a temporary name) for a later rerun."""

@@ -68,6 +68,7 @@ class MainWindow(QMainWindow):
         self.endoscopy = None
         self._loading = None
         self.series_chooser = None  # the open series chooser, if any
+        self.archive_dialog = None  # File > Open from archive..., once opened
 
         self.slices = {p: SliceView(st, p) for p in ("axial", "coronal", "sagittal")}
         self.view3d = View3D(st)
@@ -124,6 +125,7 @@ class MainWindow(QMainWindow):
         m = self.menuBar().addMenu("&File")
         m.addAction("Open file...", self.open_dialog)
         m.addAction("Open DICOM folder...", lambda: self.open_dialog(folder=True))
+        m.addAction("Open from archive...", self.open_archive_dialog)
         self.recent_menu = m.addMenu("Recent files")
         self._fill_recent()
         m.addSeparator()
@@ -219,6 +221,16 @@ class MainWindow(QMainWindow):
 
         self._loading = run_task(self, lambda: load_or_list(ref), done, bad, label=f"Loading {path}...")
         return self._loading
+
+    def open_archive_dialog(self):
+        """File > Open from archive...: search a PACS and open a retrieved series (non-blocking dialog)."""
+        from ._archive_dialog import ArchiveDialog
+
+        if self.archive_dialog is None:
+            self.archive_dialog = ArchiveDialog(self)
+            self.archive_dialog.retrieved.connect(self.open_path)
+        self.archive_dialog.open()
+        return self.archive_dialog
 
     def _choose_series(self, path: str, series: list, notes: list[str]) -> None:
         from ._series_chooser import ask_series

@@ -1,14 +1,14 @@
 """Recently opened files, kept in a small JSON file (plain Python, no Qt).
 
-The list lives in ``$VOLUMEN_CONFIG_DIR/recent.json`` (default
-``~/.config/volumen``), newest first, at most :data:`MAX_RECENT` entries,
+The list lives in ``recent.json`` of volumen's configuration folder (``$VOLUMEN_CONFIG_DIR``, else
+``$XDG_CONFIG_HOME/volumen``, else ``~/.config/volumen``; ``servers.toml`` sits beside it), newest first,
+at most :data:`MAX_RECENT` entries,
 written atomically.
 """
 
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 __all__ = ["RecentFiles", "MAX_RECENT", "config_dir"]
@@ -17,9 +17,10 @@ MAX_RECENT = 10
 
 
 def config_dir() -> Path:
-    """Where the application keeps its settings (``VOLUMEN_CONFIG_DIR`` or ``~/.config/volumen``)."""
-    env = os.environ.get("VOLUMEN_CONFIG_DIR")
-    return Path(env) if env else Path.home() / ".config" / "volumen"
+    """Where the application keeps its settings (``volumen.pacs.config_dir``: one definition)."""
+    from ..pacs import config_dir as _config_dir
+
+    return _config_dir()
 
 
 class RecentFiles:

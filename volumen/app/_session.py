@@ -44,8 +44,9 @@ def phantom_ref(name: str, size: int | None = None) -> str:
 
 
 def resolve_volume(ref: str):
-    """Load the volume named by a reference: ``phantom:NAME[?size=N]``, a file / DICOM folder path, or
-    ``FOLDER?series=UID`` for one series of a DICOM folder.
+    """Load the volume named by a reference: ``phantom:NAME[?size=N]``, a file / DICOM folder path,
+    ``FOLDER?series=UID`` for one series of a DICOM folder, or ``dicomweb://SERVER/STUDY/SERIES`` (retrieved
+    into the cache unless it is there already).
 
     Raises
     ------
@@ -63,6 +64,10 @@ def resolve_volume(ref: str):
                 raise ValueError(f"unknown phantom option {key!r} in {ref!r}; valid: size")
             kw["size"] = int(val)
         return phantom(name, **kw)
+    if ref.startswith(("dicomweb://", "dimse://")):
+        from ..pacs import load as load_archived
+
+        return load_archived(ref)
     from ..io import load
 
     path, series = split_series_ref(ref)

@@ -25,6 +25,7 @@ COMMANDS = {
     "mesh": "_mesh",
     "view": "_view",
     "serve": "_serve",
+    "pacs": "_pacs",
     "batch": "_batch",
     "bench": "_bench",
     "demo": "_demo",

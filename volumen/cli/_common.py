@@ -1,9 +1,11 @@
-"""Options shared by several sub-commands: reading a volume, choosing a window."""
+"""Options shared by several sub-commands: reading a volume (files, phantoms, archive references), choosing a window,
+asking for an archive password, a progress bar."""
 
 from __future__ import annotations
 
 import argparse
 import re
+import sys
 
 # a negative number or a comma-separated list starting with one: "-60,30,80", "-1.5e2"
 _NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d)[\d.eE+\-,x]*$")
@@ -69,6 +71,11 @@ def load_from_args(args: argparse.Namespace, path=None):
         opts["spacing"] = tuple(_floats(args.spacing, 3, "--spacing"))
     if args.byte_order:
         opts["byte_order"] = args.byte_order
+    if str(path).startswith(("dicomweb://", "dimse://")):  # retrieved into the cache, then read from there
+        from volumen.pacs import load as load_archived
+
+        return load_archived(str(path), progress=progress_bar(not getattr(args, "no_progress", False)),
+                             ask=ask_password, **opts)
     return volumen.load(path, **opts)
 
 
@@ -114,3 +121,32 @@ def parse_point(text: str | None):
     """``X,Y,Z`` in world RAS+ mm."""
     vals = _floats(text, 3, "point")
     return None if vals is None else tuple(vals)
+
+
+def ask_password(label: str, user: str) -> str | None:
+    """Prompt on the terminal (never echoed); None when there is no terminal."""
+    if not sys.stdin.isatty():
+        return None
+    import getpass
+
+    return getpass.getpass(f"password of {user} on {label}: ")
+
+
+def progress_bar(enabled: bool = True, what: str = "retrieving"):
+    """A ``progress(done, total)`` callback drawing a tqdm bar on stderr (None when disabled)."""
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    bar = None
+
+    def progress(done: int, total: int) -> None:
+        nonlocal bar
+        if bar is None:
+            bar = tqdm(total=total, unit="file", desc=what, file=sys.stderr, leave=False)
+        bar.n = done
+        bar.refresh()
+        if done >= total:
+            bar.close()
+
+    return progress

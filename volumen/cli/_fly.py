@@ -32,7 +32,7 @@ from ._common import _floats, add_load_options, load_from_args, parse_point
 
 def register(sub):
     p = sub.add_parser("fly", help="render a virtual endoscopy flythrough to MP4 or GIF")
-    p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
+    p.add_argument("input", help="volume file, DICOM folder, phantom:NAME, or dicomweb://SERVER/STUDY/SERIES")
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--path", help="flight (or keyframe path) JSON file, as written by --save-path")
     src.add_argument("--start", help="centerline start X,Y,Z (world RAS mm; needs --end)")

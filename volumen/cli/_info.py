@@ -19,7 +19,7 @@ from ._labels_opts import add_label_options, labels_from_args, shown_values
 
 def register(sub):
     p = sub.add_parser("info", help="describe a volume (no patient identity is shown)")
-    p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
+    p.add_argument("input", help="volume file, DICOM folder, phantom:NAME, or dicomweb://SERVER/STUDY/SERIES")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     add_load_options(p)
     add_label_options(p)

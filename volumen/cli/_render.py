@@ -23,7 +23,8 @@ def register(sub):
     from volumen.core import MODES, PRESETS, SHADINGS, VIEWS
 
     p = sub.add_parser("render", help="render a volume to a PNG (ray casting, texture slicing or a mesh)")
-    p.add_argument("input", nargs="?", help="volume file, DICOM folder or phantom:NAME (optional with --settings)")
+    p.add_argument("input", nargs="?", help="volume file, DICOM folder, phantom:NAME or "
+                   "dicomweb://SERVER/STUDY/SERIES (optional with --settings)")
     p.add_argument("-o", "--out", required=True, help="output PNG")
     p.add_argument("--settings", help="scene JSON written by --save-settings; flags given override it")
     p.add_argument("--save-settings", help="write the settings that reproduce this picture to a JSON file")

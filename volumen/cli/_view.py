@@ -7,7 +7,8 @@ from ._common import _floats
 
 def register(sub):
     p = sub.add_parser("view", help="open the desktop application (slices, 3D view, endoscopy)")
-    p.add_argument("path", nargs="?", help="volume file, DICOM folder or phantom:NAME (default: the head phantom)")
+    p.add_argument("path", nargs="?", help="volume file, DICOM folder, phantom:NAME or "
+                   "dicomweb://SERVER/STUDY/SERIES (default: the head phantom)")
     p.add_argument("--screenshot", metavar="PNG",
                    help="wait for the final picture, save the whole window to PNG and exit")
     p.add_argument("--session", metavar="JSON", help="load a session saved by the application")

@@ -1,0 +1,254 @@
+"""DIMSE with ``pynetdicom``: C-ECHO, C-FIND (study, series, image level), C-GET, C-MOVE to volumen's own
+storage SCP, and C-STORE, over the Study Root information model.
+
+Instances arrive as C-STORE sub-operations, each handed to the caller's sink as it comes. pynetdicom's
+logging of request and response identifiers (which hold patient names) is turned off, so nothing this
+module does writes patient identity to a log. Failures become the typed errors of :mod:`volumen.errors`.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable, Iterable
+
+from ..errors import ArchiveError, ArchiveNotFoundError, ArchiveRefusedError, ArchiveUnreachableError
+from ._config import Server
+from ._records import SERIES_KEYS, STUDY_KEYS, Query, Series, Study
+
+__all__ = ["DimseArchive"]
+
+_PENDING = (0xFF00, 0xFF01)
+_OK, _OUT_OF_RESOURCES, _CANNOT_STORE = 0x0000, 0xA702, 0xC211
+_SOME_FAILED = 0xB000  # C-GET / C-MOVE: sub-operations complete, one or more failed (counted in the status)
+_STORE_WARNINGS = (0xB000, 0xB006, 0xB007)  # C-STORE: coerced, elements discarded, data set mismatch
+
+
+def _pynetdicom():
+    import pynetdicom
+    from pynetdicom import _config
+
+    _config.LOG_REQUEST_IDENTIFIERS = False  # identifiers hold patient names: never in a log
+    _config.LOG_RESPONSE_IDENTIFIERS = False
+    return pynetdicom
+
+
+def _identifier(level: str, keys: Iterable[str], filters: dict[str, str]):
+    from pydicom import Dataset
+
+    ds = Dataset()
+    ds.QueryRetrieveLevel = level
+    for key in keys:
+        setattr(ds, key, "")
+    for key, value in filters.items():
+        setattr(ds, key, value)
+    return ds
+
+
+class DimseArchive:
+    """One DIMSE application entity (``server.ae_title`` at ``server.host:server.port``)."""
+
+    def __init__(self, server: Server, ask=None):
+        self.server = server
+
+    def close(self) -> None:
+        pass
+
+    # -- associations ---------------------------------------------------------
+    def _ae(self):
+        pn = _pynetdicom()
+        ae = pn.AE(ae_title=self.server.calling_ae_title)
+        t = self.server.timeout
+        ae.acse_timeout = ae.dimse_timeout = ae.network_timeout = t
+        ae.connection_timeout = min(t, 10.0)
+        return ae
+
+    def _associate(self, contexts, *, storage: bool = False, handlers=None):
+        pn = _pynetdicom()
+        ae = self._ae()
+        for cx in contexts:
+            ae.add_requested_context(cx)
+        roles = None
+        if storage:  # C-GET: the archive sends C-STORE requests back over this association
+            for cx in pn.StoragePresentationContexts[: 127 - len(contexts)]:
+                ae.add_requested_context(cx.abstract_syntax)
+            roles = [pn.build_role(cx.abstract_syntax, scp_role=True) for cx in ae.requested_contexts
+                     if cx.abstract_syntax not in contexts]
+        assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
+                             evt_handlers=handlers)
+        if assoc.is_established:
+            return assoc
+        if assoc.is_rejected:
+            raise ArchiveRefusedError(self.server.label, f"rejected the association (is the calling AE title "
+                                                         f"{self.server.calling_ae_title} known to it?)")
+        reachable = self._reachable()
+        if reachable is not None:
+            raise ArchiveUnreachableError(self.server.label, f"did not answer ({reachable})")
+        raise ArchiveRefusedError(self.server.label, "aborted the association")
+
+    def _reachable(self) -> str | None:
+        """None when a TCP connection to the server opens, else why not (pynetdicom reports both as aborted)."""
+        import socket
+
+        try:
+            with socket.create_connection((self.server.host, self.server.port), timeout=min(self.server.timeout, 5)):
+                return None
+        except OSError as exc:
+            return (exc.strerror or type(exc).__name__).lower()
+
+    def _run(self, what: str, responses) -> list:
+        """The identifiers of pending responses; a failure status or a lost connection is an error."""
+        out = []
+        for status, identifier in responses:
+            code = getattr(status, "Status", None)
+            if code is None:
+                raise ArchiveUnreachableError(self.server.label, f"the connection broke during the {what}")
+            if code in _PENDING:
+                if identifier is not None:
+                    out.append(identifier)
+            elif code == 0xFE00:
+                raise ArchiveRefusedError(self.server.label, f"the {what} was cancelled")
+            elif code not in (_OK, _SOME_FAILED):
+                raise ArchiveRefusedError(self.server.label, f"the {what} failed (status 0x{code:04X})")
+            else:
+                failed = int(status.get("NumberOfFailedSuboperations", 0) or 0)
+                if failed:
+                    raise ArchiveRefusedError(self.server.label, f"the {what}: {failed} instance(s) failed")
+        return out
+
+    def _find(self, level: str, keys, filters: dict[str, str]) -> list:
+        from pynetdicom.sop_class import StudyRootQueryRetrieveInformationModelFind as FIND
+
+        assoc = self._associate([FIND])
+        try:
+            return self._run("C-FIND", assoc.send_c_find(_identifier(level, keys, filters), FIND))
+        finally:
+            assoc.release()
+
+    # -- the interface shared with DicomWebArchive ------------------------------
+    def echo(self) -> float:
+        from pynetdicom.sop_class import Verification
+
+        t0 = time.perf_counter()
+        assoc = self._associate([Verification])
+        try:
+            status = assoc.send_c_echo()
+        finally:
+            assoc.release()
+        if getattr(status, "Status", None) != _OK:
+            raise ArchiveRefusedError(self.server.label, "C-ECHO failed")
+        return time.perf_counter() - t0
+
+    def find_studies(self, query: Query) -> list[Study]:
+        found = [Study.from_dataset(ds) for ds in self._find("STUDY", STUDY_KEYS, query.filters())]
+        return found[: query.limit] if query.limit else found
+
+    def find_series(self, study_uid: str) -> list[Series]:
+        found = self._find("SERIES", SERIES_KEYS, {"StudyInstanceUID": study_uid})
+        return [Series.from_dataset(ds, study_uid) for ds in found]
+
+    def list_instances(self, study_uid: str, series_uid: str) -> list[str]:
+        found = self._find("IMAGE", ("SOPInstanceUID",), {"StudyInstanceUID": study_uid,
+                                                          "SeriesInstanceUID": series_uid})
+        return [str(ds.SOPInstanceUID) for ds in found if "SOPInstanceUID" in ds]
+
+    def fetch(self, study_uid: str, series_uid: str, sop_uids: list[str], sink: Callable, stop: Callable[[], bool]):
+        """C-GET (or C-MOVE, per ``server.retrieve``) the instances ``sop_uids`` of a series into ``sink``."""
+        filters = {"StudyInstanceUID": study_uid, "SeriesInstanceUID": series_uid,
+                   "SOPInstanceUID": "\\".join(sop_uids)}
+        received = _Receiver(sink, stop)
+        try:
+            (self._move if self.server.retrieve == "move" else self._get)(filters, received)
+        except ArchiveRefusedError:
+            if not stop() and received.error is None:  # else: failed sub-operations are ours (cancel, disk)
+                raise
+        received.check(self.server.label)
+
+    def _get(self, filters: dict, received: _Receiver) -> None:
+        from pynetdicom import evt
+        from pynetdicom.sop_class import StudyRootQueryRetrieveInformationModelGet as GET
+
+        assoc = self._associate([GET], storage=True, handlers=[(evt.EVT_C_STORE, received.handle)])
+        try:
+            self._run("C-GET", assoc.send_c_get(_identifier("IMAGE", (), filters), GET))
+        finally:
+            assoc.release()
+
+    def _move(self, filters: dict, received: _Receiver) -> None:
+        from pynetdicom import StoragePresentationContexts, evt
+        from pynetdicom.sop_class import StudyRootQueryRetrieveInformationModelMove as MOVE
+
+        if self.server.store_port is None:
+            raise ArchiveRefusedError(self.server.label, "C-MOVE needs store_port (the port of volumen's storage "
+                                                         "SCP, known to the archive) in servers.toml")
+        ae = self._ae()
+        ae.supported_contexts = StoragePresentationContexts
+        scp = ae.start_server(("", self.server.store_port), block=False,
+                              evt_handlers=[(evt.EVT_C_STORE, received.handle)])
+        try:
+            assoc = self._associate([MOVE])
+            try:
+                self._run("C-MOVE", assoc.send_c_move(_identifier("IMAGE", (), filters),
+                                                      self.server.calling_ae_title, MOVE))
+            finally:
+                assoc.release()
+        finally:
+            scp.shutdown()
+
+    def store(self, datasets: Iterable) -> int:
+        """C-STORE each dataset (one association, a presentation context per SOP class and transfer syntax)."""
+        from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
+
+        datasets = list(datasets)
+        contexts: dict[str, set[str]] = {}
+        for ds in datasets:
+            ts = getattr(getattr(ds, "file_meta", None), "TransferSyntaxUID", None) or ExplicitVRLittleEndian
+            contexts.setdefault(str(ds.SOPClassUID), {str(ImplicitVRLittleEndian)}).add(str(ts))
+        ae = self._ae()
+        for sop_class, syntaxes in contexts.items():
+            ae.add_requested_context(sop_class, sorted(syntaxes))
+        assoc = self._associate([cx.abstract_syntax for cx in ae.requested_contexts])
+        try:
+            for ds in datasets:
+                status = assoc.send_c_store(ds)
+                code = getattr(status, "Status", None)
+                if code is None:
+                    raise ArchiveUnreachableError(self.server.label, "the connection broke during the C-STORE")
+                if code != _OK and code not in _STORE_WARNINGS:
+                    raise ArchiveRefusedError(self.server.label, f"refused instance {ds.SOPInstanceUID} "
+                                                                 f"(status 0x{code:04X})")
+        finally:
+            assoc.release()
+        return len(datasets)
+
+
+class _Receiver:
+    """The C-STORE handler of C-GET / C-MOVE: each instance to ``sink``; stops storing once ``stop()``."""
+
+    def __init__(self, sink: Callable, stop: Callable[[], bool]):
+        self.sink, self.stop = sink, stop
+        self.error: BaseException | None = None
+        self.count = 0
+        self.lock = threading.Lock()
+
+    def handle(self, event) -> int:
+        if self.error is not None or self.stop():
+            return _OUT_OF_RESOURCES
+        ds = event.dataset
+        ds.file_meta = event.file_meta
+        try:
+            with self.lock:
+                self.sink(ds)
+                self.count += 1
+        except Exception as exc:  # noqa: BLE001 - kept and raised on the caller's thread by check()
+            self.error = exc
+            return _CANNOT_STORE
+        return _OK
+
+    def check(self, label: str) -> None:
+        if self.error is not None:
+            if isinstance(self.error, (ArchiveError, OSError)):
+                raise self.error
+            raise ArchiveRefusedError(label, f"an instance could not be stored ({self.error})")
+        if self.count == 0 and not self.stop():
+            raise ArchiveNotFoundError(label, "sent no instance (deleted since it was listed?)")

@@ -34,9 +34,9 @@ system-data:
 	  echo "mricron-data could not be installed; tests using it will skip"; \
 	else echo "not root: mricron-data not installed; tests using it will skip"; fi
 
-# Optional browser: Debian's chromium opens the notebook viewer's page headless in
-# tests/notebook/test_browser.py. Installing it needs root and apt; without it that test
-# skips with the reason printed.
+# Optional browser: Debian's chromium opens the notebook viewer's page (tests/notebook/test_browser.py) and the
+# browser viewer (tests/web) headless. Installing it needs root and apt; without it those tests skip with the
+# reason printed.
 browser:
 	@if command -v chromium >/dev/null || command -v chromium-browser >/dev/null; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \

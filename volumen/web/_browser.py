@@ -22,7 +22,10 @@ from pathlib import Path
 
 from volumen.errors import VolumenError
 
-__all__ = ["Chromium", "BrowserUnavailable", "find_chromium", "FLAGS"]
+__all__ = ["Chromium", "BrowserUnavailable", "find_chromium", "FLAGS", "MIN_WINDOW"]
+
+#: the smallest window started (CSS px): a window much smaller gets its frames throttled to about one a second
+MIN_WINDOW = (800, 600)
 
 #: a browser without network, GPU, sandbox (containers) or first-run chores; WebGL2 on SwiftShader
 FLAGS = ("--headless=new", "--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
@@ -56,7 +59,8 @@ class Chromium:
     Parameters
     ----------
     size : (width, height)
-        The window's size in CSS pixels (device scale 1).
+        The page's viewport in CSS pixels (device scale 1). The window itself is at least
+        :data:`MIN_WINDOW`: headless Chromium draws a smaller window's frames about once a second.
     start_timeout : float, s
     """
 
@@ -65,7 +69,7 @@ class Chromium:
         self.profile = Path(tempfile.mkdtemp(prefix="volumen-chromium-"))
         self.log = self.profile / "chromium.log"
         self.console: list[str] = []
-        w, h = size
+        w, h = max(size[0], MIN_WINDOW[0]), max(size[1], MIN_WINDOW[1])
         with open(self.log, "wb") as log:
             self.proc = subprocess.Popen([self.exe, *FLAGS, f"--window-size={w},{h}",
                                           f"--user-data-dir={self.profile / 'profile'}", "about:blank"],
@@ -77,6 +81,7 @@ class Chromium:
         try:
             port = self._port(start_timeout)
             self._run(self._connect(port), start_timeout)
+            self.set_size(*size)
         except BaseException:
             self.close()
             raise

@@ -109,7 +109,8 @@ export class XRView {
     }
     this.lastEyes = eyes;
     if (this.timing) this.timeFrame(gl, t0);
-    this.govern(t, performance.now() - t0);
+    this.record(performance.now() - t0);
+    if (this.governor) this.govern();
     this.frameWaiters = this.frameWaiters.filter((w) => --w.n > 0 || (w.resolve(), false));
   }
 
@@ -221,10 +222,13 @@ export class XRView {
   }
 
   // ---- frame-time governor ----
-  govern(t, drawMs) {
+  record(drawMs) {
     this.frameTimes.push(drawMs);
     if (this.frameTimes.length > 120) this.frameTimes.shift();
-    if (!this.governor) return;
+  }
+
+  // one step of the governor over the last 10 frame times (called each frame while it is on)
+  govern() {
     const budget = 1000 / (this.session?.frameRate || 72);
     const recent = this.frameTimes.slice(-10);
     if (recent.length < 10) return;

@@ -115,3 +115,19 @@ def test_info_on_an_archive_reference_prints_no_patient_identity(archive, archiv
         assert archive.ct.series_uid in out.out and "20 x 24 x 8 voxels" in out.out or extra
         for secret in ("Doe", "Jane", "PAT-001", "ACC-1", "CT chest"):
             assert secret not in out.out and secret not in out.err
+
+
+@pytest.mark.parametrize("protocol", ["dicomweb", "dimse"])
+@pytest.mark.parametrize("name", ["693_J2KI.dcm", "examples_jpeg2k.dcm", "SC_rgb_gdcm_KY.dcm"])
+def test_compressed_instances_arrive_as_stored(archive, archive_config, tmp_path, protocol, name):
+    """pydicom's JPEG 2000 CT, ultrasound and colour files: C-GET proposes a context per transfer syntax for the
+    series' SOP classes (Orthanc cannot transcode from JPEG 2000), so both protocols deliver the stored syntax and
+    the reader gets the original's values."""
+    from archive_data import pydicom_files
+
+    original = next(p for p in pydicom_files() if p.name == name)
+    ds = pydicom.dcmread(original, stop_before_pixels=True)
+    folder = pacs.retrieve("archive", ds.StudyInstanceUID, ds.SeriesInstanceUID, protocol=protocol, cache=tmp_path)
+    got = folder / f"{ds.SOPInstanceUID}.dcm"
+    assert pydicom.dcmread(got, stop_before_pixels=True).file_meta.TransferSyntaxUID == ds.file_meta.TransferSyntaxUID
+    assert np.array_equal(np.asarray(volumen.load(got).data), np.asarray(volumen.load(original).data))

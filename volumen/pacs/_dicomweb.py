@@ -125,6 +125,7 @@ class DicomWebArchive:
         """Map ``requests`` failures to typed errors: ``what`` is the request in words, ``missing`` what a 404
         means (None: a plain refusal)."""
         import requests
+        from pydicom.errors import InvalidDicomError
 
         label = self.server.label
         try:
@@ -149,6 +150,9 @@ class DicomWebArchive:
                                              "root?)") from None
         except requests.exceptions.RequestException as exc:
             raise ArchiveUnreachableError(label, _reason(exc)) from None
+        except InvalidDicomError:
+            raise ArchiveRefusedError(label, f"{what}: the server sent an instance that is not a DICOM Part 10 file "
+                                             "(no file meta information)") from None
         except ValueError as exc:  # dicomweb-client's checks of what the server sent
             raise ArchiveRefusedError(label, f"{what}: unexpected answer ({exc})") from None
 

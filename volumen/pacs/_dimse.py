@@ -22,6 +22,13 @@ _PENDING = (0xFF00, 0xFF01)
 _OK, _OUT_OF_RESOURCES, _CANNOT_STORE = 0x0000, 0xA702, 0xC211
 _SOME_FAILED = 0xB000  # C-GET / C-MOVE: sub-operations complete, one or more failed (counted in the status)
 _STORE_WARNINGS = (0xB000, 0xB006, 0xB007)  # C-STORE: coerced, elements discarded, data set mismatch
+#: transfer syntaxes C-GET proposes, one presentation context each, for each SOP class of the series: an archive
+#: sends an instance as stored when one matches (it may be unable to transcode, e.g. Orthanc from JPEG 2000),
+#: and volumen's DICOM reader decodes them all
+_GET_SYNTAXES = ("1.2.840.10008.1.2.1", "1.2.840.10008.1.2", "1.2.840.10008.1.2.4.50", "1.2.840.10008.1.2.4.51",
+                 "1.2.840.10008.1.2.4.57", "1.2.840.10008.1.2.4.70", "1.2.840.10008.1.2.4.80",
+                 "1.2.840.10008.1.2.4.81", "1.2.840.10008.1.2.4.90", "1.2.840.10008.1.2.4.91", "1.2.840.10008.1.2.5",
+                 "1.2.840.10008.1.2.1.99", "1.2.840.10008.1.2.2")
 
 
 def _pynetdicom():
@@ -50,6 +57,7 @@ class DimseArchive:
 
     def __init__(self, server: Server, ask=None):
         self.server = server
+        self._sop_classes: tuple[str, ...] = ()  # of the series last listed: the storage contexts C-GET proposes
 
     def close(self) -> None:
         pass
@@ -63,17 +71,19 @@ class DimseArchive:
         ae.connection_timeout = min(t, 10.0)
         return ae
 
-    def _associate(self, contexts, *, storage: bool = False, handlers=None):
+    def _associate(self, contexts, *, storage: tuple[str, ...] = (), handlers=None):
+        """An established association proposing ``contexts`` and, for C-GET, storage contexts for the SOP classes
+        ``storage`` (one per transfer syntax of :data:`_GET_SYNTAXES`) with volumen in the SCP role."""
         pn = _pynetdicom()
         ae = self._ae()
         for cx in contexts:
             ae.add_requested_context(cx)
         roles = None
         if storage:  # C-GET: the archive sends C-STORE requests back over this association
-            for cx in pn.StoragePresentationContexts[: 127 - len(contexts)]:
-                ae.add_requested_context(cx.abstract_syntax)
-            roles = [pn.build_role(cx.abstract_syntax, scp_role=True) for cx in ae.requested_contexts
-                     if cx.abstract_syntax not in contexts]
+            for sop_class in storage:
+                for ts in _GET_SYNTAXES[: max(1, (127 - len(contexts)) // len(storage))]:
+                    ae.add_requested_context(sop_class, [ts])
+            roles = [pn.build_role(uid, scp_role=True) for uid in storage]
         assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
                              evt_handlers=handlers)
         if assoc.is_established:
@@ -148,8 +158,9 @@ class DimseArchive:
         return [Series.from_dataset(ds, study_uid) for ds in found]
 
     def list_instances(self, study_uid: str, series_uid: str) -> list[str]:
-        found = self._find("IMAGE", ("SOPInstanceUID",), {"StudyInstanceUID": study_uid,
-                                                          "SeriesInstanceUID": series_uid})
+        found = self._find("IMAGE", ("SOPInstanceUID", "SOPClassUID"), {"StudyInstanceUID": study_uid,
+                                                                         "SeriesInstanceUID": series_uid})
+        self._sop_classes = tuple(sorted({str(ds.SOPClassUID) for ds in found if ds.get("SOPClassUID")}))
         return [str(ds.SOPInstanceUID) for ds in found if "SOPInstanceUID" in ds]
 
     def fetch(self, study_uid: str, series_uid: str, sop_uids: list[str], sink: Callable, stop: Callable[[], bool]):
@@ -165,24 +176,26 @@ class DimseArchive:
         received.check(self.server.label)
 
     def _get(self, filters: dict, received: _Receiver) -> None:
-        from pynetdicom import evt
+        from pynetdicom import StoragePresentationContexts, evt
         from pynetdicom.sop_class import StudyRootQueryRetrieveInformationModelGet as GET
 
-        assoc = self._associate([GET], storage=True, handlers=[(evt.EVT_C_STORE, received.handle)])
+        classes = self._sop_classes or tuple(cx.abstract_syntax for cx in StoragePresentationContexts[:126])
+        assoc = self._associate([GET], storage=classes, handlers=[(evt.EVT_C_STORE, received.handle)])
         try:
             self._run("C-GET", assoc.send_c_get(_identifier("IMAGE", (), filters), GET))
         finally:
             assoc.release()
 
     def _move(self, filters: dict, received: _Receiver) -> None:
-        from pynetdicom import StoragePresentationContexts, evt
+        from pynetdicom import ALL_TRANSFER_SYNTAXES, StoragePresentationContexts, evt
         from pynetdicom.sop_class import StudyRootQueryRetrieveInformationModelMove as MOVE
 
         if self.server.store_port is None:
             raise ArchiveRefusedError(self.server.label, "C-MOVE needs store_port (the port of volumen's storage "
                                                          "SCP, known to the archive) in servers.toml")
         ae = self._ae()
-        ae.supported_contexts = StoragePresentationContexts
+        for cx in StoragePresentationContexts:  # the archive proposes what it stores: accept it as it is
+            ae.add_supported_context(cx.abstract_syntax, ALL_TRANSFER_SYNTAXES)
         scp = ae.start_server(("", self.server.store_port), block=False,
                               evt_handlers=[(evt.EVT_C_STORE, received.handle)])
         try:

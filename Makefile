@@ -10,7 +10,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test fuzz huge install system-data browser pacs-server web-deps clean
+.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -33,6 +33,17 @@ system-data:
 	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq mricron-data >/dev/null 2>&1)) || \
 	  echo "mricron-data could not be installed; tests using it will skip"; \
 	else echo "not root: mricron-data not installed; tests using it will skip"; fi
+
+# Optional library: Debian's libfreeimage3 lets imageio read HDR environment maps (.hdr, .exr; volumen.io.read_environment).
+# Installing it needs root and apt; without it the environment-map tests skip with the reason printed.
+system-libs:
+	@if ls /usr/lib/*/libfreeimage.so.3 >/dev/null 2>&1; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian package libfreeimage3 (HDR environment maps)"; \
+	  (apt-get install -y -qq libfreeimage3 >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq libfreeimage3 >/dev/null 2>&1)) || \
+	  echo "libfreeimage3 could not be installed; environment-map tests will skip"; \
+	else echo "not root: libfreeimage3 not installed; environment-map tests will skip"; fi
 
 # Optional browser: Debian's chromium opens the notebook viewer's page (tests/notebook/test_browser.py) and the
 # browser viewer (tests/web) headless. Installing it needs root and apt; without it those tests skip with the
@@ -76,7 +87,7 @@ demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
-test: $(STAMP) system-data browser pacs-server web-deps
+test: $(STAMP) system-data system-libs browser pacs-server web-deps
 	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 

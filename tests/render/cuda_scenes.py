@@ -95,7 +95,8 @@ def scenes() -> dict:
         "scattering-fast": base.with_(lights=lights, shading=Shading(mode="scattering", phase_g=0.3, **lv)),
         "scattering-direct": base.with_(lights=lights, shading=Shading(mode="scattering", phase_g=-0.2,
                                                                        shadow_method="direct")),
-        "pathtrace": base.with_(shading=Shading(mode="pathtrace", pt_samples=PT_SAMPLES, pt_bounces=3, phase_g=0.3)),
+        "pathtrace": base.with_(shading=Shading(mode="pathtrace", pt_samples=PT_SAMPLES, pt_bounces=3, phase_g=0.3,
+                                                pt_denoise=False)),
         "colour-phong": base.with_(volume=_colour(vol), shading=Shading(mode="phong"), transfer=TransferFunction(
             color=((0, 1, 1, 1), (255, 1, 1, 1)), opacity=((0, 0), (40, 0), (255, 0.6)))),
         "labels-scattering-fast": base.with_(lights=lights[:1], labels=_labels(vol),

@@ -4,7 +4,9 @@
 with the CPU backend and stores each picture's rgba as uint16
 (``round(rgba * 65535)``, quantization error <= 7.7e-6) in a compressed
 ``.npz``. ``reference_pictures.npz`` beside this file was written by the
-renderer before its rewrite (issue 13); ``test_reference.py`` checks that the
+renderer before its rewrite (issue 13), the ``composite/pathtrace`` pictures again by issue 24's path tracer
+(another sampler and majorant grid: other noise; ``test_pathtrace.py`` holds it to the scattering model);
+``test_reference.py`` checks that the
 current renderer still draws the same pictures (mean |RGBA diff| <= 0.002).
 
 Shading applies to composite and isosurface only (the projections ignore it),
@@ -19,7 +21,7 @@ from functools import cache
 
 import numpy as np
 
-from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import Camera, Display, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.data import phantom, shared_data
 
 SIZE = (96, 96)
@@ -33,7 +35,7 @@ SHADINGS = {
     "shadows-fast": Shading(mode="shadows", light_volume_scale=1.0),
     "shadows-direct": Shading(mode="shadows", shadow_method="direct"),
     "scattering": Shading(mode="scattering", phase_g=0.3, light_volume_scale=1.0),
-    "pathtrace": Shading(mode="pathtrace", pt_samples=4, pt_bounces=2),
+    "pathtrace": Shading(mode="pathtrace", pt_samples=4, pt_bounces=2, pt_denoise=False),
 }
 PROJECTIONS = ("mip", "minip", "average")
 
@@ -68,7 +70,8 @@ def scenes() -> dict:
     out = {}
     for vname, (vol, tf, iso, zoom) in volumes().items():
         cam = Camera.orbit(vol, azimuth=-30, elevation=15, zoom=zoom)
-        base = Scene(volume=vol, transfer=tf, lights=_lights(vol, cam), sampling=Sampling(seed=7))
+        base = Scene(volume=vol, transfer=tf, lights=_lights(vol, cam), sampling=Sampling(seed=7),
+                     display=Display(tonemap="linear"))  # the pictures as rendered before the display transform
         gray = TransferFunction.preset("mip-gray", value_range=vol.value_range())
         for p in PROJECTIONS:
             out[f"{vname}/{p}"] = (base.with_(mode=p, transfer=gray, shading=Shading(mode="none")), cam, SIZE)

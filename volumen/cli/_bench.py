@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels", "compile", "web")
+BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels", "compile", "pathtrace", "web")
 
 
 def register(sub):
@@ -17,6 +17,7 @@ def register(sub):
                    "scale: out-of-core vs in-memory ray casting (OME-Zarr) and batch throughput on Dask; "
                    "labels: label-aware composite against plain composite; "
                    "compile: the first picture of each ray-casting mode in a fresh process (cold Numba cache); "
+                   "pathtrace: error of 16 denoised / 256 raw samples against 4096, equal-time, bias, samples/s; "
                    "web: frames per second of the browser viewer in headless Chromium (desktop and both eyes of "
                    "an emulated headset) beside the gl device")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
@@ -58,6 +59,10 @@ def run(args):
         from volumen.bench._compile import bench_compile
 
         table = bench_compile(quick=args.quick)
+    elif args.what == "pathtrace":
+        from volumen.bench._pathtrace import bench_pathtrace
+
+        table = bench_pathtrace(quick=args.quick)
     elif args.what == "web":
         from volumen.web._bench import WEB_QUICK, bench_web
 

@@ -7,7 +7,9 @@ again bit for bit. Flags given together with ``--settings`` override it.
 
 from __future__ import annotations
 
+import argparse
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -20,7 +22,7 @@ SETTINGS_VERSION = 1
 
 
 def register(sub):
-    from volumen.core import MODES, PRESETS, SHADINGS, VIEWS
+    from volumen.core import ENVIRONMENTS, MODES, PRESETS, SHADINGS, TONEMAPS, VIEWS
 
     p = sub.add_parser("render", help="render a volume to a PNG (ray casting, texture slicing or a mesh)")
     p.add_argument("input", nargs="?", help="volume file, DICOM folder, phantom:NAME or "
@@ -53,6 +55,19 @@ def register(sub):
     g.add_argument("--phase-g", type=float, help="scattering: Henyey-Greenstein anisotropy g in (-1, 1)")
     g.add_argument("--pt-samples", type=int, help="pathtrace: samples per pixel")
     g.add_argument("--pt-bounces", type=int, help="pathtrace: scattering events per path (1 = single)")
+    g.add_argument("--pt-denoise", action=argparse.BooleanOptionalAction, default=None,
+                   help="pathtrace: denoise with Intel Open Image Denoise (default on)")
+    g.add_argument("--environment", metavar="KIND|FILE", help=f"light around the volume: {', '.join(ENVIRONMENTS)} "
+                   "(default auto: the studio rig's sky and key, fill and rim lights without --light, the uniform "
+                   "ambient with), or an equirectangular .hdr / .exr map")
+    g.add_argument("--env-intensity", type=float, help="scales the environment (and the studio rig's lights)")
+    g.add_argument("--env-rotation", type=float, help="degrees the environment turns about its up axis")
+    d = p.add_argument_group("display")
+    d.add_argument("--tonemap", choices=TONEMAPS, help="auto (default: aces for the lit models phong, shadows, "
+                   "scattering, pathtrace; linear otherwise), linear (values as they are, linear PNG), aces (filmic "
+                   "curve, sRGB PNG)")
+    d.add_argument("--exposure", type=float, help="stops (EV) applied before the tone curve (default: metered on "
+                   "the subject with aces, 0 with linear)")
     c = p.add_argument_group("camera")
     c.add_argument("--view", choices=VIEWS, help="anatomical view (default anterior)")
     c.add_argument("--azimuth", type=float, help="degrees about the view's up axis")
@@ -162,9 +177,10 @@ def build(args, base: dict | None, volume):
     if args.shading:
         scene = replace(scene, shading=replace(scene.shading, mode=args.shading))
     shade = {k: getattr(args, k) for k in ("shadow_method", "sigma_a", "sigma_s", "phase_g", "pt_samples",
-                                           "pt_bounces") if getattr(args, k) is not None}
+                                           "pt_bounces", "pt_denoise") if getattr(args, k) is not None}
     if shade:
         scene = replace(scene, shading=replace(scene.shading, **shade))
+    scene = _look(args, scene)
     samp = {}
     if args.spv is not None:
         samp["samples_per_voxel"] = args.spv
@@ -197,6 +213,84 @@ def build(args, base: dict | None, volume):
     size = _size(args.size) or (tuple(base["size"]) if base else (512, 512))
     background = parse_point(args.background) if args.background else tuple((base or {}).get("background", (0, 0, 0)))
     return scene, camera, size, background, {k: v for k, v in cam_flags.items() if v is not None}
+
+
+def _look(args, scene):
+    """The scene with the environment and display flags applied."""
+    from dataclasses import replace
+
+    from volumen.core import ENVIRONMENTS, Display, Environment
+
+    env = scene.environment
+    if args.environment:
+        if args.environment in ENVIRONMENTS:
+            env = Environment(kind=args.environment, intensity=env.intensity, rotation=env.rotation)
+        else:
+            env = Environment(kind="map", map=str(Path(args.environment).resolve()), intensity=env.intensity,
+                              rotation=env.rotation)
+    if args.env_intensity is not None or args.env_rotation is not None:
+        env = replace(env, intensity=env.intensity if args.env_intensity is None else args.env_intensity,
+                      rotation=env.rotation if args.env_rotation is None else args.env_rotation)
+    if env.kind == "map" and env.image is None:
+        from volumen.io import read_environment
+
+        env = replace(env, image=read_environment(env.map))
+    disp = scene.display
+    if args.tonemap is not None or args.exposure is not None:
+        disp = Display(tonemap=args.tonemap or disp.tonemap,
+                       exposure=args.exposure if args.exposure is not None else disp.exposure)
+    return replace(scene, environment=env, display=disp)
+
+
+def _kind(volume) -> str:
+    from volumen.core import is_ct
+
+    return "CT" if is_ct(volume) else (volume.modality or "a scan of unknown modality")
+
+
+def _progressive(scene, device, technique) -> bool:
+    """Whether the picture is path traced progressively (pathtrace shading, composite, ray casting on cpu / cuda)."""
+    return (scene.shading.mode == "pathtrace" and scene.mode == "composite" and technique.name == "raycast"
+            and device in ("cpu", "cuda"))
+
+
+#: samples per pixel of the first picture written while path tracing
+FIRST_SAMPLES = 4
+
+
+def _path_trace(scene, camera, size, device, out, background):
+    """Path trace with a progress bar, writing the (denoised) picture after :data:`FIRST_SAMPLES` samples and
+    again when all ``pathtrace.samples`` are taken; returns the last Image."""
+    from tqdm import tqdm
+
+    if device == "cuda":
+        from volumen.render.cuda import CudaPathTracer as Tracer
+    else:
+        from volumen.render import PathTracer as Tracer
+
+    total = scene.shading.pathtrace.samples
+    pt = Tracer(scene, camera, size)
+    steps = [min(FIRST_SAMPLES, total)]
+    while sum(steps) < total:
+        steps.append(min(max(sum(steps), 1), total - sum(steps)))
+    with tqdm(total=total, unit="spp", desc="path tracing", leave=False, disable=None) as bar:
+        for i, n in enumerate(steps):
+            pt.add(n)
+            bar.update(n)
+            if i == 0 and len(steps) > 1:
+                _write(pt.image(), out, background)  # a first picture to look at
+    return pt.image()
+
+
+def _write(image, out, background) -> None:
+    """Save ``image`` as a PNG, atomically: nothing half-written is ever at ``out``."""
+    out = Path(out)
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp.png")
+    try:
+        image.save(tmp, background=background)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _default_iso(volume) -> float:
@@ -246,11 +340,18 @@ def run(args):
 
         image = render_bricked(volume.meta["source"], scene, camera, size, memory=args.memory, level=args.level,
                                device=device)
+    elif _progressive(scene, device, technique):
+        image = _path_trace(scene, camera, size, device, args.out, background)
     else:
         image = render(scene, camera, size, device=device, technique=technique)
     dt = time.perf_counter() - t0
-    image.save(args.out, background=background)
-    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}) in {dt * 1000:.0f} ms")
+    _write(image, args.out, background)
+    chosen = "" if (args.preset or args.tf or base) else f" (chosen for {_kind(volume)})"
+    look = f", preset {scene.transfer.name}{chosen}" if scene.transfer.name and scene.mode == "composite" else ""
+    spp = f", {image.stats['spp']} samples/pixel{' denoised' if image.stats.get('denoised') else ''}" \
+        if "spp" in image.stats else ""
+    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}{look}{spp}, "
+          f"display {image.display.tonemap if image.display else 'linear'}) in {dt * 1000:.0f} ms")
     if args.save_settings:
         load_opts = {k: getattr(args, k) for k in ("series", "resample", "nonfinite", "shape", "dtype", "spacing",
                                                    "byte_order") if getattr(args, k, None) is not None}

@@ -203,18 +203,22 @@ class PathTraceSettings(JsonData):
     Parameters
     ----------
     samples : int >= 1
-        Samples per pixel of one ``render`` call.
+        Samples per pixel of one ``render`` call (32: denoised, as clean as 256 raw ones, issue 24).
     bounces : int >= 1
         Most scattering events per path (1 = single scattering, which converges
         to the ``scattering`` picture).
+    denoise : bool
+        Denoise the pictures with Intel Open Image Denoise, fed the first
+        scattering events' albedo and normal.
     """
 
-    samples: int = 64
+    samples: int = 32
     bounces: int = 4
+    denoise: bool = True
 
     def __post_init__(self) -> None:
         _set(self, samples=_count("Shading.pathtrace.samples", self.samples, 1),
-             bounces=_count("Shading.pathtrace.bounces", self.bounces, 1))
+             bounces=_count("Shading.pathtrace.bounces", self.bounces, 1), denoise=bool(self.denoise))
 
 
 #: the settings of each model: Shading field -> its class
@@ -228,7 +232,7 @@ FLAT = {"ambient": ("phong", "ambient"), "diffuse": ("phong", "diffuse"), "specu
         "shadow_step": ("shadows", "step"), "light_volume_scale": ("shadows", "light_volume_scale"),
         "sigma_a": ("scattering", "sigma_a"), "sigma_s": ("scattering", "sigma_s"),
         "phase_g": ("scattering", "phase_g"), "pt_samples": ("pathtrace", "samples"),
-        "pt_bounces": ("pathtrace", "bounces")}
+        "pt_bounces": ("pathtrace", "bounces"), "pt_denoise": ("pathtrace", "denoise")}
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -16,8 +16,10 @@ from typing import Any, Literal, get_args
 
 import numpy as np
 
+from ._environment import Environment
 from ._jsondata import JsonData, _choice, _vec
 from ._lighting import LIGHT_KINDS, SHADINGS, Light, LightKind, Shading, ShadingMode
+from ._tonemap import Display
 from ._transfer import TransferFunction
 
 __all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "Sampling", "ClipPlane", "Clipping", "Isosurface", "Scene",
@@ -165,6 +167,11 @@ class Scene:
         The settings dataclasses.
     labels : LabelLayer or None
         Structures classifying the samples (composite mode), at run time; not part of equality nor of the JSON.
+    environment : Environment
+        The light around the volume (the lit models' ambient term, the path tracer's sky; the studio rig's
+        lights when ``lights`` is empty).
+    display : Display
+        How the picture is shown: exposure, tone curve, encoding (the rendered Image carries it).
     """
 
     volume: Any = field(default=None, compare=False, repr=False)
@@ -177,12 +184,15 @@ class Scene:
     clipping: Clipping = field(default_factory=Clipping)
     isosurface: Isosurface = field(default_factory=Isosurface)
     labels: Any = field(default=None, compare=False, repr=False)
+    environment: Environment = field(default_factory=Environment)
+    display: Display = field(default_factory=Display)
 
     def __post_init__(self) -> None:
         _choice("Scene.mode", self.mode, MODES)
         object.__setattr__(self, "lights", tuple(self.lights))
         for name, cls in (("transfer", TransferFunction), ("shading", Shading), ("sampling", Sampling),
-                          ("clipping", Clipping), ("isosurface", Isosurface)):
+                          ("clipping", Clipping), ("isosurface", Isosurface), ("environment", Environment),
+                          ("display", Display)):
             if not isinstance(getattr(self, name), cls):
                 raise ValueError(f"Scene.{name} must be a {cls.__name__}, got {type(getattr(self, name)).__name__}")
         for light in self.lights:
@@ -198,7 +208,8 @@ class Scene:
         return {"volume": self.volume_ref, "transfer": self.transfer.to_dict(),
                 "lights": [lt.to_dict() for lt in self.lights], "mode": self.mode,
                 "shading": self.shading.to_dict(), "sampling": self.sampling.to_dict(),
-                "clipping": self.clipping.to_dict(), "isosurface": self.isosurface.to_dict()}
+                "clipping": self.clipping.to_dict(), "isosurface": self.isosurface.to_dict(),
+                "environment": self.environment.to_dict(), "display": self.display.to_dict()}
 
     @classmethod
     def from_dict(cls, d: dict, *, volume=None, resolve: Callable[[str], Any] | None = None) -> Scene:
@@ -207,7 +218,8 @@ class Scene:
         ``volume`` is attached as is; otherwise, when ``resolve`` is given, it
         is called with the stored reference string and must return the Volume.
         """
-        known = {"volume", "transfer", "lights", "mode", "shading", "sampling", "clipping", "isosurface"}
+        known = {"volume", "transfer", "lights", "mode", "shading", "sampling", "clipping", "isosurface",
+                 "environment", "display"}
         extra = set(d) - known
         if extra:
             raise ValueError(f"unknown Scene fields {sorted(extra)}; valid: {sorted(known)}")
@@ -222,7 +234,7 @@ class Scene:
         if "mode" in d:
             kw["mode"] = d["mode"]
         for name, sub in (("shading", Shading), ("sampling", Sampling), ("clipping", Clipping),
-                          ("isosurface", Isosurface)):
+                          ("isosurface", Isosurface), ("environment", Environment), ("display", Display)):
             if name in d:
                 kw[name] = sub.from_dict(d[name])
         return cls(**kw)

@@ -16,9 +16,10 @@ import numpy as np
 
 from ._jsondata import JsonData
 
-__all__ = ["TransferFunction", "PRESETS", "Preset"]
+__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "is_ct", "default_preset"]
 
-Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "mr-default", "mip-gray"]
+Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "ct-cinematic-bone",
+                 "ct-cinematic-vessels", "ct-cinematic-soft-tissue", "mr-default", "mip-gray"]
 PRESETS: tuple[str, ...] = get_args(Preset)
 
 
@@ -192,8 +193,59 @@ _CT_PRESETS = {
     "ct-vessels": (((-3024, 0, 0, 0), (120, 0.6, 0.05, 0.05), (300, 0.9, 0.2, 0.15), (600, 1, 0.9, 0.8),
                     (3071, 1, 1, 1)),
                    ((-3024, 0), (110, 0), (200, 0.5), (600, 0.75), (3071, 0.8))),
+    # cinematic presets: colours and opacities chosen with the studio rig's light (key, fill, rim over a sky) and
+    # the filmic display, for the path tracer and the shadowed models; the medium's albedo is the colour, so the
+    # colours are those of the tissue lit white (ivory bone, red contrast blood), not pre-shaded
+    # bone alone: a firm surface from 150 HU, cortical bone ivory, marrow warmer
+    "ct-cinematic-bone": (((-3024, 0, 0, 0), (150, 0.75, 0.5, 0.4), (350, 0.9, 0.82, 0.7), (900, 0.97, 0.94, 0.88),
+                           (3071, 1, 1, 1)),
+                          ((-3024, 0), (150, 0), (300, 0.7), (600, 0.95), (3071, 0.98))),
+    # contrast-filled vessels (150-450 HU) deep red, bone ivory behind them
+    "ct-cinematic-vessels": (((-3024, 0, 0, 0), (130, 0.55, 0.06, 0.04), (280, 0.85, 0.16, 0.1),
+                              (480, 0.95, 0.85, 0.75), (1000, 0.98, 0.95, 0.9), (3071, 1, 1, 1)),
+                             ((-3024, 0), (120, 0), (220, 0.75), (500, 0.9), (3071, 0.95))),
+    # soft tissue: fat faint and yellow, muscle and organs red-brown and firmer, bone opaque
+    "ct-cinematic-soft-tissue": (((-3024, 0, 0, 0), (-150, 0.85, 0.7, 0.45), (20, 0.72, 0.3, 0.24),
+                                  (120, 0.85, 0.5, 0.42), (300, 0.95, 0.9, 0.82), (3071, 1, 1, 1)),
+                                 ((-3024, 0), (-400, 0), (-120, 0.02), (-60, 0.02), (20, 0.12), (100, 0.3),
+                                  (300, 0.8), (3071, 0.9))),
     # lung parenchyma and airway walls; everything denser than -200 HU transparent
     "ct-lung": (((-3024, 0, 0, 0), (-950, 0.9, 0.6, 0.55), (-600, 1, 0.8, 0.75), (-200, 1, 0.95, 0.9),
                  (3071, 1, 1, 1)),
                 ((-3024, 0), (-950, 0), (-850, 0.02), (-600, 0.1), (-300, 0.06), (-200, 0), (3071, 0))),
 }
+
+
+def hu_offset(volume) -> float | None:
+    """How far a CT's stored values lie above Hounsfield units (``units`` ``"HU"``: 0, ``"HU+1000"``: 1000), None
+    for a volume that is not CT (:func:`is_ct`)."""
+    units = str(getattr(volume, "units", "") or "").replace(" ", "")
+    if units.upper().startswith("HU"):
+        rest = units[2:]
+        try:
+            return float(rest) if rest else 0.0
+        except ValueError:
+            return 0.0
+    return 0.0 if is_ct(volume) else None
+
+
+def is_ct(volume) -> bool:
+    """A CT: modality ``CT``, units in HU, or values that span air (<= -900) to bone (>= 300) as HU do."""
+    if str(getattr(volume, "modality", "")).upper() == "CT" or str(getattr(volume, "units", "")).upper()[:2] == "HU":
+        return True
+    lo, hi = volume.value_range()
+    return lo <= -900.0 and hi >= 300.0
+
+
+def default_preset(volume, mode: str = "composite") -> TransferFunction:
+    """The transfer function for a volume drawn with none named: a gray ramp over the data range for the
+    projections; for CT (:func:`is_ct`) ``ct-skin-bone`` (skin over bone: anatomy, not a box), moved onto the
+    stored values (:func:`hu_offset`); ``mr-default`` otherwise. Its ``name`` says which."""
+    if mode in ("mip", "minip", "average"):
+        return TransferFunction.preset("mip-gray", value_range=volume.value_range())
+    offset = hu_offset(volume)
+    if offset is not None:
+        tf = TransferFunction.preset("ct-skin-bone")
+        return tf.shifted(offset) if offset else tf
+    return TransferFunction.preset("mr-default", value_range=volume.value_range())
+

@@ -9,10 +9,11 @@ structured points are parsed here, every header value checked first (``_limits``
 from ._api import READ_FORMATS, WRITE_FORMATS, detect_format, load, save
 from ._chunked import ChunkedArray
 from ._dicom_listing import SeriesSummary, list_series
+from ._environment import read_environment
 from ._labels import MASK_SUFFIXES, labels_on_grid, load_labels, resample_labels
 from ._labels_tables import read_names_table
 from ._zarr import Level, open_levels
 
 __all__ = ["load", "save", "load_labels", "labels_on_grid", "resample_labels", "read_names_table",
            "MASK_SUFFIXES", "detect_format", "list_series", "SeriesSummary", "READ_FORMATS", "WRITE_FORMATS",
-           "ChunkedArray", "open_levels", "Level"]
+           "ChunkedArray", "open_levels", "Level", "read_environment"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import warnings
 import weakref
 
-from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction, is_chunked
+from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction, default_preset, is_chunked
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
@@ -79,6 +79,8 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         ``scene.shading.pt_samples`` samples per pixel of :class:`PathTracer`
         and reports ``spp``; its depth is the mean distance of the first
         scattering event. ``stats["renderer"]``: the ``device`` and ``technique`` that drew it.
+        ``display``: the scene's :class:`~volumen.core.Display` resolved for its shading (``auto``: the filmic
+        curve for the lit models), which ``Image.to_uint8`` / ``Image.save`` apply.
     """
     device, technique = _choose(device, technique, options, backend)
     if not isinstance(scene, Scene):
@@ -101,6 +103,7 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         scene = scene.with_(volume=_luminance_volume(scene.volume))
     image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
     image.stats["renderer"] = {"device": device, "technique": technique.name}
+    image.display = scene.display.resolved(scene.shading.mode, scene.mode)
     return image
 
 
@@ -117,13 +120,10 @@ def _luminance_volume(volume):
 
 
 def default_transfer(volume, mode: Mode) -> TransferFunction:
-    """The transfer function ``render_volume`` uses when none is named: gray ramp over the data range
-    for projections, ``ct-bone`` for CT, ``mr-default`` otherwise."""
-    if mode in ("mip", "minip", "average"):
-        return TransferFunction.preset("mip-gray", value_range=volume.value_range())
-    if volume.modality == "CT" or volume.units == "HU":
-        return TransferFunction.preset("ct-bone")
-    return TransferFunction.preset("mr-default", value_range=volume.value_range())
+    """The transfer function ``render_volume`` uses when none is named (:func:`volumen.core.default_preset`): gray
+    ramp over the data range for projections, ``ct-skin-bone`` for CT (on its stored values), ``mr-default``
+    otherwise."""
+    return default_preset(volume, mode)
 
 
 def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View = "anterior",

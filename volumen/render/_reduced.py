@@ -86,6 +86,7 @@ def render_reduced(scene, camera, size, fraction: float = 0.5, **how):
         return img
     t = time.perf_counter()
     out = upscale(img, size)
+    out.display = img.display
     out.stats["timings"] = dict(img.stats.get("timings", {}), upscale=time.perf_counter() - t)
     out.stats["reduced"] = {"fraction": float(fraction), "render_size": small}
     return out

@@ -5,7 +5,8 @@ per-pixel / per-ray function (see :mod:`._target`):
 
 * :func:`trace`: ``raycast.trace_pixel`` for pixel ``(px, py)``, specialised (like the CPU driver) for the
   frame's mode and light tags;
-* :func:`paths`: ``raycast.trace_path`` for samples ``s0 .. s1 - 1`` of a pixel;
+* :func:`paths`: ``raycast.trace_path`` for samples ``s0 .. s1 - 1`` of a pixel (and, from sample 0, its
+  opacity: ``raycast.coverage_pixel``);
 * :func:`sweep`: one lattice ray of an illumination volume swept slice by slice with
   ``raycast.lattice_step``.
 
@@ -22,6 +23,7 @@ from __future__ import annotations
 from numba import cuda
 
 from ..raycast import (
+    coverage_pixel,
     lattice_frame,
     lattice_ray,
     lattice_slice,
@@ -40,6 +42,7 @@ BLOCK_2D = (16, 8)
 
 _trace_pixel = device_function(trace_pixel)
 _trace_path = device_function(trace_path)
+_coverage = device_function(coverage_pixel)
 _frame = device_function(lattice_frame)
 _ray = device_function(lattice_ray)
 _slice = device_function(lattice_slice)
@@ -57,12 +60,15 @@ def trace(a, s, out, mode, light):
 
 
 @cuda.jit(fastmath=True)
-def paths(s0, s1, a, s, smaj, acc):
-    """One thread per pixel of ``acc`` (H, W, 5): ``trace_path`` for samples ``s0 .. s1 - 1``."""
+def paths(s0, s1, a, s, acc, alpha):
+    """One thread per pixel of ``acc`` (H, W, NACC): ``trace_path`` for samples ``s0 .. s1 - 1``; from sample 0 the
+    pixel's opacity into ``alpha`` (H, W)."""
     px, py = cuda.grid(2)
     if px < acc.shape[1] and py < acc.shape[0]:
+        if s0 == 0:
+            _coverage(px, py, a, s, alpha)
         for k in range(s0, s1):
-            _trace_path(px, py, k, a, s, smaj, acc)
+            _trace_path(px, py, k, a, s, acc)
 
 
 @cuda.jit(fastmath=True)

@@ -68,16 +68,17 @@ def _lights(a, s) -> dict:
     lvm[:m] = a.lvm[:m]
     off[:m] = a.lvm[:m, 1]   # LV_OFF, exact as an integer past float32's 2**24
     return {"u_nlights": int(n), "u_lpos": _vec3s(li[:, 0:3], MAX_LIGHTS), "u_ldir": _vec3s(li[:, 3:6], MAX_LIGHTS),
-            "u_lcol": _vec3s(li[:, 6:9], MAX_LIGHTS), "u_lexp": exp, "u_lvm": lvm, "u_lvoff": off}
+            "u_lcol": _vec3s(li[:, 6:9], MAX_LIGHTS), "u_lexp": exp, "u_lvm": lvm, "u_lvoff": off,
+            "u_envsh": _vec3s(a.envsh, 9)}   # the environment's ambient: 9 spherical-harmonic RGB coefficients
 
 
 def _settings(s) -> dict:
     u = {f"u_{name}": float(getattr(s, name)) for name in ("ds", "ds0", "et", "ka", "kd", "ks", "shine", "iso",
                                                            "pre_scale", "sh_off", "sh_step", "kext", "albedo", "g")}
     u["u_iso_rgb"] = (float(s.iso_r), float(s.iso_g), float(s.iso_b))
-    flags = ("nearest", "jitter", "skip", "gradop", "sobel", "color")
+    flags = ("nearest", "jitter", "skip", "gradop", "sobel", "color", "hdr")
     u.update({f"u_{name}": bool(getattr(s, name)) for name in flags})
-    u.update(u_seed=int(s.seed), u_block=int(s.block), u_nplanes=int(s.nplanes))
+    u.update(u_seed=int(s.seed), u_block=int(s.block), u_nplanes=int(s.nplanes), u_envmode=int(s.envmode))
     return u
 
 

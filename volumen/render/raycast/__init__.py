@@ -7,7 +7,9 @@ Other modules: ``_ray`` (a view ray), ``_geometry`` (rays, clipping),
 ``_sample`` (reconstruction), ``_labelled`` (label-aware classification), ``_medium`` (what light paths
 cross), ``_shadow`` (direct shadow rays), ``_lightvol``
 and ``_lightsweep`` (illumination volumes), ``_scatter`` (the scattering
-medium), ``_pathtrace`` (progressive path tracing), ``_precompute`` and
+medium), ``_pathtrace`` (path-tracing kernels: ``_majorant`` tracking, ``_sobol`` random numbers,
+``_environment`` the environment light), ``_progressive`` (the progressive path tracer, ``_denoise``),
+``_tiles`` (the tiles of a picture), ``_precompute`` and
 ``_cache`` (per-volume arrays), ``_tables`` (transfer-function tables),
 ``_params`` (illumination-volume layout), ``_pack`` (scene -> Frame), ``_cpu``
 (the CPU driver).
@@ -50,13 +52,15 @@ from ._params import (
     LV_OFF,
     NMETA,
 )
-from ._pathtrace import PathTracer, trace_path
+from ._pathtrace import NACC, coverage_pixel, trace_path
+from ._progressive import PathTracer
 from ._sample import sample_value
 
 __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
            "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
            "iso_refine", "prepare", "prepared_volumes", "pack_frame", "frame_image", "Frame", "Arrays", "Settings",
-           "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "lattice_frame", "lattice_ray",
+           "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "coverage_pixel", "NACC",
+           "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
            "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed",
            "stamp_sources", "sweep_medium", "Medium", "inlining_active"]

@@ -151,17 +151,19 @@ def _last_segment(light, r, a, s, st, have):
 
 
 @njit(cache=True, fastmath=True)
-def _write(st, taken, out, px, py):
+def _write(st, taken, out, px, py, hdr):
+    """The pixel's outputs: colour at most 1 (unclipped when ``hdr``: for a tone curve), opacity at most 1."""
     out.nsamp[py, px] = taken
-    for c in range(4):
-        out.rgba[py, px, c] = min(st[c], 1.0)
+    for c in range(3):
+        out.rgba[py, px, c] = st[c] if hdr else min(st[c], 1.0)
+    out.rgba[py, px, 3] = min(st[3], 1.0)
     out.depth[py, px] = st[4]
 
 
 @finish.register(Composite, LabelledComposite)
 @njit(cache=True, fastmath=True)
 def _finish_post(light, r, a, s, st, taken, have, out, px, py):
-    _write(st, taken, out, px, py)
+    _write(st, taken, out, px, py, s.hdr)
 
 
 @finish.register(Preintegrated)
@@ -170,7 +172,7 @@ def _finish_pre(light, r, a, s, st, taken, have, out, px, py):
     if st[3] < s.et and r.t1 - st[6] > 1e-6 * s.ds:
         st, extra = _last_segment(light, r, a, s, st, have)
         taken += extra
-    _write(st, taken, out, px, py)
+    _write(st, taken, out, px, py, s.hdr)
 
 
 @radius.register(Composite, LabelledComposite, Preintegrated)

@@ -59,6 +59,11 @@ class Arrays(NamedTuple):
     rgb: np.ndarray     #: colour volume's RGB [z, y, x, 3] uint8 (``_color``), (1, 1, 1, 3) for a scalar volume
     whole: np.ndarray   #: packed region whose sample grid the rays follow: ``geo`` itself, or a part's whole (``_ray``)
     carry: np.ndarray   #: a part's opacity carried in per pixel (H, W) float32 (``_ray``), (1, 1) when unused
+    env: np.ndarray     #: environment radiance map (He, We, 3) float32 (``_environment``), (2, 2, 3) when uniform
+    envbasis: np.ndarray  #: the map frame's axes in world space (3, 3) float64
+    envcdf: np.ndarray  #: the map's importance-sampling tables (He + 1, We + 1) float64
+    envsh: np.ndarray   #: the map's SH coefficients to order 2 (9, 3) float64: the ray-cast models' ambient term
+    maj: np.ndarray     #: path tracing: majorant extinction (1/mm) per block of ``mblock^3`` voxels (``_majorant``)
 
 
 #: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
@@ -104,6 +109,10 @@ class Settings(NamedTuple):
     lsolid: bool = False     #: some shown structure is solid (an opacity of its own, ``_labelled.solid_rows``)
     color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
     part: bool = False       #: draw the samples of ``Arrays.whole``'s grid inside ``geo`` only (a brick, ``_ray``)
+    envmode: int = 0         #: 0: ambient radiance ``ka`` (uniform environment); 1: ``Arrays.env`` (``_environment``)
+    env_power: float = 0.0   #: path tracing: weight of the environment against the lights in light selection
+    mblock: int = 8          #: path tracing: block edge of ``Arrays.maj`` (voxels)
+    hdr: bool = False        #: composite colour left unclipped (high dynamic range, for a tone curve), else at most 1
 
 
 class Outputs(NamedTuple):

@@ -12,7 +12,9 @@ import time
 
 import numpy as np
 
+from ...core import Environment, studio_lights
 from ._cache import prepare
+from ._environment import pack_environment
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
 from ._labelled import label_blocks, label_table, packed_labels, solid_rows
@@ -39,6 +41,8 @@ __all__ = ["pack_frame", "LIT_SHADINGS", "MODELS"]
 
 #: shading modes that use the scene's lights and need the medium's light paths
 LIT_SHADINGS = ("shadows", "scattering", "pathtrace")
+#: shading modes lit by the scene's lights (or the studio rig's) and the environment
+LIGHTED = ("phong", *LIT_SHADINGS)
 #: Shading.mode -> lighting model (``_pieces.LIGHT_TAGS``); path tracing reads the scattering medium
 MODELS = {"none": "unlit", "headlight": "phong", "phong": "phong", "shadows": "shadows", "scattering": "scatter",
           "pathtrace": "scatter"}
@@ -139,6 +143,10 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
 _NO_LAB = np.zeros((1, 1, 1), np.uint8)
 _NO_LLUT = np.zeros((1, 5), np.float32)
 _NO_MAGS = np.zeros((1, 1, 1), np.uint8)
+#: no majorant grid (the path tracer adds its own: ``_progressive``)
+NO_MAJ = np.zeros((1, 1, 1), np.float32)
+#: the environment of the unlit models
+_UNIFORM = Environment(kind="uniform")
 #: no opacity carried in (a whole frame, not a part of one: ``_ray``)
 NO_CARRY = np.zeros((1, 1), np.float32)
 
@@ -154,12 +162,30 @@ def _labels(scene, ratio):
     return packed_labels(layer.labels.data), label_table(layer, ratio)
 
 
-def _lights(scene, camera, model):
+def _lights(scene, camera, model, env):
+    """``(packed lights, count)``: the scene's, or the studio rig's when it has none and the environment is the
+    studio (:func:`~volumen.core.studio_lights`)."""
     if model == "unlit":
         return np.zeros((1, 11), np.float64), 0
     if scene.shading.mode == "headlight":
         return headlight(camera), 1
-    return pack_lights(scene.lights, camera), len(scene.lights)
+    lights = scene.lights
+    if not lights and env.kind == "studio":
+        vol = scene.volume
+        lights = studio_lights(camera, vol.center, vol.diagonal, env.intensity)
+    return pack_lights(lights, camera), len(lights)
+
+
+def _env_power(lights, nlights, env) -> float:
+    """Weight of the environment in the path tracer's choice of a light to sample (the lights': intensity x
+    luminance of their colour): twice its mean luminance (the irradiance it gives a surface over pi, from both
+    sides of a medium sample), 0 for a uniform environment (its light is found by paths that leave)."""
+    img = env[0]
+    if img.shape[:2] == (2, 2) and not img.any():
+        return 0.0
+    lum = img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+    wt = np.sin((np.arange(img.shape[0]) + 0.5) * np.pi / img.shape[0])[:, None]
+    return float(2.0 * (lum * wt).sum() / (wt.sum() * img.shape[1]))
 
 
 def _light_volumes(scene, prep, t, st, lights, model, build):
@@ -181,7 +207,7 @@ def _light_volumes(scene, prep, t, st, lights, model, build):
                  sh.shadows.light_volume_scale, method)
 
 
-def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
+def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_power) -> Settings:
     sh, smp = scene.shading, scene.sampling
     ph, shw = sh.phong, sh.shadows
     c = scene.isosurface.color
@@ -196,7 +222,8 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights) -> Settings:
         nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
         lsolid=bool(solid_rows(t["llut"]).any()),
-        color=prep.is_color)
+        color=prep.is_color, envmode=envmode, env_power=env_power,
+        hdr=scene.display.resolved(scene.shading.mode, scene.mode).tonemap != "linear")
 
 
 def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=light_volumes) -> Frame:
@@ -217,15 +244,19 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     t = _tables(scene, prep, (ds0 / scene.sampling.samples_per_voxel) / ds0, kext, model, medium_model, u_iso)
     t["geo"], t["planes"] = pack_geometry(volume, scene.clipping), pack_planes(scene.clipping)
     timings["tables"] = time.perf_counter() - t0
-    lights, nlights = _lights(scene, camera, model)
-    st = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights)
+    lit = model != "unlit" and scene.shading.mode in LIGHTED  # the headlight keeps its own ambient term
+    environment = scene.environment.resolved(bool(scene.lights)) if lit else _UNIFORM
+    envmode, env = pack_environment(environment, camera)
+    lights, nlights = _lights(scene, camera, model, environment)
+    st = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, _env_power(lights, nlights, env))
     lvm, lvd, built = _light_volumes(scene, prep, t, st, lights, model, build_light_volumes)
     timings.update(prep.timings)
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     ncode=t["ncode"], gcode=t["gcode"], ndir=DIRS,
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
                     lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
-                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY)
+                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY,
+                    env=env[0], envbasis=env[1], envcdf=env[2], envsh=env[3], maj=NO_MAJ)
     mode = "preintegrated" if t["preint"] else "labelled" if st.nlab > 0 else scene.mode
     at_eye = model == "phong" and scene.shading.mode == "headlight" and camera.projection == "perspective"
     return Frame(arrays, st, MODE_TAGS[mode](),

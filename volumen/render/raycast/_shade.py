@@ -17,6 +17,10 @@ Models (the ``shade`` piece of each light tag):
 * ``Scatter``: single scattering (:mod:`._scatter`): the sample's colour is
   scaled by ``albedo * (ambient + diffuse * sum_l 4 pi p_HG E_l T_l)``; no normals.
 
+The ambient term is the environment's (``Settings.envmode``, :mod:`._environment`): the uniform radiance
+``ambient`` (``envmode`` 0), or the environment map's irradiance over pi about the facing normal (Phong) and its
+radiance weighted by the phase function toward the eye (``Scatter``), from its spherical harmonics.
+
 The lit colour is ``c * f + s`` (straight colour), or ``C * f + alpha * s``
 premultiplied. Phong: where the gradient is zero every light counts as
 head-on (diffuse 1, no specular); normals are two-sided (face the viewer).
@@ -31,6 +35,7 @@ from numba import njit
 
 from ...core import Light
 from ..optics import phong_terms, spot_factor
+from ._environment import sh_irradiance, sh_phase
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
 from ._medium import frame_medium
@@ -139,10 +144,19 @@ def _visible_shadowed(li, w, lv, dist, a, s):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def _ambient(a, s, nx, ny, nz):
+    """The Phong models' ambient term: ``ka`` (uniform environment) or the environment's irradiance / pi about the
+    unit normal n ((0, 0, 0) where the gradient vanishes: the mean radiance)."""
+    if s.envmode == 0:
+        return s.ka, s.ka, s.ka
+    return sh_irradiance(a, nx, ny, nz)
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def _phong(light, a, s, n, v, w):
     """Phong over the lights, each weighted by its :data:`visibility` under the light tag."""
     nx, ny, nz, flat = _unit_facing(n, v)
-    fr = fg = fb = s.ka
+    fr, fg, fb = _ambient(a, s, nx, ny, nz)
     sr = sg = sb = 0.0
     for li in range(s.nlights):
         lx, ly, lz, dist, spot = light_vector(a.lights, li, w[0], w[1], w[2])
@@ -188,7 +202,8 @@ def _shade_headlight(a, s, n, v, w):
     kd = s.kd * diff
     ks = s.ks * spec
     cr, cg, cb = a.lights[0, L_COL], a.lights[0, L_COL + 1], a.lights[0, L_COL + 2]
-    return s.ka + kd * cr, s.ka + kd * cg, s.ka + kd * cb, ks * cr, ks * cg, ks * cb
+    ar, ag, ab = _ambient(a, s, nx, ny, nz)
+    return ar + kd * cr, ag + kd * cg, ab + kd * cb, ks * cr, ks * cg, ks * cb
 
 
 @shade.register(Shadowed)
@@ -200,7 +215,7 @@ def _shade_shadowed(a, s, n, v, w):
 @shade.register(Scatter)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_scatter(a, s, n, v, w):
-    fr = fg = fb = s.ka
+    fr = fg = fb = s.ka if s.envmode == 0 else 0.0
     for li in range(s.nlights):
         lx, ly, lz, dist, spot = light_vector(a.lights, li, w[0], w[1], w[2])
         if spot <= 0.0:
@@ -210,8 +225,12 @@ def _shade_scatter(a, s, n, v, w):
         fr += wt * a.lights[li, L_COL]
         fg += wt * a.lights[li, L_COL + 1]
         fb += wt * a.lights[li, L_COL + 2]
-    ka, kd, alb = s.ka, s.kd, s.albedo
-    return (ka + kd * (fr - ka)) * alb, (ka + kd * (fg - ka)) * alb, (ka + kd * (fb - ka)) * alb, 0.0, 0.0, 0.0
+    kd, alb = s.kd, s.albedo
+    if s.envmode == 0:
+        ka = s.ka
+        return (ka + kd * (fr - ka)) * alb, (ka + kd * (fg - ka)) * alb, (ka + kd * (fb - ka)) * alb, 0.0, 0.0, 0.0
+    er, eg, eb = sh_phase(a, -v[0], -v[1], -v[2], s.g)
+    return (er + kd * fr) * alb, (eg + kd * fg) * alb, (eb + kd * fb) * alb, 0.0, 0.0, 0.0
 
 
 @uses_normals.register(Phong, Headlight, Shadowed)

@@ -81,8 +81,21 @@ uniform bool u_nearest, u_jitter, u_skip, u_gradop, u_sobel, u_color;
 uniform mat3 u_nmat;
 uniform float u_inv_gmax;
 uniform int u_seed, u_block;
+// the environment's ambient term (raycast._environment): u_envmode 0 the uniform u_ka, 1 its SH to order 2
+uniform int u_envmode;
+uniform vec3 u_envsh[9];
+uniform bool u_hdr;           // composite colour unclipped (for a tone curve)
 
 ivec3 g_size;
+
+// sum_lm w_l L_lm Y_lm(d), at least 0 (_environment._sh_sum)
+vec3 sh_sum(vec3 d, float w1, float w2) {
+    vec3 c = 0.282095 * u_envsh[0]
+        + w1 * 0.488603 * (d.y * u_envsh[1] + d.z * u_envsh[2] + d.x * u_envsh[3])
+        + w2 * (1.092548 * (d.x * d.y * u_envsh[4] + d.y * d.z * u_envsh[5] + d.x * d.z * u_envsh[7])
+                + 0.315392 * (3.0 * d.z * d.z - 1.0) * u_envsh[6] + 0.546274 * (d.x * d.x - d.y * d.y) * u_envsh[8]);
+    return max(c, vec3(0.0));
+}
 
 // ---- reconstruction (_sample) ----
 float table_units(float texel) { return (texel + u_vol_map.x) * u_vol_map.y; }
@@ -291,7 +304,7 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
     bool flat_ = gl < 1e-3;
     vec3 n = flat_ ? vec3(0.0) : g / gl;
     if (dot(n, v) < 0.0) n = -n;
-    f = vec3(u_ka);
+    f = u_envmode == 0 ? vec3(u_ka) : (flat_ ? sh_sum(n, 0.0, 0.0) : sh_sum(n, 2.0 / 3.0, 0.25));
     for (int li = 0; li < u_nlights; li++) {
         vec4 lv = light_vector(li, w);
         float spot = spot_factor(li, lv.xyz);
@@ -314,7 +327,7 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
         s += u_ks * spec * wt * u_lcol[li];
     }
 #elif LIGHT == LIGHT_SCATTER
-    f = vec3(u_ka);
+    f = vec3(u_envmode == 0 ? u_ka : 0.0);
     for (int li = 0; li < u_nlights; li++) {
         vec4 lv = light_vector(li, w);
         float spot = spot_factor(li, lv.xyz);
@@ -324,7 +337,8 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
         wt *= light_visibility(li, w, lv.xyz, lv.w);
         f += wt * u_lcol[li];
     }
-    f = (u_ka + u_kd * (f - u_ka)) * u_albedo;
+    if (u_envmode == 0) f = (u_ka + u_kd * (f - u_ka)) * u_albedo;
+    else f = (sh_sum(-v, u_g, u_g * u_g) + u_kd * f) * u_albedo;
 #endif
 }
 

@@ -168,7 +168,7 @@ void finish_mode() {
     }
 #endif
 #if MODE == MODE_COMPOSITE || MODE == MODE_PREINT
-    o_rgba = min(S_acc, vec4(1.0));
+    o_rgba = u_hdr ? vec4(S_acc.rgb, min(S_acc.a, 1.0)) : min(S_acc, vec4(1.0));
     o_aux = vec4(S_dep, FAR, float(taken), 0.0);
 #elif MODE == MODE_MIP || MODE == MODE_MINIP
     o_aux.z = float(taken);

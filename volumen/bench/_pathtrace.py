@@ -1,0 +1,137 @@
+"""``volumen bench pathtrace``: the path tracer's error against a reference, denoised and raw, and its speed.
+
+Cases: VMTK's aorta (``aorta.mha`` where it is found; the CT presets shifted by +1000, as ``bench render``) and the
+head phantom, each with the cinematic preset and the studio rig (no lights given: the default scene of
+``volumen render --shading pathtrace``). For each, one progressive path tracer accumulates
+``REFERENCE`` samples per pixel in another random stream (seed 1) as the reference, and a second one (seed 0)
+gives the pictures compared with it (linear radiance, premultiplied; mean absolute error over the pixels the
+volume covers):
+
+* ``16 dn``: 16 samples, denoised (Intel Open Image Denoise, albedo and normal); ``bias``: its mean minus the
+  reference's mean over the same pixels;
+* ``256 raw``: 256 samples, not denoised;
+* equal time: the raw picture with as many samples as the 16 denoised ones' time (tracing plus denoising) buys
+  (``raw same time``), and the ratio of the denoised error to it (``dn / raw``).
+
+Speed: samples per pixel per second on the 366x303x336 resampling of the aorta at 782x415 (``bench render``'s
+largest data set), the number issue 24 starts from (0.83 before its path tracer). Machine load (``os.getloadavg``)
+is printed with the table: the machine is shared.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import numpy as np
+
+from ._table import Table
+
+__all__ = ["bench_pathtrace"]
+
+#: samples per pixel of the reference pictures
+REFERENCE = 4096
+FULL = {"size": (160, 160), "reference": REFERENCE, "speed_size": (782, 415), "speed_shape": (366, 303, 336)}
+QUICK = {"size": (32, 32), "reference": 256, "speed_size": (64, 48), "speed_shape": (48, 40, 44)}
+
+
+def _cases(quick: bool):
+    """name -> (scene, camera) of the compared cases."""
+    from volumen.core import Camera, Scene, Shading, TransferFunction
+    from volumen.data import phantom
+
+    from ._render import AORTA_OFFSET, load_dataset
+
+    out = {}
+    head = phantom("head", size=(40, 48, 48) if quick else (96, 112, 112))
+    out["head phantom, ct-cinematic-bone"] = (Scene(volume=head, transfer=TransferFunction.preset(
+        "ct-cinematic-bone"), shading=Shading(mode="pathtrace")), Camera.orbit(head, azimuth=-30, elevation=15))
+    got = load_dataset("aorta", (96, 80, 88) if quick else (157, 393, 34))
+    if got is not None:
+        vol, _ = got
+        tf = TransferFunction.preset("ct-cinematic-vessels").shifted(AORTA_OFFSET)
+        out["VMTK aorta, ct-cinematic-vessels"] = (Scene(volume=vol, transfer=tf, shading=Shading(mode="pathtrace")),
+                                                  Camera.orbit(vol, view="left", zoom=1.6))
+    return out
+
+
+def _error(img, ref, cover):
+    d = img[..., :3].astype(np.float64) - ref[..., :3]
+    return float(np.abs(d)[cover].mean()), float(d[cover].mean())
+
+
+def _compare(scene, cam, size, reference, progress):
+    """One case's row: errors of 16 denoised, 256 raw and raw at equal time against the reference."""
+    from volumen.core import Sampling
+    from volumen.render import PathTracer
+
+    ref_pt = PathTracer(scene.with_(sampling=Sampling(seed=1)), cam, size)
+    t = time.perf_counter()
+    for _ in range(max(reference // 256, 1)):
+        ref_pt.add(min(256, reference))
+    ref = ref_pt.image(denoised=False).rgba
+    progress(f"  reference: {reference} spp in {time.perf_counter() - t:.1f} s")
+    cover = ref[..., 3] > 0.05
+    pt = PathTracer(scene, cam, size)
+    t_trace = pt.add(16)
+    t = time.perf_counter()
+    dn = pt.image(denoised=True).rgba
+    t_dn = t_trace + time.perf_counter() - t
+    e_dn, bias = _error(dn, ref, cover)
+    pt.add(256 - 16)
+    e_raw, _ = _error(pt.image(denoised=False).rgba, ref, cover)
+    per_spp = pt.seconds / pt.spp
+    n_eq = max(int(t_dn / per_spp), 1)
+    eq = PathTracer(scene, cam, size)
+    eq.add(n_eq)
+    e_eq, _ = _error(eq.image(denoised=False).rgba, ref, cover)
+    return {"e_dn16": e_dn, "e_raw256": e_raw, "bias": bias, "spp_eq": n_eq, "e_raw_eq": e_eq, "ratio": e_dn / e_eq,
+            "dn_s": t_dn, "ok": e_dn <= e_raw and e_dn <= e_eq / 3 and abs(bias) <= 0.005}
+
+
+def _speed(shape, size, progress):
+    """Samples per pixel per second on the aorta resampled to ``shape`` (x, y, z) at ``size``, studio rig."""
+    from volumen.core import Camera, Scene, Shading, TransferFunction
+    from volumen.render import PathTracer
+
+    from ._render import AORTA_OFFSET, load_dataset
+
+    got = load_dataset("aorta", shape)
+    if got is None:
+        return None
+    vol, _ = got
+    scene = Scene(volume=vol, transfer=TransferFunction.preset("ct-cinematic-vessels").shifted(AORTA_OFFSET),
+                  shading=Shading(mode="pathtrace"))
+    pt = PathTracer(scene, Camera.orbit(vol), size)
+    pt.add(1)  # compiled, coverage computed
+    n = 8
+    dt = pt.add(n)
+    progress(f"  speed: {n} spp in {dt:.2f} s")
+    return n / dt
+
+
+def bench_pathtrace(*, quick: bool = False, progress=print) -> Table:
+    """Run the benchmark; returns the :class:`Table`."""
+    cfg = QUICK if quick else FULL
+    size = cfg["size"]
+    table = Table(f"volumen bench pathtrace (CPU, {size[0]}x{size[1]}, studio rig; error vs {cfg['reference']} spp)",
+                  [("case", "case", "s"), ("e_dn16", "16 spp denoised", ".4f"), ("e_raw256", "256 spp raw", ".4f"),
+                   ("bias", "bias (16 dn)", "+.4f"), ("spp_eq", "raw spp same time", "d"),
+                   ("e_raw_eq", "raw same time", ".4f"), ("ratio", "dn / raw same time", ".3f"),
+                   ("dn_s", "16 dn s", ".2f"), ("ok", "bars met", "s")])
+    for name, (scene, cam) in _cases(quick).items():
+        progress(f"[{name}]")
+        table.add(case=name, **_compare(scene, cam, size, cfg["reference"], progress))
+    sps = _speed(cfg["speed_shape"], cfg["speed_size"], progress)
+    load = os.getloadavg()
+    table.notes.append("error: mean |RGB difference| of linear premultiplied radiance over the pixels of alpha > 0.05;"
+                       " bars (issue 24): 16 denoised <= 256 raw, denoised <= 1/3 of raw at the same time, |bias| <= "
+                       "0.005")
+    if sps is not None:
+        w, h = cfg["speed_size"]
+        table.notes.append(f"samples per pixel per second, aorta {'x'.join(map(str, cfg['speed_shape']))} at {w}x{h}"
+                           f" (studio rig, ct-cinematic-vessels, anterior): {sps:.2f} (before issue 24: 0.83; bar "
+                           f">= {4 * 0.83:.2f})")
+    table.notes.append(f"load average during the run (1, 5, 15 min): {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} on "
+                       f"{os.cpu_count()} CPUs")
+    return table

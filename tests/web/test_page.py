@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import MEAN_TOL, P99_TOL, capture, compare, reference_scenes, save_pair, show
+from web_helpers import MEAN_TOL, P99_TOL, capture, compare, reference_scenes, save_pair, show
 
 from volumen.core import Camera, Clipping, ClipPlane, Light, gestures
 from volumen.render import render

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import MEAN_TOL, P99_TOL, compare, picture, reference_scenes, save_pair, scene_json
+from web_helpers import MEAN_TOL, P99_TOL, compare, picture, reference_scenes, save_pair, scene_json
 
 from volumen.core import Camera, Light
 from volumen.render import render

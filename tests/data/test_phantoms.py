@@ -27,8 +27,8 @@ def _world_of(vol, mask) -> np.ndarray:
 
 
 def test_registry_names_and_errors():
-    assert PHANTOMS == ("head", "torso", "sphere", "ellipsoid", "slab")
-    with pytest.raises(ValueError, match="head, torso, sphere, ellipsoid, slab"):
+    assert PHANTOMS == ("head", "torso", "sphere", "ellipsoid", "slab", "arch", "airways", "tagged_colon", "washout")
+    with pytest.raises(ValueError, match="head, torso, sphere, ellipsoid, slab, arch, airways, tagged_colon, washout"):
         phantom("brain")
     with pytest.raises(TypeError, match="takes noise, seed, blur, grey_white"):
         phantom("head", radius=3)

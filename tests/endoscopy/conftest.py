@@ -1,4 +1,5 @@
-"""Fixtures of the endoscopy tests: the torso phantom's colon, its computed lumen and centerline, an analytic torus."""
+"""Fixtures of the endoscopy tests: the torso phantom's colon, its computed lumen and centerline, an analytic torus,
+and the phantoms of anatomy the lumen estimate was not tuned on (issue 23)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,23 @@ def torso():
     from volumen.data import phantom
 
     return phantom("torso")
+
+
+@pytest.fixture(scope="session")
+def unseen():
+    """A factory of the issue-23 phantoms (arch, airways, tagged_colon, washout and airways with its pocket), each
+    built once per session."""
+    from volumen.data import phantom
+
+    made = {}
+
+    def get(name: str, **params):
+        key = (name, tuple(sorted(params.items())))
+        if key not in made:
+            made[key] = phantom(name, **params)
+        return made[key]
+
+    return get
 
 
 @pytest.fixture(scope="session")

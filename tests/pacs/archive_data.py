@@ -1,4 +1,4 @@
-"""What the test archive holds: three made studies (multi-slice CT and MR series, written with pydicom through
+"""What the test archive holds: four made studies (multi-slice CT and MR series, written with pydicom through
 ``tests/io/dicom_factory.py``) and every file of pydicom's own test data that Orthanc accepts.
 
 ``running_archive`` (the ``archive`` fixture of ``tests/conftest.py``) starts one Orthanc per test session
@@ -31,6 +31,8 @@ STUDIES = (
     ("chest", "Doe^Jane", "PAT-001", "20240102", "CT chest", "ACC-1", [("CT", 8, "axial 2 mm"), ("CT", 3, "scout")]),
     ("abdomen", "Roe^Richard", "PAT-002", "20230615", "CT abdomen", "ACC-2", [("CT", 5, "portal venous")]),
     ("head", "Doe^John", "PAT-003", "20241120", "MR head", "ACC-3", [("MR", 4, "t1")]),
+    # what "Doe?Jane" and "CT?chest" also match: a search for Doe^Jane or "CT chest" must not find it
+    ("lookalike", "Doe Jane", "PAT-004", "20220301", "CT-chest", "ACC-4", [("CT", 2, "axial")]),
 )
 
 
@@ -88,19 +90,20 @@ def make_studies(folder: Path) -> tuple[dict, dict]:
     return made, uids
 
 
-def running_archive(tmp_path_factory):
-    """Generator of the session fixture: an Orthanc holding the made studies and pydicom's files."""
+def running_archive(tmp_path_factory, name: str = "archive", *, with_pydicom: bool = True, **settings):
+    """Generator of a fixture: an Orthanc (``settings``: extra Orthanc settings) holding the made studies and,
+    ``with_pydicom``, pydicom's files; stopped at the end. Skips, saying why, without Orthanc."""
     reason = missing_reason()
     if reason:
         pytest.skip(reason)
-    folder = tmp_path_factory.mktemp("archive")
+    folder = tmp_path_factory.mktemp(name)
     made, uids = make_studies(folder / "upload")
-    server = Orthanc(folder / "orthanc")
-    server.start()
+    server = Orthanc(folder / "orthanc", **settings).start()
     try:
         files = [p for series in made.values() for s in series for p in sorted(s.folder.iterdir())]
         assert server.upload(files) == len(files)
-        server.upload(pydicom_files())
+        if with_pydicom:
+            server.upload(pydicom_files())
         yield Archive(server, made, uids)
     finally:
         server.stop()

@@ -14,6 +14,10 @@ import volumen.pacs as pacs
 QUERIES = [
     ({"patient_name": "Doe*"}, {"PatientName": "Doe*"}),
     ({"patient_name": "*jane*"}, {"PatientName": "*jane*"}),
+    # values that travel percent-encoded (^, a space), which Orthanc 1.10 does not decode
+    ({"patient_name": "Doe^Jane"}, {"PatientName": "Doe^Jane"}),
+    ({"patient_name": "doe^j*"}, {"PatientName": "doe^j*"}),
+    ({"description": "CT chest"}, {"StudyDescription": "CT chest"}),
     ({"patient_id": "PAT-002"}, {"PatientID": "PAT-002"}),
     ({"study_date": "20230101-20241231"}, {"StudyDate": "20230101-20241231"}),
     ({"study_date": "-20011231"}, {"StudyDate": "-20011231"}),

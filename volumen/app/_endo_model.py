@@ -1,11 +1,15 @@
 """Virtual endoscopy in the application, without Qt: path, flight with collisions, playback.
 
-Built on :mod:`volumen.endoscopy`. The user picks a start and an end point in
-the slice views; :meth:`Endoscopy.compute` finds the lumen from the start
-(its polarity, range and wall threshold estimated from the data, thin bridges
-cut: :func:`~volumen.endoscopy.find_lumen`), or reads it from a segmentation
-file (:attr:`Endoscopy.mask_file`), and finds its centerline; the lumen is
-kept (:attr:`Endoscopy.mask`) for the slice views' overlay, and
+Built on :mod:`volumen.endoscopy`, the same calls as ``volumen fly``. The user
+picks a start and an end point in the slice views; :meth:`Endoscopy.compute`
+finds the lumen from the start (its polarity, range and wall threshold estimated
+from the data, grown with explosion control, tagged fluid joined, thin bridges
+cut: :func:`~volumen.endoscopy.lumen_wall`), or reads it from a segmentation file
+(:attr:`Endoscopy.mask_file`), and finds its centerline
+(:func:`~volumen.endoscopy.checked_centerline`); a lumen that leaks is refused
+with the same one-line :class:`~volumen.errors.LumenError` as the command line.
+The lumen is kept (:attr:`Endoscopy.mask`) for the slice views' overlay, the wall
+drawn and collided with is the lumen's (:meth:`Endoscopy.drawn_volume`), and
 :meth:`Endoscopy.cpr` draws the curved planar reformation along the path.
 Flight is manual (a :class:`ManualNavigator` whose moves
 go through a :class:`Collider`, so the eye stays ``margin`` mm inside the
@@ -52,6 +56,8 @@ class Endoscopy:
         self.label = None
         self.mask = None
         self.estimate = None
+        self.wall = None
+        self._drawn = None
         self.navigator = None
         self.guided = None
         self.blocked = False
@@ -61,29 +67,21 @@ class Endoscopy:
     def compute(self):
         """Find the lumen holding :attr:`start` (and :attr:`end`) and the centerline between them (world mm).
 
-        Sets :attr:`mask` and :attr:`estimate`; returns the centerline. Raises ValueError (a
-        :class:`~volumen.errors.LumenError` naming the point) when a point is missing, outside the scan, in
-        no lumen, or the two are not connected.
+        Sets :attr:`mask`, :attr:`estimate` and :attr:`wall`; returns the centerline. Raises ValueError (a
+        :class:`~volumen.errors.LumenError` naming the point or the leak) when a point is missing, outside
+        the scan, in no lumen, the two are not connected, or the lumen leaks.
         """
-        from ..endoscopy import (
-            check_points_in_mask,
-            compute_centerline,
-            estimate_lumen,
-            find_lumen,
-            load_lumen_mask,
-            nearest_voxel,
-        )
+        from ..endoscopy import check_points_in_mask, checked_centerline, load_lumen_mask, lumen_wall
 
         if self.start is None or self.end is None:
             raise ValueError("pick a start and an end point in the slice views first")
+        mask = None
         if self.mask_file:
             mask = load_lumen_mask(self.mask_file, self.volume, self.label)
             check_points_in_mask(self.volume, mask, {"start": self.start, "end": self.end}, self.mask_file)
-            est = estimate_lumen(self.volume, nearest_voxel(self.volume, mask, self.start), self.lumen)
-        else:
-            mask, est = find_lumen(self.volume, self.start, self.end, kind=self.lumen)
-        self.centerline = compute_centerline(self.volume, mask, self.start, self.end, step=1.0)
-        self.mask, self.estimate, self._collider = mask, est, None
+        wall = lumen_wall(self.volume, self.start, self.end, kind=self.lumen, mask=mask)
+        self.centerline = checked_centerline(self.volume, wall.mask, self.start, self.end)
+        self.mask, self.estimate, self.wall, self._drawn, self._collider = wall.mask, wall.estimate, wall, None, None
         return self.centerline
 
     def lumen_estimate(self):
@@ -96,6 +94,15 @@ class Endoscopy:
             self.estimate = estimate_lumen(self.volume, lumen_voxel(self.volume, self.start), self.lumen)
         return self.estimate
 
+    def drawn_volume(self):
+        """The volume the flight draws and collides with: the lumen's wall (:meth:`LumenWall.volume`) once
+        computed, else the scan."""
+        if self.wall is None:
+            return self.volume
+        if self._drawn is None:
+            self._drawn = self.wall.volume(self.volume)
+        return self._drawn
+
     def transfer(self):
         """The endoscopy transfer function made from the lumen's values."""
         return self.lumen_estimate().transfer()
@@ -106,7 +113,7 @@ class Endoscopy:
         if self._collider is None:
             from ..endoscopy import Collider
 
-            self._collider = Collider(self.lumen_estimate().wall(self.volume), margin=self.margin)
+            self._collider = Collider(self.lumen_estimate().wall_field(self.drawn_volume()), margin=self.margin)
         return self._collider
 
     def cpr(self, kind: str = "straightened", width: float = 40.0, sections: int = 4):
@@ -123,12 +130,13 @@ class Endoscopy:
 
     def path(self, speed: float = 20.0):
         """The automatic :class:`~volumen.endoscopy.KeyframePath` along the centerline."""
-        from ..endoscopy import KeyframePath
+        from ..endoscopy import KeyframePath, aim_keyframes
 
         if self.centerline is None:
             raise ValueError("compute the centerline first")
         every = max(self.centerline.length / 12.0, 2.0)
-        return KeyframePath.from_centerline(self.centerline, every=every, look_ahead=every, speed=speed)
+        path = KeyframePath.from_centerline(self.centerline, every=every, look_ahead=every, speed=speed)
+        return path if self.mask is None else aim_keyframes(path, self.centerline, self.volume, self.mask)
 
     # -- flight ---------------------------------------------------------------
     def start_manual(self, pose=None, speed: float = 10.0):

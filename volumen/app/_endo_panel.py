@@ -2,8 +2,10 @@
 
 * pick the start and the end in the slice views, compute the lumen (air or
   contrast, found from the data, or read from a segmentation file) and its
-  centerline; the lumen shows as an overlay in the slice views (so a leak
-  shows), the centerline in the slice views and the 3D view;
+  centerline, as ``volumen fly`` does (a lumen that leaks is refused with the
+  same one-line message); the lumen shows as an overlay in the slice views (so a
+  leak shows), the centerline in the slice views and the 3D view; flight and
+  recording draw the lumen's own wall (the data held to the lumen);
 * save the curved planar reformation (straightened or stretched) along the
   centerline, its cross-sections marked, as a PNG;
 * manual flight: W/S forward/back, A/D sideways, R/F up/down, arrow keys or
@@ -147,7 +149,7 @@ class EndoscopyPanel(QWidget):
 
         if self._saved_scene is None:
             self._saved_scene = (self.state.scene, self.state.camera)
-        self.state.update_scene(transfer=self.model.transfer(), mode="composite",
+        self.state.update_scene(volume=self.model.drawn_volume(), transfer=self.model.transfer(), mode="composite",
                                 shading=replace(self.state.scene.shading, mode="headlight"),
                                 clipping=replace(self.state.scene.clipping, crop=None, planes=()))
         self.window.set_flying(True)
@@ -184,8 +186,8 @@ class EndoscopyPanel(QWidget):
         if self._saved_scene is not None:
             scene, cam = self._saved_scene
             self._saved_scene = None
-            self.state.update_scene(transfer=scene.transfer, mode=scene.mode, shading=scene.shading,
-                                    clipping=scene.clipping)
+            self.state.update_scene(volume=scene.volume, transfer=scene.transfer, mode=scene.mode,
+                                    shading=scene.shading, clipping=scene.clipping)
             self.state.set_camera(cam)
         if hasattr(self.window, "set_flying"):
             self.window.set_flying(False)
@@ -245,7 +247,7 @@ class EndoscopyPanel(QWidget):
 
         m = self.model
         poses = m.path().play(fps=fps)
-        scene = replace(self.state.scene, transfer=m.transfer(), mode="composite")
+        scene = replace(self.state.scene, volume=m.drawn_volume(), transfer=m.transfer(), mode="composite")
 
         def job(report):
             with VideoWriter(path, fps=fps) as w:

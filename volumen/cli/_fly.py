@@ -8,9 +8,16 @@ between its two ends (``--auto``).
 
 The lumen is found from the start point alone (:func:`volumen.endoscopy.find_lumen`):
 its polarity (``--lumen auto|air|contrast``), value range and wall threshold
-come from the data around the point and are printed; thin bridges to other
-structures are cut. ``--range`` and ``--threshold`` override the estimate;
-``--lumen-mask FILE [--label N|NAME]`` takes an existing segmentation instead.
+come from the data around the point and are printed; it is grown with explosion
+control, tagged fluid under a fluid level is joined to an air lumen, and thin
+bridges to other structures are cut. ``--range`` and ``--threshold`` override the
+estimate; ``--lumen-mask FILE [--label N|NAME]`` takes an existing segmentation
+instead, whose boundary values give the polarity and the threshold. The wall
+drawn is the data held to the lumen (:class:`volumen.endoscopy.LumenWall`), or the
+mask's own smoothed boundary where the data does not separate lumen and wall.
+A lumen that leaks and cannot be contained (the points join only through a narrow
+opening, or the path between them detours through a widening) ends with one line
+naming the leak and the flags to try, and nothing is written.
 For a phantom without ``--seed`` or ``--start``, the seed is the first
 centerline point of its colon ground truth (the rectum), or of its first tube.
 
@@ -89,32 +96,37 @@ def default_seed(volume):
 
 
 def _lumen(args, volume):
-    """``(mask, estimate)``: grown from the seed, or read from ``--lumen-mask`` (the estimate then gives the wall)."""
-    from volumen.endoscopy import check_points_in_mask, estimate_lumen, find_lumen, load_lumen_mask, nearest_voxel
+    """The :class:`LumenWall`: grown from the seed, or read from ``--lumen-mask`` (its boundary gives the
+    estimate); ``--range`` and ``--threshold`` override the estimate."""
+    from volumen.endoscopy import check_points_in_mask, load_lumen_mask, lumen_wall
 
     start, end = parse_point(args.start), parse_point(args.end)
     seed = parse_point(args.seed) or start or default_seed(volume)
     if seed is None:
         raise ValueError("give --seed X,Y,Z inside the lumen (world RAS mm)")
     rng = tuple(_floats(args.value_range, 2, "--range")) if args.value_range else None
-    if not args.lumen_mask:
-        return find_lumen(volume, seed, end, kind=args.lumen, value_range=rng)
-    points = {"start": seed} if end is None else {"start": seed, "end": end}
-    mask = load_lumen_mask(args.lumen_mask, volume, args.label)
-    check_points_in_mask(volume, mask, points, args.lumen_mask)
-    est = estimate_lumen(volume, nearest_voxel(volume, mask, seed), args.lumen)
-    return mask, est if rng is None else est.with_range(rng)
+    mask = None
+    if args.lumen_mask:
+        points = {"start": seed} if end is None else {"start": seed, "end": end}
+        mask = load_lumen_mask(args.lumen_mask, volume, args.label)
+        check_points_in_mask(volume, mask, points, args.lumen_mask)
+    return lumen_wall(volume, seed, end, kind=args.lumen, value_range=rng, threshold=args.threshold, mask=mask)
 
 
 def _centerline(args, volume):
-    from volumen.endoscopy import compute_centerline
+    """``(centerline, wall)``: between --start and --end (refused when it detours through a leak), or between
+    the lumen's two ends."""
+    from volumen.endoscopy import checked_centerline, compute_centerline
 
     start, end = parse_point(args.start), parse_point(args.end)
     if start is not None and end is None:
         raise ValueError("--start needs --end")
-    lumen, est = _lumen(args, volume)
-    print(est.describe())
-    return compute_centerline(volume, lumen, start, end), est
+    wall = _lumen(args, volume)
+    print(wall.estimate.describe() + (" (the wall drawn is the lumen mask's own boundary: the data does not "
+                                      "separate lumen and wall)" if wall.shape_only else ""))
+    if start is not None:
+        return checked_centerline(volume, wall.mask, start, end), wall
+    return compute_centerline(volume, wall.mask, start, end), wall
 
 
 def _overrides(args) -> dict:
@@ -131,40 +143,41 @@ def _overrides(args) -> dict:
 def _flight(args, volume):
     """The Flight to render: loaded from ``--path`` (flags given override its settings), or made from the
     centerline and the lumen's estimate."""
-    from volumen.endoscopy import Endoscope, Flight, KeyframePath
+    from volumen.endoscopy import Flight, KeyframePath, make_flight
 
     if args.path:
         flight = Flight.load(args.path, volume)
         speed = args.speed or flight.path.speed
         return Flight(KeyframePath(flight.path.keyframes, speed=speed), flight.endoscope.with_(**_overrides(args)),
-                      flight.centerline), None
+                      flight.centerline, flight.lumen), None
     if args.end and not args.start:
         raise ValueError("--end needs --start")
-    cl, est = _centerline(args, volume)
+    cl, wall = _centerline(args, volume)
+    est = wall.estimate
     print(f"centerline: {cl.length:.1f} mm, {len(cl.points)} points, radius "
           f"{cl.radius.min():.1f}..{cl.radius.max():.1f} mm")
-    path = KeyframePath.from_centerline(cl, every=args.every, speed=args.speed or 20.0)
-    settings = {"mode": "isosurface", "threshold": est.threshold, "transfer": est.transfer(), **_overrides(args)}
-    return Flight(path, Endoscope(volume=volume, **settings), cl), est
+    return make_flight(volume, wall, cl, every=args.every, speed=args.speed or 20.0, **_overrides(args)), est
 
 
-def _legs(args, flight):
+def _legs(args, flight, volume):
     """``[(name, poses)]``: out, and back when ``--both-directions`` (turned round: looking where it goes)."""
-    from volumen.endoscopy import KeyframePath, Pose
+    from volumen.endoscopy import KeyframePath, Pose, aim_keyframes
 
     poses = flight.path.play(args.fps, args.frames)
     legs = [("out", poses)]
     if args.both_directions:
         if flight.centerline is not None:
-            back = KeyframePath.from_centerline(flight.centerline.reversed(), every=args.every,
-                                                speed=flight.path.speed).play(args.fps, args.frames)
+            back = KeyframePath.from_centerline(flight.centerline.reversed(), every=args.every, speed=flight.path.speed)
+            if flight.lumen is not None:
+                back = aim_keyframes(back, flight.centerline.reversed(), volume, flight.lumen.mask)
+            back = back.play(args.fps, args.frames)
         else:
             back = [Pose(position=p.position, forward=tuple(-np.asarray(p.forward)), up=p.up) for p in poses[::-1]]
         legs.append(("back", back))
     return legs
 
 
-def _render_video(args, flight, out: Path, size):
+def _render_video(args, flight, volume, out: Path, size):
     """Every frame into ``OUT.part.SUFFIX``, renamed to ``out`` once complete; returns the FrameLog."""
     from volumen.endoscopy import FrameLog, VideoWriter
 
@@ -173,7 +186,7 @@ def _render_video(args, flight, out: Path, size):
     part = out.with_name(f"{out.stem}.part{out.suffix}")
     try:
         with VideoWriter(part, args.fps) as video:
-            for name, leg in _legs(args, flight):
+            for name, leg in _legs(args, flight, volume):
                 for img in flight.endoscope.frames(leg, size, log=log, progress=not args.no_progress, desc=name):
                     video.append(img.to_uint8())
         part.replace(out)
@@ -197,9 +210,9 @@ def run(args):
     flight, est = _flight(args, volume)
     unfolded = None
     if args.unfold:
-        wall = WallField.from_threshold(volume, flight.endoscope.threshold, est.lumen_side)
+        wall = WallField.from_threshold(flight.endoscope.volume, flight.endoscope.threshold, est.lumen_side)
         unfolded = unfold(wall, flight.centerline, step=1.0)
-    log = _render_video(args, flight, out, size)
+    log = _render_video(args, flight, volume, out, size)
     timing = out.with_name(out.stem + ".timing.json")
     log.save(timing)
     print(f"{out}: {log.to_dict()['frames']} frames {size[0]}x{size[1]}; frame time mean {1e3 * log.mean:.1f} ms, "

@@ -13,9 +13,13 @@ import inspect
 from collections.abc import Callable
 
 from ..core import Volume
+from ._airways import airways
+from ._chest import arch
 from ._head import head
 from ._shapes import ellipsoid, slab, sphere
+from ._tagged import tagged_colon
 from ._torso import torso
+from ._washout import washout
 
 __all__ = ["PHANTOMS", "phantom"]
 
@@ -25,6 +29,10 @@ _BUILDERS: dict[str, Callable[..., Volume]] = {
     "sphere": sphere,
     "ellipsoid": ellipsoid,
     "slab": slab,
+    "arch": arch,
+    "airways": airways,
+    "tagged_colon": tagged_colon,
+    "washout": washout,
 }
 
 PHANTOMS: tuple[str, ...] = tuple(_BUILDERS)

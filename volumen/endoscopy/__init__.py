@@ -2,7 +2,13 @@
 
 * :func:`lumen_mask` -- region growing from a seed over a value range (air, contrast);
 * :func:`find_lumen`, :func:`estimate_lumen` -- the lumen from a start (and end) point alone: its
-  polarity (air or contrast), value range and wall threshold from the data, thin bridges cut;
+  polarity (air or contrast), value range and wall threshold from the point's neighbourhood and rays cast
+  from it, grown with explosion control, tagged fluid joined, thin bridges cut;
+* :func:`estimate_from_mask`, :class:`LumenWall`, :func:`lumen_wall`, :func:`checked_centerline` -- the wall
+  a flythrough draws (the data held to the lumen mask, or the mask's own boundary), from a segmentation or a
+  grown lumen; centerlines refused when they detour through a leak;
+* :func:`score_flight`, :class:`FlightScore` -- Dice, keyframes inside, frames looking down the lumen, the wall
+  drawn against a mask's: the scores the tests and reports use;
 * :func:`compute_centerline` -> :class:`Centerline` -- minimal path kept away from the wall,
   smoothed, resampled every ``step`` mm, with the local radius and rotation-minimizing frames;
 * :class:`WallField`, :class:`Collider` -- where the wall is; moves that stop at a safety margin
@@ -21,6 +27,7 @@ Numba kernels compile (or load from Numba's cache) on first use, not at import.
 from ._stamp import stamped as stamped  # first: our kernels inline the ray caster's sampling, cached on its sources
 
 # isort: split
+from ._aim import aim_keyframes
 from ._centerline import Centerline, compute_centerline
 from ._collision import Collider, MoveResult
 from ._cpr import CPR, cross_section, curved_reformation
@@ -30,9 +37,13 @@ from ._flythrough import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_trans
 from ._keyframes import Keyframe, KeyframePath, catmull_rom
 from ._lumen import AIR_RANGE, CONTRAST_RANGE, find_lumen, lumen_mask, lumen_voxel, nearest_voxel
 from ._lumen_file import check_points_in_mask, load_lumen_mask
+from ._lumen_wall import LumenWall
+from ._mask_estimate import estimate_from_mask
 from ._navigation import GuidedNavigator, ManualNavigator
+from ._plan import checked_centerline, lumen_wall, make_flight
 from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from ._pose import Pose, slerp
+from ._scores import FlightScore, dice, keyframes_inside, look_down_ratio, score_flight, wall_offsets
 from ._unfold import Unfolded, WallLook, unfold
 from ._video import VideoWriter
 from ._wall import WallField
@@ -46,6 +57,17 @@ __all__ = [
     "check_points_in_mask",
     "estimate_lumen",
     "LumenEstimate",
+    "estimate_from_mask",
+    "LumenWall",
+    "lumen_wall",
+    "checked_centerline",
+    "make_flight",
+    "score_flight",
+    "FlightScore",
+    "dice",
+    "keyframes_inside",
+    "look_down_ratio",
+    "wall_offsets",
     "LUMEN_KINDS",
     "AIR_RANGE",
     "CONTRAST_RANGE",
@@ -60,6 +82,7 @@ __all__ = [
     "GuidedNavigator",
     "Keyframe",
     "KeyframePath",
+    "aim_keyframes",
     "catmull_rom",
     "Endoscope",
     "Flight",

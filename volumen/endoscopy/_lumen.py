@@ -19,12 +19,18 @@ naming the point.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import LumenError
-from ._polarity import LumenEstimate, estimate_lumen
+from ._polarity import LumenEstimate, probe_lumen
 
-__all__ = ["lumen_mask", "as_lumen", "find_lumen", "lumen_voxel", "AIR_RANGE", "CONTRAST_RANGE", "nearest_voxel"]
+__all__ = ["lumen_mask", "as_lumen", "find_lumen", "lumen_voxel", "AIR_RANGE", "CONTRAST_RANGE", "nearest_voxel",
+           "FLAGS"]
+
+#: what to try when a lumen leaks or is not found: the end of every such error message
+FLAGS = "pass --range LO,HI or --threshold T to set the lumen's values, or --lumen-mask FILE to give the lumen"
 
 #: CT values (HU) of an air-filled lumen (colon, airway) and of a contrast-filled one (vessels)
 AIR_RANGE = (-1100.0, -500.0)
@@ -124,8 +130,19 @@ def lumen_voxel(volume, point, name: str = "start") -> tuple[int, int, int]:
     return tuple(int(v) for v in zyx)
 
 
-def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None, bridge_radius: float | None = None,
-               max_fraction: float = 0.8) -> tuple[np.ndarray, LumenEstimate]:
+def _seed(volume, point, est) -> tuple[int, int, int]:
+    """The lumen voxel to grow from: the in-range voxel nearest to ``point`` within three voxels."""
+    lo, hi = est.value_range
+    try:
+        grown = lumen_mask(volume, point, (lo, hi), max_seed_distance=3.0 * max(volume.spacing))
+    except ValueError:
+        raise LumenError(f"the start point {_fmt(point)} is in no lumen: no value in {lo:.6g}..{hi:.6g} "
+                         "next to it") from None
+    return nearest_voxel(volume, grown, point)
+
+
+def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None, threshold=None,
+               bridge_radius: float | None = None, max_fraction: float = 0.8) -> tuple[np.ndarray, LumenEstimate]:
     """The lumen holding ``start`` (and ``end``), found from the points alone.
 
     Parameters
@@ -136,12 +153,14 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
     kind : {"auto", "air", "contrast"}
         The lumen's polarity (``auto``: from the data around ``start``).
     value_range : (lo, hi) or None, data units
-        Values grown as lumen; None: estimated (:func:`estimate_lumen`).
+        Values grown as lumen; None: estimated (:func:`estimate_lumen`), then narrowed by explosion control.
+    threshold : float or None, data units
+        The wall threshold; None: estimated. The grown range ends at it unless ``value_range`` is given.
     bridge_radius : float or None, mm
         Bridges narrower than twice this are cut (0: none); None: the largest
         voxel spacing, at most half the lumen's radius at the points.
     max_fraction : float
-        A region (bridges cut) over this fraction of the scan is no lumen: the point sits in tissue, whose
+        A region over this fraction of the scan is no lumen: the point sits in tissue, whose
         values join everything but the lumens. Air lumens open to the outside (a nose, 66 % of a head
         phantom's scan) stay below it.
 
@@ -149,40 +168,98 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
     -------
     mask : (nz, ny, nx) bool
     estimate : LumenEstimate
-        With ``value_range`` replaced by the one used.
+        With ``value_range`` the range grown (after explosion control) and ``tag`` the value of
+        tagged fluid joined to an air lumen.
 
     Raises
     ------
     LumenError
-        A point outside the scan or in no lumen, or the end in a lumen not connected to the start's.
+        A point outside the scan or in no lumen, the end in a lumen not connected to the start's, or a
+        leak that cannot be contained (the message names it and the flags to try).
     """
     from ..segment import cut_bridges
+    from ._fluid import add_tagged_fluid
+    from ._grow import grow
 
     points = {"start": start} if end is None else {"start": start, "end": end}
     voxels = {name: lumen_voxel(volume, p, name) for name, p in points.items()}
     try:
-        est = estimate_lumen(volume, voxels["start"], kind)
+        est, rays = probe_lumen(volume, voxels["start"], kind)
     except ValueError as exc:
         raise LumenError(f"the start point {_fmt(start)} is in no lumen: {exc}") from None
+    if threshold is not None:
+        est = est.with_threshold(threshold)
     if value_range is not None:
         est = est.with_range(value_range)
+    growth = grow(volume, _seed(volume, start, est), est, lumen=rays.inside, max_fraction=max_fraction)
     lo, hi = est.value_range
-    try:
-        grown = lumen_mask(volume, start, (lo, hi), max_seed_distance=3.0 * max(volume.spacing))
-    except ValueError:
-        raise LumenError(f"the start point {_fmt(start)} is in no lumen: no value in {lo:g}..{hi:g} "
-                         "next to it") from None
+    if growth.fills:
+        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over {lo:.6g}..{hi:.6g} from it "
+                         f"fills more than {100 * max_fraction:.0f} % of the scan; {FLAGS}")
+    est = est.with_range((lo, growth.threshold) if est.kind == "air" else (growth.threshold, hi))
+    grown, tag = add_tagged_fluid(volume, growth.mask, est)
+    est = replace(est, tag=tag)
     if end is not None:
-        _check_end(volume, grown, end, start, (lo, hi))
+        if growth.leak is not None and not _reaches(volume, grown, end):
+            raise LumenError(_leak_message(volume, growth, points))
+        _check_end(volume, grown, end, start, est.value_range)
     seeds = [nearest_voxel(volume, grown, p) for p in points.values()]
     radius = _bridge_radius(volume, grown, seeds) if bridge_radius is None else float(bridge_radius)
     cut = cut_bridges(grown, volume.spacing, seeds, radius)
     if all(cut[s] for s in seeds) and _connected(cut, seeds):
         grown = cut
+    elif end is not None:
+        raise LumenError(_neck_message(volume, grown, cut, points, radius))
+    grown = _fill_holes(grown)
     if grown.mean() > max_fraction:
-        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over {lo:g}..{hi:g} from it "
-                         f"fills {100 * grown.mean():.0f} % of the scan")
+        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over {lo:.6g}..{hi:.6g} from it "
+                         f"fills {100 * grown.mean():.0f} % of the scan; {FLAGS}")
     return grown, est
+
+
+def _reaches(volume, grown: np.ndarray, point) -> bool:
+    """Whether ``grown`` comes within three voxels (the largest spacing) of world ``point``."""
+    near = nearest_voxel(volume, grown, point)
+    gap = np.linalg.norm(volume.index_to_world(np.asarray(near[::-1], float)) - np.asarray(point, float))
+    return bool(gap <= 3.0 * max(volume.spacing))
+
+
+def _leak_message(volume, growth, points) -> str:
+    """The growth from the start broke through its wall before it reached the end."""
+    where = _fmt(volume.index_to_world(np.asarray(growth.leak[::-1], float)))
+    size = growth.leak_voxels * float(np.prod(volume.spacing)) / 1000.0
+    return (f"the lumen leaks: growing from the start point {_fmt(points['start'])} breaks through its wall into a "
+            f"larger region (at {where}; {size:.3g} ml and more) before it reaches the end point "
+            f"{_fmt(points['end'])}; {FLAGS}")
+
+
+def _fill_holes(mask: np.ndarray) -> np.ndarray:
+    """The enclosed cavities of ``mask`` filled (noise voxels of the lumen past its threshold)."""
+    from scipy import ndimage
+
+    from ._grow import _bbox
+
+    box = _bbox(mask, 1)
+    out = mask.copy()
+    out[box] = ndimage.binary_fill_holes(mask[box])
+    return out
+
+
+def _neck_message(volume, grown, cut, points, radius) -> str:
+    """What leaked: the start and end join only through a neck narrower than ``2 radius`` (removed by the cut)."""
+    from scipy import ndimage
+
+    removed = grown & ~cut
+    labels, n = ndimage.label(removed, structure=np.ones((3, 3, 3), bool))
+    where = ""
+    if n:
+        sizes = ndimage.sum(removed, labels, range(1, n + 1))
+        k = int(np.argmax(sizes)) + 1
+        centre = volume.index_to_world(np.argwhere(labels == k).mean(axis=0)[::-1])
+        where = f" near {_fmt(centre)}"
+    return (f"the lumen leaks: the start point {_fmt(points['start'])} and the end point {_fmt(points['end'])} join "
+            f"only through an opening narrower than {2 * radius:.2g} mm{where} (a leak into a neighbouring region, or "
+            f"a narrowing of the lumen); {FLAGS}")
 
 
 def _check_end(volume, grown, end, start, rng) -> None:
@@ -203,8 +280,12 @@ def _check_end(volume, grown, end, start, rng) -> None:
 def _bridge_radius(volume, mask, seeds) -> float:
     from scipy import ndimage
 
-    dist = ndimage.distance_transform_edt(mask, sampling=tuple(float(s) for s in volume.spacing))
-    return float(min(max(volume.spacing), 0.5 * min(dist[s] for s in seeds)))
+    from ._grow import _bbox
+
+    box = _bbox(mask, 1)
+    dist = ndimage.distance_transform_edt(mask[box], sampling=tuple(float(s) for s in volume.spacing))
+    at = [dist[tuple(int(v) - b.start for v, b in zip(s, box, strict=True))] for s in seeds]
+    return float(min(max(volume.spacing), 0.5 * min(at)))
 
 
 def _connected(mask, seeds) -> bool:

@@ -1,39 +1,59 @@
-"""Which way round a lumen is, found from the data: air (darker than its wall) or contrast (brighter).
+"""A lumen's values, its wall's and which way round they are, found from the data around a point inside it.
 
-:func:`estimate_lumen` looks at a ball around a point inside the lumen and
-splits its values in two classes with Otsu's threshold. The point's own value
-(median of its 3x3x3 neighbourhood) says on which side the lumen is:
+:func:`estimate_lumen` works from the point's own neighbourhood outward, so that
+neighbours of other classes (a lung beside the aorta, the tagged fluid in a
+colon, bone) cannot take the place of the wall:
 
-* above the split: a contrast-filled lumen (vessels), the wall where the data
-  falls below the threshold;
-* below it: an air-filled lumen (colon, airways), the wall where the data rises.
+1. **The lumen's class**: the densest half of the values in a small ball round the
+   point, two voxels in radius (their shortest half-range, the "shorth"): its median is
+   the lumen's value and its width the noise (the middle half of a Gaussian spans 1.349
+   standard deviations). A point near the wall sees wall voxels in the ball, all on one
+   side of the lumen's values; up to half of the ball may be wall and the densest half
+   is still the lumen's.
+2. **Rays** (:func:`~volumen.endoscopy._rays.cast_rays`): from the point, in 162
+   directions out to 50 mm (100 mm when none meets anything), each ray leaves the
+   lumen where the data departs from the lumen's value by three noise standard
+   deviations, and meets the value where that edge levels off.
+3. **Polarity**: most rays meet brighter values round an air lumen (colon,
+   airways) and darker ones round a contrast-filled lumen (vessels).
+4. **The wall's class** is what the rays meet nearest in value to the lumen: the
+   quartile of the met values on the lumen's side. A lumen is bounded by its own
+   wall (soft tissue) all round; what lies beyond a wall too thin to show (a lung
+   three millimetres from the aorta, the air of a lung round a bronchus) is met by
+   some rays only, and farther from the lumen's value than the wall is; the
+   quartile stands for the wall while up to three rays in four meet something else.
+5. The lumen's and the wall's values must stand :data:`SEPARATION` noise deviations
+   apart (a point in tissue has neighbours of other values too, but no wall round it
+   that stands out of its own texture).
+6. **The wall threshold** lies half-way between the lumen's and the wall's values:
+   where a blurred edge between the two is crossed, the partial-volume boundary.
+   The lumen's values run from the threshold to the scan's far end.
 
-When the point's own class splits again in the same way (air | tissue |
-contrast around a vessel next to a lung), the split inside it is the wall.
-The ball grows (10, 20, 40, 80 mm) until each class holds at least 5 % of its
-voxels and the classes stand apart (the distance between their means at least
-``SEPARATION`` times their pooled standard deviation: noise split in two by
-Otsu gives about 2.7), so a point deep in a wide lumen still sees its wall. The lumen's value
-range runs from the threshold to the far end of the lumen's class, widened by
-the class's own extent so noise in the lumen stays inside it.
-
-The resulting :class:`LumenEstimate` gives the wall threshold for growing,
-for the isosurface and for collisions, and the endoscopy transfer function
-(transparent lumen, opaque wall) in the scan's own units.
+The resulting :class:`LumenEstimate` gives the wall threshold for growing, for
+the isosurface and for collisions, and the endoscopy transfer function
+(transparent lumen, opaque wall) in the scan's own units. It is printed by
+``volumen fly`` (:meth:`LumenEstimate.describe`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Literal
 
 import numpy as np
 
-__all__ = ["LumenEstimate", "estimate_lumen", "LUMEN_KINDS"]
+__all__ = ["LumenEstimate", "estimate_lumen", "probe_lumen", "LUMEN_KINDS", "lumen_class"]
 
 LUMEN_KINDS = ("auto", "air", "contrast")
-#: how far apart (in pooled standard deviations) lumen and wall values must be
+#: how far apart (in pooled standard deviations) lumen and wall values must be to tell them apart: a threshold
+#: half-way puts 2.3 % of either class on the wrong side
 SEPARATION = 4.0
+#: the rays' tolerance: a sample more than this many noise standard deviations from the lumen's value has left
+#: it (0.3 % of the lumen's own samples are farther, and fewer still on the smoothed copy the rays read)
+DEPARTURE = 3.0
+#: of the values met, the quartile nearest the lumen's stands for its wall (see the module docstring)
+WALL_QUANTILE = 0.25
+REACH = (50.0, 100.0)  # mm: the rays' reach, tried in turn
 
 
 @dataclass(frozen=True)
@@ -47,26 +67,42 @@ class LumenEstimate:
     value_range : (lo, hi), data units
         Values grown as lumen (inclusive).
     threshold : float, data units
-        The wall: half-way between the lumen's and the wall's values (Otsu).
+        The wall: half-way between the lumen's and the wall's values.
     spread : float, data units
-        Distance between the two classes' medians (sets the transfer function's ramp).
+        Distance between the lumen's and the wall's values (sets the transfer function's ramp).
+    lumen, wall : float or None, data units
+        The two classes' values (None when not estimated).
+    noise : float, data units
+        The lumen's noise standard deviation.
+    tag : float or None, data units
+        The value of contrast-tagged fluid lying in an air lumen (part of the lumen), None when none.
     """
 
     kind: Literal["air", "contrast"]
     value_range: tuple[float, float]
     threshold: float
     spread: float
+    lumen: float | None = None
+    wall: float | None = None
+    noise: float = 0.0
+    tag: float | None = None
+
+    @property
+    def sign(self) -> float:
+        """+1 for an air lumen (the wall brighter), -1 for contrast: data x sign grows from lumen into wall."""
+        return 1.0 if self.kind == "air" else -1.0
 
     @property
     def lumen_side(self) -> Literal["below", "above"]:
         """Which side of the threshold the lumen is on (for :meth:`WallField.from_threshold`)."""
         return "below" if self.kind == "air" else "above"
 
-    def wall(self, volume):
+    def wall_field(self, volume):
         """The :class:`WallField` at the threshold, the lumen on its side."""
         from ._wall import WallField
 
         return WallField.from_threshold(volume, self.threshold, self.lumen_side)
+
 
     def transfer(self):
         """Endoscopy transfer function: the lumen transparent, the wall opaque from the threshold on.
@@ -77,7 +113,7 @@ class LumenEstimate:
         from ..core import TransferFunction
 
         t, w = self.threshold, max(0.15 * self.spread, 1e-3)
-        sign = 1.0 if self.kind == "air" else -1.0  # direction from the lumen into the wall
+        sign = self.sign  # direction from the lumen into the wall
         wall = [t + sign * w, t + sign * 4 * w, t + sign * 10 * w]
         lumen = t - sign * w
         colors = [(lumen, 0.7, 0.25, 0.2), (wall[0], 0.85, 0.4, 0.35), (wall[1], 0.95, 0.65, 0.55),
@@ -92,13 +128,40 @@ class LumenEstimate:
         lo, hi = (float(v) for v in value_range)
         if not hi >= lo:
             raise ValueError(f"the lumen's value range must be (lo, hi) with lo <= hi, got {value_range}")
-        return LumenEstimate(self.kind, (lo, hi), self.threshold, self.spread)
+        return replace(self, value_range=(lo, hi))
+
+    def with_threshold(self, threshold: float) -> LumenEstimate:
+        """The same estimate with another wall threshold (data units); the grown range follows it."""
+        t = float(threshold)
+        lo, hi = self.value_range
+        return replace(self, threshold=t, value_range=(lo, t) if self.kind == "air" else (t, hi))
 
     def describe(self) -> str:
         """One line for the user: what was chosen."""
         lo, hi = self.value_range
-        return (f"lumen: {self.kind} (the lumen is {'darker' if self.kind == 'air' else 'brighter'} than its wall), "
-                f"values {lo:g}..{hi:g}, wall threshold {self.threshold:g}")
+        line = (f"lumen: {self.kind} (the lumen is {'darker' if self.kind == 'air' else 'brighter'} than its wall), "
+                f"values {lo:.6g}..{hi:.6g}, wall threshold {self.threshold:.6g}")
+        if self.lumen is not None and self.wall is not None:
+            line += f" (lumen {self.lumen:.6g}, wall {self.wall:.6g})"
+        if self.tag is not None:
+            line += f", tagged fluid {self.tag:.6g} counted as lumen"
+        return line
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict of every field."""
+        d = asdict(self)
+        d["value_range"] = list(self.value_range)
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> LumenEstimate:
+        known = set(cls.__dataclass_fields__)
+        extra = set(d) - known
+        if extra:
+            raise ValueError(f"unknown LumenEstimate fields {sorted(extra)}; valid: {sorted(known)}")
+        d = dict(d)
+        d["value_range"] = tuple(float(v) for v in d["value_range"])
+        return cls(**d)
 
 
 def _ball(volume, zyx, radius: float) -> np.ndarray:
@@ -112,30 +175,50 @@ def _ball(volume, zyx, radius: float) -> np.ndarray:
     return np.asarray(box[d2 <= radius * radius], np.float64)
 
 
-def _split(vals: np.ndarray) -> tuple[float, np.ndarray, np.ndarray] | None:
-    """Otsu's split of ``vals`` when its two classes are distinct (sizes and separation), else None."""
-    from skimage.filters import threshold_otsu
-
-    if vals.size < 8 or np.ptp(vals) <= 0:
-        return None
-    t = float(threshold_otsu(vals))
-    low, high = vals[vals <= t], vals[vals > t]
-    if min(low.size, high.size) < max(0.05 * vals.size, 2):
-        return None
-    pooled = np.sqrt(0.5 * (low.var() + high.var()))
-    return (t, low, high) if high.mean() - low.mean() >= SEPARATION * pooled else None
+def lumen_class(volume, zyx) -> tuple[float, float]:
+    """``(value, noise)`` of the lumen round voxel ``zyx``: the median and the width / 1.349 of the densest half
+    of the values in the ball two voxels (the largest spacing) in radius (at least a thousandth of the
+    value's magnitude, for noise-free data)."""
+    vals = np.sort(_ball(volume, zyx, 2.0 * float(max(volume.spacing))))
+    half = vals.size // 2 + 1
+    widths = vals[half - 1:] - vals[:vals.size - half + 1]
+    k = int(np.argmin(widths))
+    med = float(np.median(vals[k:k + half]))
+    return med, max(float(widths[k]) / 1.349, 1e-3 * max(abs(med), 1.0))
 
 
-def _classes(volume, zyx, here: float) -> tuple[float, np.ndarray, np.ndarray]:
-    for radius in (10.0, 20.0, 40.0, 80.0):
-        split = _split(_ball(volume, zyx, radius))
-        while split is not None:  # descend while the point's own class splits again (air | tissue | contrast)
-            t, low, high = split
-            inner = _split(high if here > t else low)
-            if inner is None or inner[0] == t:
-                return split
-            split = inner
-    raise ValueError("no wall within 80 mm of it: its neighbourhood holds no two distinct classes of values")
+def probe_lumen(volume, zyx, kind: str = "auto"):
+    """:func:`estimate_lumen` and the :class:`~volumen.endoscopy._rays.RayProbe` it was made from."""
+    from ._rays import cast_rays
+
+    if kind not in LUMEN_KINDS:
+        raise ValueError(f"lumen kind must be one of {', '.join(LUMEN_KINDS)}; got {kind!r}")
+    z, y, x = (int(v) for v in zyx)
+    lumen, noise = lumen_class(volume, (z, y, x))
+    for reach in REACH:
+        rays = cast_rays(volume, (z, y, x), lumen, DEPARTURE * noise, reach)
+        if rays.hit.any():
+            break
+    else:
+        raise ValueError(f"no wall within {REACH[-1]:g} mm of it: the data stays within "
+                         f"{DEPARTURE * noise:.3g} of its value {lumen:.6g} in every direction")
+    if kind == "auto":
+        kind = "air" if np.sum(rays.sign > 0) >= np.sum(rays.sign < 0) else "contrast"
+    sign = 1 if kind == "air" else -1
+    met = rays.met[(rays.sign == sign) & np.isfinite(rays.met)]
+    if met.size == 0:
+        raise ValueError(f"no {'brighter' if sign > 0 else 'darker'} wall round it within {REACH[-1]:g} mm "
+                         f"(forced --lumen {kind})")
+    wall = float(np.quantile(met, WALL_QUANTILE if sign > 0 else 1.0 - WALL_QUANTILE))
+    if abs(wall - lumen) < SEPARATION * noise:
+        raise ValueError(f"its values ({lumen:.6g} +- {noise:.3g}) do not stand apart from those round it "
+                         f"({wall:.6g}): it is tissue, not a lumen")
+    t = 0.5 * (lumen + wall)
+    lo, hi = volume.value_range()
+    rng = (float(min(lo, lumen)), t) if kind == "air" else (t, float(max(hi, lumen)))
+    est = LumenEstimate(kind=kind, value_range=rng, threshold=t, spread=abs(wall - lumen), lumen=lumen, wall=wall,
+                        noise=noise)
+    return est, rays
 
 
 def estimate_lumen(volume, zyx, kind: str = "auto") -> LumenEstimate:
@@ -147,25 +230,17 @@ def estimate_lumen(volume, zyx, kind: str = "auto") -> LumenEstimate:
     zyx : (3,) int
         A voxel inside the lumen, ``(z, y, x)``.
     kind : {"auto", "air", "contrast"}
-        ``auto`` decides from the voxel's value; the others force the polarity
+        ``auto`` decides from the data round the voxel; the others force the polarity
         (the threshold and range still come from the data).
 
     Returns
     -------
     LumenEstimate
+
+    Raises
+    ------
+    ValueError
+        When no wall is met within 100 mm, or none of the forced polarity, or the wall's values do not
+        stand apart from the lumen's (the point is in no lumen).
     """
-    if kind not in LUMEN_KINDS:
-        raise ValueError(f"lumen kind must be one of {', '.join(LUMEN_KINDS)}; got {kind!r}")
-    z, y, x = (int(v) for v in zyx)
-    here = float(np.median(volume.data[max(z - 1, 0):z + 2, max(y - 1, 0):y + 2, max(x - 1, 0):x + 2]))
-    t, low, high = _classes(volume, zyx, here)
-    if kind == "auto":
-        kind = "contrast" if here > t else "air"
-    spread = float(np.median(high) - np.median(low))
-    if kind == "contrast":
-        top = float(high.max())
-        rng = (t, top + (top - t))
-    else:
-        bottom = float(low.min())
-        rng = (bottom - (t - bottom), t)
-    return LumenEstimate(kind=kind, value_range=rng, threshold=t, spread=spread)
+    return probe_lumen(volume, zyx, kind)[0]

@@ -2,10 +2,14 @@
 
 Searches are GET requests written here rather than by ``dicomweb-client``, for one reason: the query string.
 The client percent-encodes every matching value (``Doe%2A``, ``Doe%5EJane``), which the standard allows but
-Orthanc 1.10's DICOMweb plugin does not decode (it matches the literal ``%2A``). Here the wildcards ``*`` and
+Orthanc 1.10 (Debian 12) does not decode (it matches the literal ``%2A``). Here the wildcards ``*`` and
 ``?``, legal in a query as they are, travel unescaped and everything else is percent-encoded, so a wildcard
-search finds the same studies on Orthanc as on servers that decode. What urllib3 always escapes (the name
-separator ``^``, a space) still reaches Orthanc 1.10 escaped: search ``Doe*Jane`` or ``CT*chest`` there.
+search finds the same studies on Orthanc as on servers that decode. What must travel escaped (the name
+separator ``^``, a space, non-ASCII letters: urllib3 escapes them whatever the caller sends) cannot match
+there, so a study search with such a value that finds nothing is asked again with the wildcard ``?`` in
+place of each escaped character, and only the studies whose values match the value asked for are kept
+(:func:`loosened`, :func:`matches`): ``Doe^Jane`` finds Doe^Jane on Orthanc 1.10, and a server that decodes
+pays one more request only when there is nothing to find.
 
 Instances are fetched one request each, in the order QIDO lists them, so a transfer cut in the middle
 loses at most the instance in flight and a rerun asks only for the missing ones. HTTP failures become
@@ -16,6 +20,7 @@ the password or token travels in a ``requests`` authentication object, not in th
 
 from __future__ import annotations
 
+import re
 import time
 import warnings
 from collections.abc import Callable, Iterable
@@ -30,11 +35,11 @@ from ..errors import (
     ArchiveUnreachableError,
 )
 from ._config import Server
-from ._credentials import Prompt, password, token
+from ._credentials import Prompt, forget, password, token
 from ._privacy import redact_logs
 from ._records import SERIES_KEYS, STUDY_KEYS, Query, Series, Study
 
-__all__ = ["DicomWebArchive", "query_string"]
+__all__ = ["DicomWebArchive", "query_string", "loosened", "matches"]
 
 _RAW = "*?-._~"  # sent unescaped: DICOM's wildcards and RFC 3986's unreserved marks
 
@@ -46,6 +51,31 @@ def query_string(params: dict[str, str | int | list]) -> str:
         for v in value if isinstance(value, (list, tuple)) else (value,):
             parts.append(f"{quote(str(key), safe='')}={quote(str(v), safe=_RAW)}")
     return "&".join(parts)
+
+
+def loosened(filters: dict[str, str]) -> dict[str, str]:
+    """The matching values that travel percent-encoded, each escaped character replaced by the wildcard ``?``
+    (for a server that matches the query text as sent); empty when every value travels as it is."""
+    out = {}
+    for key, value in filters.items():
+        loose = "".join(c if quote(c, safe=_RAW) == c else "?" for c in value)
+        if loose != value:
+            out[key] = loose
+    return out
+
+
+def matches(ds, filters: dict[str, str]) -> bool:
+    """Whether ``ds`` (a QIDO-RS result) has, for each keyword of ``filters``, a value matching it with DICOM's
+    wildcards (``*`` any run, ``?`` one character; letters in any case, as for person names)."""
+    from pydicom.multival import MultiValue
+
+    for key, pattern in filters.items():
+        regex = "".join(".*" if c == "*" else "." if c == "?" else re.escape(c) for c in pattern)
+        value = ds.get(key)
+        values = list(value) if isinstance(value, MultiValue) else [] if value is None else [value]
+        if not any(re.fullmatch(regex, str(v), re.IGNORECASE | re.DOTALL) for v in values):
+            return False
+    return True
 
 
 def _bearer(value: str):
@@ -60,6 +90,26 @@ def _bearer(value: str):
             return "Bearer(...)"
 
     return Bearer()
+
+
+def _session(ca_bundle: str | None):
+    """A ``requests`` session trusting ``ca_bundle`` for every request, ours and ``dicomweb-client``'s.
+
+    ``requests`` lets ``REQUESTS_CA_BUNDLE`` / ``CURL_CA_BUNDLE`` (often set system-wide) override a session's
+    ``verify``; here a configured ``ca_bundle`` wins, and without one the environment's bundle applies.
+    """
+    import requests
+
+    class Session(requests.Session):
+        def merge_environment_settings(self, url, proxies, stream, verify, cert):
+            merged = super().merge_environment_settings(url, proxies, stream, verify, cert)
+            if ca_bundle:
+                merged["verify"] = ca_bundle
+            return merged
+
+    session = Session()
+    session.verify = ca_bundle or True
+    return session
 
 
 def _reason(exc: Exception) -> str:
@@ -89,13 +139,12 @@ class DicomWebArchive:
 
         redact_logs()
         self.server = server
-        session = requests.Session()
+        session = _session(server.ca_bundle)
         secret = token(server)
         if secret:
             session.auth = _bearer(secret)
         elif server.username is not None:
             session.auth = requests.auth.HTTPBasicAuth(server.username, password(server, ask))
-        session.verify = server.ca_bundle or True
         self.session = session
         self.timeout = (min(server.timeout, 10.0), server.timeout)
         self.client = DICOMwebClient(url=server.url.rstrip("/"), session=session, timeout=self.timeout)
@@ -113,7 +162,8 @@ class DicomWebArchive:
         prepared = self.session.prepare_request(requests.Request("GET", url, headers={
             "Accept": "application/dicom+json"}))
         prepared.url = url  # as written: requests would escape the ^ of a name again
-        response = self.session.send(prepared, timeout=self.timeout, verify=self.session.verify)
+        settings = self.session.merge_environment_settings(url, {}, None, None, None)  # proxies, CA bundle
+        response = self.session.send(prepared, timeout=self.timeout, **settings)
         response.raise_for_status()
         found = response.json() if response.content else []
         with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
@@ -135,6 +185,7 @@ class DicomWebArchive:
         except requests.exceptions.HTTPError as exc:
             code = exc.response.status_code if exc.response is not None else 0
             if code in (401, 403):
+                forget(self.server)
                 who = f"user {self.server.username}" if self.server.username else "requests without credentials"
                 raise ArchiveAuthError(label, f"refused {who} (HTTP {code}: wrong user name or password, or no "
                                               "access)") from None
@@ -164,12 +215,16 @@ class DicomWebArchive:
         return time.perf_counter() - t0
 
     def find_studies(self, query: Query) -> list[Study]:
+        """The studies matching ``query``; asked again with ``?`` for escaped characters when none is found (see
+        the module's docstring)."""
         params = {**query.filters(), "includefield": list(STUDY_KEYS)}
-        if query.limit:
-            params["limit"] = query.limit
         with self._errors("the study search"):
-            found = self._search("studies", params)
-        return [Study.from_dataset(ds) for ds in found]
+            found = self._search("studies", {**params, "limit": query.limit} if query.limit else params)
+            loose = {} if found else loosened(query.filters())
+            if loose:
+                wanted = {key: query.filters()[key] for key in loose}
+                found = [ds for ds in self._search("studies", {**params, **loose}) if matches(ds, wanted)]
+        return [Study.from_dataset(ds) for ds in found[: query.limit or None]]
 
     def find_series(self, study_uid: str) -> list[Series]:
         with self._errors("the series search", f"has no study {study_uid}"):

@@ -92,6 +92,9 @@ def _used_files(module) -> set[Path]:
     return {f for f in used if f.is_relative_to(package) and f != Path(module.__file__).resolve()}
 
 
+_NO_KERNELS = ("volumen.app", "volumen.cli", "volumen.web", "volumen.notebook", "volumen.bench")
+
+
 def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
     """Numba checks only a kernel's own file: each module with ``cache=True`` kernels that uses another file's
     compiled functions (or tables) has that file, and that file's own group, in its stamp (``volumen.jit``)."""
@@ -104,8 +107,8 @@ def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
 
     checked, missing = [], []
     for info in pkgutil.walk_packages(volumen.__path__, "volumen."):
-        if info.name.startswith(("volumen.app", "volumen.cli")) or info.name.endswith("__main__"):
-            continue  # Qt, and command modules without kernels
+        if info.name.startswith(_NO_KERNELS) or info.name.endswith("__main__"):
+            continue  # the top floors (Qt, servers, commands) compile nothing of their own
         module = importlib.import_module(info.name)
         own = Path(module.__file__).resolve()
         cached = [v for v in vars(module).values() if isinstance(v, Dispatcher)

@@ -51,7 +51,7 @@ def register(sub):
     p.add_argument("--frames", type=int, help="number of frames (default: path duration x fps + 1)")
     p.add_argument("--size", default="256x256", help="frame size WxH in pixels (default 256x256)")
     p.add_argument("--fov", type=float, help="vertical field of view, 30..140 degrees (default 100, or the saved one)")
-    from volumen.core import SHADINGS
+    from volumen.core import INTERPOLATIONS, SHADINGS
     from volumen.endoscopy import LUMEN_KINDS
 
     p.add_argument("--shading", choices=SHADINGS,
@@ -61,6 +61,9 @@ def register(sub):
                    help="wall as a surface at the wall threshold, or volume rendering with a transfer function made "
                         "from the lumen's values or --preset (default: composite when --preset is given, else "
                         "isosurface)")
+    p.add_argument("--reconstruction", choices=INTERPOLATIONS,
+                   help="between voxels: linear (trilinear, the default), nearest, or bspline (tricubic B-spline: "
+                        "smooth walls on thick-slice scans, about 3x slower)")
     p.add_argument("--preset", help="transfer function for composite mode (endo-air, endo-contrast, or a core preset)")
     p.add_argument("--lumen", choices=LUMEN_KINDS, default="auto",
                    help="air lumen (darker than its wall: colon, airways), contrast lumen (brighter: vessels), or "
@@ -134,6 +137,8 @@ def _overrides(args) -> dict:
     from volumen.endoscopy import endoscopy_transfer
 
     out = {k: getattr(args, k) for k in ("mode", "threshold", "shading", "fov") if getattr(args, k) is not None}
+    if args.reconstruction is not None:
+        out["interpolation"] = args.reconstruction
     if args.preset:
         out["transfer"] = endoscopy_transfer(args.preset)
         out.setdefault("mode", "composite")

@@ -11,7 +11,7 @@ from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
-from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
+from ._scene import INTERPOLATIONS, MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
 from ._slices import (
     PLANES,
     WINDOW_PRESETS,
@@ -52,6 +52,7 @@ __all__ = [
     "Isosurface",
     "Scene",
     "MODES",
+    "INTERPOLATIONS",
     "SHADINGS",
     "Image",
     "Display",

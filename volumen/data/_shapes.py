@@ -43,13 +43,16 @@ def _grid(size, spacing) -> Grid:
 _SUB = 3  # anti-aliasing: sub-samples per axis in a voxel that the surface crosses
 
 
-def _render(grid: Grid, sd_fn, *, inside, outside, antialias, truth, name) -> Volume:
+def _render(grid: Grid, sd_fn, *, inside, outside, antialias, truth, name, edge=0.0) -> Volume:
     """Values from ``sd_fn(x, y, z) -> (sd, w)``: the signed distance (mm, < 0 inside) of world
-    points and the voxel width along the surface normal there; wrap with ``truth``."""
+    points and the voxel width along the surface normal there; wrap with ``truth``. ``edge`` > 0 (mm): a
+    logistic edge ``1 / (1 + exp(sd / edge))`` instead (a scanner's blur: band-limited, thin slices or thick)."""
     reg = grid.region()
     sd, width = sd_fn(reg.x, reg.y, reg.z)
     sd = np.broadcast_to(sd, grid.shape)
-    if antialias:
+    if edge > 0:
+        values = outside + (inside - outside) / (1.0 + np.exp(np.clip(sd / edge, -50.0, 50.0)))
+    elif antialias:
         width = np.broadcast_to(width, grid.shape)
         cover = np.clip(0.5 - sd / width, 0.0, 1.0)
         k, j, i = np.nonzero((cover > 0) & (cover < 1))  # voxels the surface crosses: average sub-voxel ramps
@@ -105,8 +108,10 @@ def ellipsoid(size=64, *, semi_axes=(25.0, 18.0, 12.0), center=(0.0, 0.0, 0.0), 
 
 
 def sphere(size=64, *, radius=20.0, center=(0.0, 0.0, 0.0), inside=1000.0, outside=-1000.0, spacing=1.0,
-           antialias=False) -> Volume:
-    """A sphere of ``radius`` mm around ``center`` (world xyz mm).
+           antialias=False, edge=0.0) -> Volume:
+    """A sphere of ``radius`` mm around ``center`` (world xyz mm); ``edge`` > 0 (mm): a logistic edge of that
+    width (blurred as a scanner blurs, and sampled as finely or coarsely as ``spacing`` says: a thick-slice scan
+    of a smooth wall, the phantom of trilinear reconstruction's terraces).
 
     ``meta["truth"] = {"kind": "sphere", "center": [x, y, z], "radius": r,
     "volume": 4/3 pi r^3 (mm^3), "inside", "outside"}``.
@@ -124,7 +129,8 @@ def sphere(size=64, *, radius=20.0, center=(0.0, 0.0, 0.0), inside=1000.0, outsi
         return dist - r, _normal_width(grid, px / safe, py / safe, pz / safe)
 
     truth = {"kind": "sphere", "center": [cx, cy, cz], "radius": r, "volume": 4.0 / 3.0 * np.pi * r**3}
-    return _render(grid, sd_fn, inside=inside, outside=outside, antialias=antialias, truth=truth, name="sphere")
+    return _render(grid, sd_fn, inside=inside, outside=outside, antialias=antialias, truth=truth, name="sphere",
+                   edge=float(edge))
 
 
 def slab(size=64, *, thickness=20.0, axis="z", center=(0.0, 0.0, 0.0), inside=1000.0, outside=-1000.0,

@@ -85,6 +85,20 @@ def test_gl_sampling_options(gl, sampling):
         assert mean <= MEAN_TOL and p99 <= P99_TOL and dd <= DEPTH_TOL, (sc.mode, mean, p99, dd)
 
 
+def test_gl_bspline_reconstruction_equals_cpu(gl):
+    """The tricubic B-spline (8 trilinear texture lookups a value, 24 a gradient) on the isosurface: the CPU's
+    picture (the scene the B-spline ring test compiles on the CPU too: no kernel of its own)."""
+    scene, cam, size = reference_scenes.scenes()["head/isosurface/headlight"]
+    sc = scene.with_(sampling=dataclasses.replace(scene.sampling, interpolation="bspline"))
+    lin = render(scene, cam, (64, 64))
+    a, b = render(sc, cam, (64, 64)), render(sc, cam, (64, 64), device="gl")
+    mean, p99, dd = compare(a, b)
+    print(f"B-spline gl vs cpu: mean {mean:.2e}, p99 {p99:.2e}, depth {dd:.2e} mm; vs trilinear on the cpu: mean "
+          f"{np.abs(a.rgba - lin.rgba).mean():.2e}")
+    assert mean <= MEAN_TOL and p99 <= P99_TOL and dd <= DEPTH_TOL
+    assert np.abs(a.rgba - lin.rgba).mean() > 1e-3  # it is the B-spline that was compared
+
+
 def test_gl_projection_values_equal_cpu(gl):
     """mip / minip / average: ``Image.value`` (data units) equals the CPU's to 1e-3 of the value range."""
     for mode in ("mip", "minip", "average"):

@@ -73,12 +73,15 @@ def _lights(a, s) -> dict:
 
 
 def _settings(s) -> dict:
+    from ..raycast._pieces import BSpline  # the raycast package (Numba) loads with the frame, not at import
+
     u = {f"u_{name}": float(getattr(s, name)) for name in ("ds", "ds0", "et", "ka", "kd", "ks", "shine", "iso",
                                                            "pre_scale", "sh_off", "sh_step", "kext", "albedo", "g")}
     u["u_iso_rgb"] = (float(s.iso_r), float(s.iso_g), float(s.iso_b))
     flags = ("nearest", "jitter", "skip", "gradop", "sobel", "color", "hdr")
     u.update({f"u_{name}": bool(getattr(s, name)) for name in flags})
     u.update(u_seed=int(s.seed), u_block=int(s.block), u_nplanes=int(s.nplanes), u_envmode=int(s.envmode))
+    u["u_recon"] = int(isinstance(s.recon, BSpline))  # the reconstruction tag (raycast._pieces)
     return u
 
 

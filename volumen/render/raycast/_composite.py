@@ -16,10 +16,10 @@ import numpy as np
 from numba import njit
 
 from ..optics import composite, correct_opacity
+from ._bspline import normal
 from ._color import emission
 from ._frame import FAR
 from ._labelled import classify_sample
-from ._normals import sample_normal
 from ._pieces import Composite, LabelledComposite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
 
@@ -39,7 +39,7 @@ def lit(light, r, a, s, t, c, gradop):
     cr, cg, cb, al = emission(a, s, x, y, z, c)
     gx = gy = gz = code = 0.0
     if uses_normals(light) or gradop:
-        gx, gy, gz, code = sample_normal(a, x, y, z, s.nearest, uses_normals(light), gradop)
+        gx, gy, gz, code = normal(s.recon, a, x, y, z, s.nearest, uses_normals(light), gradop)
     if gradop:
         f = a.glut[min(int(code + 0.5), 127)]
         cr, cg, cb, al = cr * f, cg * f, cb * f, al * f

@@ -26,6 +26,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from ._pieces import Trilinear
+
 __all__ = ["Arrays", "Settings", "Outputs", "Frame", "PER_VOLUME", "FAR"]
 
 #: "infinitely far" inside the kernels, which are compiled with fastmath (no inf/NaN semantics);
@@ -95,6 +97,7 @@ class Settings(NamedTuple):
     albedo: float = 1.0      #: single-scattering albedo
     g: float = 0.0           #: Henyey-Greenstein anisotropy
     nearest: bool = False    #: nearest-neighbour instead of trilinear reconstruction
+    recon: Any = Trilinear()  #: reconstruction tag (``_pieces``): Trilinear() (or nearest), or BSpline() (``_bspline``)
     jitter: bool = False     #: jitter each ray's first sample
     lattice: bool = False    #: samples at t = (m + jitter) ds from the ray's origin, not from its entry (``_ray``)
     seed: int = 0            #: jitter / path-tracing seed

@@ -19,12 +19,11 @@ from __future__ import annotations
 
 from numba import njit
 
+from ._bspline import normal, reconstruct
 from ._frame import FAR
 from ._geometry import C_NEAR
-from ._normals import sample_normal
-from ._pieces import Isosurface, eager, finish, init, radius, shade, step, uses_normals
+from ._pieces import Isosurface, Trilinear, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
-from ._sample import sample_table
 
 __all__ = ["iso_refine"]
 
@@ -32,15 +31,15 @@ __all__ = ["iso_refine"]
 @njit(cache=True, fastmath=True)
 def _crossing(vol, norm, iso, side, ta, fa, tb, fb, o, d):
     """Crossing between ``ta`` (on the eye's side) and ``tb`` (beyond): regula falsi on ``side * (v - iso)``,
-    4 steps. ``norm = (u0, ufac, nearest)``: how ``vol`` is read (``_sample.sample_table``); ``o``, ``d``: the
-    ray in voxel indices."""
-    u0, ufac, nearest = norm
+    4 steps. ``norm = (u0, ufac, nearest, recon)``: how ``vol`` is read (``_bspline.reconstruct``); ``o``, ``d``:
+    the ray in voxel indices."""
+    u0, ufac, nearest, recon = norm
     fa = side * (fa - iso)
     fb = side * (fb - iso)
     for _ in range(4):
         tm = ta + (0.0 - fa) / (fb - fa) * (tb - ta)
-        vm = side * (sample_table(vol, u0, ufac, o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2], nearest)
-                     - iso)
+        vm = side * (reconstruct(recon, vol, u0, ufac, o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2],
+                                 nearest) - iso)
         if vm >= 0.0:
             tb = tm
             fb = vm
@@ -52,10 +51,13 @@ def _crossing(vol, norm, iso, side, ta, fa, tb, fb, o, d):
     return ta + (0.0 - fa) / (fb - fa) * (tb - ta)
 
 
+_TRILINEAR = Trilinear()
+
+
 @njit(cache=True, fastmath=True)
 def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
     """Threshold crossing between (ta, fa < iso) and (tb, fb >= iso): regula falsi, 4 steps."""
-    return _crossing(vol, (0.0, 1.0, nearest), iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
+    return _crossing(vol, (0.0, 1.0, nearest, _TRILINEAR), iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -88,7 +90,7 @@ def _step(light, r, a, s, st, k, t, v, have):
         extra = 1
     dep = t
     if not _beyond(vp, s.iso, side):
-        dep = _crossing(a.vol, (s.u0, s.ufac, s.nearest), s.iso, side, tp, vp, t, v, (r.oi, r.oj, r.ok),
+        dep = _crossing(a.vol, (s.u0, s.ufac, s.nearest, s.recon), s.iso, side, tp, vp, t, v, (r.oi, r.oj, r.ok),
                         (r.di, r.dj, r.dk))
     return (dep, v, t, side), extra, True
 
@@ -101,7 +103,7 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
     if dep >= FAR:
         return
     x, y, z = r.oi + dep * r.di, r.oj + dep * r.dj, r.ok + dep * r.dk
-    gx, gy, gz, _ = sample_normal(a, x, y, z, s.nearest, uses_normals(light), False)
+    gx, gy, gz, _ = normal(s.recon, a, x, y, z, s.nearest, uses_normals(light), False)
     fr, fg, fb, sr, sg, sb = shade(light, a, s, (gx, gy, gz), (-r.dx, -r.dy, -r.dz),
                                    (r.ox + dep * r.dx, r.oy + dep * r.dy, r.oz + dep * r.dz))
     out.rgba[py, px, 0] = min(s.iso_r * fr + sr, 1.0)

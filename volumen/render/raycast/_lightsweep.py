@@ -34,6 +34,7 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
+from ._pieces import Trilinear
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of", "sweep_medium"]
@@ -178,7 +179,7 @@ def lattice_transmittance_of(acc, scale):
 class Sweep(NamedTuple):
     """What a lattice sweep reads (the CPU driver and the CUDA kernel take it whole)."""
 
-    volt: Any      #: the samples with their axes ordered (a, b, c), read as ``_sample.sample_table`` does
+    volt: Any      #: the samples with their axes ordered (a, b, c), read as ``_medium.depth_at`` does
     sig: Any       #: optical depth per reference step of each table entry
     aff: Any       #: voxel -> world affine rows (3, 4)
     geo: Any       #: packed region (``_geometry``)
@@ -194,6 +195,7 @@ class Sweep(NamedTuple):
     lut: Any
     lscale: float
     nlab: int
+    recon: Any = Trilinear()  #: reconstruction tag (``_medium.Medium.recon``)
 
     @classmethod
     def of(cls, med, axes, aff, geo, planes, meta, nplanes, ds0, kext):
@@ -201,13 +203,13 @@ class Sweep(NamedTuple):
         [z, y, x]), given ``permute(array, axes)`` views of its volume and label map in ``axes``."""
         volt, labt = axes(med.vol), axes(med.lab)
         return cls(volt, med.sig, aff, geo, planes, meta, int(nplanes), float(ds0), float(kext), float(med.u0),
-                   float(med.ufac), labt, med.llut, med.lut, float(med.lscale), int(med.nlab))
+                   float(med.ufac), labt, med.llut, med.lut, float(med.lscale), int(med.nlab), med.recon)
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def sweep_medium(sw):
     """The :class:`._medium.Medium` a sweep reads."""
-    return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab)
+    return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab, sw.recon)
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)

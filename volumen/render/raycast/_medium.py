@@ -22,8 +22,9 @@ import numpy as np
 from numba import njit
 
 from ..optics import MAX_OPACITY, optical_depth
+from ._bspline import reconstruct
 from ._labelled import classify
-from ._sample import sample_table
+from ._pieces import Trilinear
 
 __all__ = ["Medium", "frame_medium", "depth_at", "event_color", "depth_bound", "label_scale"]
 
@@ -31,7 +32,7 @@ __all__ = ["Medium", "frame_medium", "depth_at", "event_color", "depth_bound", "
 class Medium(NamedTuple):
     """What a light path reads (the volume's axes may be permuted, ``lab``'s alike: a lattice sweep)."""
 
-    vol: Any       #: samples [z, y, x], read as ``_sample.sample_table`` does
+    vol: Any       #: samples [z, y, x], read as ``_bspline.reconstruct`` does with ``recon``
     sig: Any       #: optical depth per reference step of each table entry (NLUT,)
     u0: float      #: samples -> table units: ``(v - u0) * ufac``
     ufac: float
@@ -40,6 +41,7 @@ class Medium(NamedTuple):
     lut: Any       #: the primary rays' colour / opacity table (NLUT, 4), opacity per step ``ds``
     lscale: float  #: ``ds0 / (ds * kext)``: optical depth of a step's opacity -> per reference step
     nlab: int      #: label-aware classification when > 0
+    recon: Any = Trilinear()  #: reconstruction tag (``_pieces``: ``Settings.recon``)
 
 
 def label_scale(ds: float, ds0: float, kext: float) -> float:
@@ -50,7 +52,7 @@ def label_scale(ds: float, ds0: float, kext: float) -> float:
 @njit(cache=True, fastmath=True, inline="always")
 def frame_medium(a, s):
     """The :class:`Medium` of a packed frame (``a``, ``s``: ``_frame.Arrays``, ``_frame.Settings``)."""
-    return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab)
+    return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab, s.recon)
 
 
 @njit(cache=True, fastmath=True, _nrt=False)
@@ -62,8 +64,9 @@ def _classified(m, x, y, z, idx):
 
 @njit(cache=True, fastmath=True, inline="always")
 def depth_at(m, x, y, z):
-    """``(optical depth per reference step, table index)`` at voxel-index position ``(x, y, z)`` (trilinear)."""
-    v = sample_table(m.vol, m.u0, m.ufac, x, y, z, False)
+    """``(optical depth per reference step, table index)`` at voxel-index position ``(x, y, z)`` (trilinear, or the
+    B-spline: ``m.recon``)."""
+    v = reconstruct(m.recon, m.vol, m.u0, m.ufac, x, y, z, False)
     idx = min(max(int(v + 0.5), 0), m.sig.shape[0] - 1)
     if m.nlab <= 0:
         return m.sig[idx], idx

@@ -21,7 +21,7 @@ from ._labelled import label_blocks, label_table, packed_labels, solid_rows
 from ._lightvol import NMETA, light_volumes
 from ._medium import Medium, label_scale
 from ._normals import DIRS, NO_CODES
-from ._pieces import LIGHT_TAGS, MODE_TAGS
+from ._pieces import LIGHT_TAGS, MODE_TAGS, RECON_TAGS
 from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
@@ -69,7 +69,8 @@ def _light_keys(scene, lights, geo, planes, kext, med):
     clip = geo.tobytes() + planes.tobytes()
     scale = scene.shading.shadows.light_volume_scale
     labels = (_Same(med.lab), med.llut.tobytes(), med.lscale) if med.nlab > 0 else None
-    return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext, labels) for i in range(len(lights))]
+    recon = type(med.recon).__name__
+    return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext, labels, recon) for i in range(len(lights))]
 
 
 def _model(scene) -> tuple[str, bool]:
@@ -122,7 +123,8 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     if shaded or gradop:
         sobel = sh.phong.gradient == "sobel"
         nrm, gmax = prep.normals(sobel, magnitude=gradop)
-        ncode, gcode = prep.codes(sobel, shaded, gradop)
+        if scene.sampling.interpolation != "bspline":  # the B-spline's gradients are its own (``_bspline.normal``)
+            ncode, gcode = prep.codes(sobel, shaded, gradop)
     else:
         nrm, gmax = np.zeros((4, 3), np.float64), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
@@ -199,7 +201,7 @@ def _light_volumes(scene, prep, t, st, lights, model, build):
     inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
     pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
     med = Medium(prep.u, t["sig"], prep.u0, prep.ufac, t["lab"], t["llut"], t["lut"],
-                 label_scale(st.ds, st.ds0, kext), st.nlab)
+                 label_scale(st.ds, st.ds0, kext), st.nlab, st.recon)
     keys = _light_keys(scene, lights[:nlights], geo, planes, kext, med)
     method = "fast" if sh.mode == "pathtrace" else sh.shadows.method
     return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], med, geo, planes,
@@ -216,7 +218,8 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
         ks=ph.specular, shine=ph.shininess, u0=prep.u0, ufac=prep.ufac, vmin=prep.vmin, vscale=prep.scale,
         iso=u_iso, iso_r=c[0], iso_g=c[1], iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0,
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
-        nearest=smp.interpolation == "nearest", jitter=bool(smp.jitter), lattice=smp.lattice, seed=int(smp.seed),
+        nearest=smp.interpolation == "nearest", recon=RECON_TAGS[smp.interpolation](), jitter=bool(smp.jitter),
+        lattice=smp.lattice, seed=int(smp.seed),
         skip=t["skip"],
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),

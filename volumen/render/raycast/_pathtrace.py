@@ -37,12 +37,12 @@ from numba import njit
 
 from ...jit import claim
 from ..optics import hg_phase
+from ._bspline import reconstruct
 from ._color import sample_rgb
 from ._environment import env_pdf, env_radiance, env_sample, sh_phase
 from ._geometry import primary_ray, ray_interval, region_interval, to_index
 from ._majorant import free_flight, optical_depth, transmittance
 from ._medium import event_color, frame_medium
-from ._sample import sample_table
 from ._shade import L_COL, L_RAD, light_vector
 from ._sobol import SOBOL_DIMS, draw, path_key
 
@@ -203,12 +203,10 @@ def _normal(a, s, w, d):
     """Unit normal of the medium at world point ``w`` (minus its density gradient, through the index -> world
     gradient matrix ``Arrays.nrm``), turned toward the eye (against ``d``); (0, 0, 0) where the gradient vanishes."""
     x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
-    gi = sample_table(a.vol, s.u0, s.ufac, x + 1.0, y, z, False) - sample_table(a.vol, s.u0, s.ufac, x - 1.0, y, z,
-                                                                                   False)
-    gj = sample_table(a.vol, s.u0, s.ufac, x, y + 1.0, z, False) - sample_table(a.vol, s.u0, s.ufac, x, y - 1.0, z,
-                                                                                   False)
-    gk = sample_table(a.vol, s.u0, s.ufac, x, y, z + 1.0, False) - sample_table(a.vol, s.u0, s.ufac, x, y, z - 1.0,
-                                                                                   False)
+    r, v, u0, f = s.recon, a.vol, s.u0, s.ufac
+    gi = reconstruct(r, v, u0, f, x + 1.0, y, z, False) - reconstruct(r, v, u0, f, x - 1.0, y, z, False)
+    gj = reconstruct(r, v, u0, f, x, y + 1.0, z, False) - reconstruct(r, v, u0, f, x, y - 1.0, z, False)
+    gk = reconstruct(r, v, u0, f, x, y, z + 1.0, False) - reconstruct(r, v, u0, f, x, y, z - 1.0, False)
     m = a.nrm
     nx = -(m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk)
     ny = -(m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk)

@@ -1,4 +1,4 @@
-"""Compile-time specialization: tags for the mode and the shading model, and pieces chosen by tag.
+"""Compile-time specialization: tags for the mode, the shading model and the reconstruction, and pieces chosen by tag.
 
 A kernel takes a *mode tag* and a *light tag*: empty NamedTuple instances
 whose classes Numba sees as distinct types. A :func:`piece` is a generic
@@ -8,6 +8,12 @@ compiles to the composite step for a ``Composite()`` tag and to the MIP step
 for a ``Mip()`` tag -- one skeleton, one specialised kernel per (mode, light),
 each compiled on its first use (and cached: the tags' types pickle by class),
 with no branch on the mode at run time.
+
+The *reconstruction tag* (``Settings.recon``: :class:`Trilinear`, which also
+covers nearest-voxel sampling by ``Settings.nearest``, or :class:`BSpline`) rides
+in the frame's settings, whose type Numba keys the compiled code on: a B-spline
+frame compiles kernels of its own on first use, and the trilinear ones are
+unchanged by it (``_bspline``).
 """
 
 from __future__ import annotations
@@ -20,7 +26,7 @@ from ._inlining import inline_only
 
 __all__ = ["piece", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS", "LIGHT_TAGS",
            "Composite", "LabelledComposite", "Preintegrated", "Mip", "Minip", "Average",
-           "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter"]
+           "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter", "Trilinear", "BSpline", "RECON_TAGS"]
 
 
 class Composite(NamedTuple):
@@ -72,11 +78,21 @@ class Scatter(NamedTuple):
     """Single scattering in the medium (no normals)."""
 
 
+class Trilinear(NamedTuple):
+    """Trilinear reconstruction (nearest-voxel where ``Settings.nearest``); normals from the per-voxel codes."""
+
+
+class BSpline(NamedTuple):
+    """Tricubic B-spline reconstruction (the approximating cubic B-spline, ``_bspline``): values and gradients."""
+
+
 #: Scene.mode (and pre-integration, label-aware composite) -> mode tag class
 MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrated": Preintegrated, "mip": Mip,
              "minip": Minip, "average": Average, "isosurface": Isosurface}
 #: lighting model name -> light tag class
 LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "headlight": Headlight, "shadows": Shadowed, "scatter": Scatter}
+#: Sampling.interpolation -> reconstruction tag class
+RECON_TAGS = {"linear": Trilinear, "nearest": Trilinear, "bspline": BSpline}
 
 
 def piece(name: str, params: str, doc: str = ""):

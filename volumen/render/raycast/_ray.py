@@ -17,8 +17,9 @@ from typing import NamedTuple
 
 from numba import njit
 
+from ._bspline import reconstruct
 from ._geometry import primary_ray, ray_interval, to_index
-from ._sample import jitter01, sample_table
+from ._sample import jitter01
 
 __all__ = ["Ray", "begin_ray", "sample_at"]
 
@@ -95,4 +96,4 @@ def begin_ray(px, py, a, s):
 @njit(cache=True, fastmath=True, inline="always")
 def sample_at(r, a, s, t):
     """The reconstructed value at parameter ``t`` of the ray."""
-    return sample_table(a.vol, s.u0, s.ufac, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, s.nearest)
+    return reconstruct(s.recon, a.vol, s.u0, s.ufac, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, s.nearest)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_value", "sample_table", "grad_at", "world_grad", "jitter01"]
+__all__ = ["sample_value", "sample_table", "trilinear", "grad_at", "world_grad", "jitter01"]
 
 
 @njit(cache=True, fastmath=True)
@@ -36,9 +36,16 @@ def sample_value(vol, x, y, z, nearest):
         j = min(max(int(y + 0.5), 0), ny - 1)
         k = min(max(int(z + 0.5), 0), nz - 1)
         return np.float64(vol[k, j, i])
-    i0, i1, fx = _cell(x, nx)
-    j0, j1, fy = _cell(y, ny)
-    k0, k1, fz = _cell(z, nz)
+    return trilinear(vol, _cell(x, nx), _cell(y, ny), _cell(z, nz))
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def trilinear(vol, cx, cy, cz):
+    """The trilinear blend of ``vol[z, y, x]`` over one cell given per axis as ``(lower, upper, fraction)``
+    (:func:`_cell`): one trilinear lookup, which the B-spline's fast form (``_bspline``) makes eight of."""
+    i0, i1, fx = cx
+    j0, j1, fy = cy
+    k0, k1, fz = cz
     c00 = vol[k0, j0, i0] + fx * (vol[k0, j0, i1] - vol[k0, j0, i0])
     c01 = vol[k0, j1, i0] + fx * (vol[k0, j1, i1] - vol[k0, j1, i0])
     c10 = vol[k1, j0, i0] + fx * (vol[k1, j0, i1] - vol[k1, j0, i0])

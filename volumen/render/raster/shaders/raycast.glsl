@@ -77,6 +77,7 @@ uniform float u_ds, u_ds0, u_et, u_ka, u_kd, u_ks, u_shine, u_iso, u_pre_scale, 
 uniform float u_albedo, u_g;
 uniform vec3 u_iso_rgb;
 uniform bool u_nearest, u_jitter, u_skip, u_gradop, u_sobel, u_color;
+uniform int u_recon;          // Settings.recon: 0 trilinear (or nearest), 1 the tricubic B-spline (_bspline)
 // normals (Arrays.nrm): index -> world gradient matrix, 1 / largest |gradient| in table units per mm
 uniform mat3 u_nmat;
 uniform float u_inv_gmax;
@@ -100,7 +101,50 @@ vec3 sh_sum(vec3 d, float w1, float w2) {
 // ---- reconstruction (_sample) ----
 float table_units(float texel) { return (texel + u_vol_map.x) * u_vol_map.y; }
 
+// ---- the tricubic B-spline's fast form (_bspline): 8 trilinear texture lookups a value, 24 a gradient ----
+void bs_value_taps(float x, out vec2 h, out vec2 g) {   // _bspline._value_taps: positions h, weights g
+    float i = floor(x), a = x - i;
+    float w1 = (4.0 + a * a * (3.0 * a - 6.0)) / 6.0;
+    float g0 = (1.0 - a) * (1.0 - a) * (1.0 - a) / 6.0 + w1;
+    h = vec2(i - 1.0 + w1 / g0, i + 1.0 + a * a * a / (6.0 * (1.0 - g0)));
+    g = vec2(g0, 1.0 - g0);
+}
+
+void bs_slope_taps(float x, out vec2 h, out vec2 g) {   // _bspline._slope_taps
+    float i = floor(x), a = x - i, q = 0.5 + a - a * a;
+    h = vec2(i - 1.0 + a * (4.0 - 3.0 * a) / (2.0 * q), i + 1.0 + a * a / (2.0 * q));
+    g = vec2(-q, q);
+}
+
+float bs_blend(vec2 hx, vec2 gx, vec2 hy, vec2 gy, vec2 hz, vec2 gz) {   // _bspline._blend, in texels
+    float s = 0.0;
+    for (int c = 0; c < 8; c++) {
+        int bx = c & 1, by = (c >> 1) & 1, bz = (c >> 2) & 1;
+        vec3 q = vec3(hx[bx], hy[by], hz[bz]);   // clamp-to-edge = _sample._cell's clamp
+        s += gx[bx] * gy[by] * gz[bz] * texture(u_vol, (q + 0.5) / vec3(g_size)).r;
+    }
+    return s;
+}
+
+float bspline_idx(vec3 p) {
+    vec2 hx, gx, hy, gy, hz, gz;
+    bs_value_taps(p.x, hx, gx); bs_value_taps(p.y, hy, gy); bs_value_taps(p.z, hz, gz);
+    return table_units(bs_blend(hx, gx, hy, gy, hz, gz));
+}
+
+vec4 bspline_normal(vec3 p) {   // _bspline._bspline_normal: unit world gradient, magnitude code
+    vec2 hx, gx, hy, gy, hz, gz, ex, fx, ey, fy, ez, fz;
+    bs_value_taps(p.x, hx, gx); bs_value_taps(p.y, hy, gy); bs_value_taps(p.z, hz, gz);
+    bs_slope_taps(p.x, ex, fx); bs_slope_taps(p.y, ey, fy); bs_slope_taps(p.z, ez, fz);
+    vec3 gi = u_vol_map.y * vec3(bs_blend(ex, fx, hy, gy, hz, gz), bs_blend(hx, gx, ey, fy, hz, gz),
+                                 bs_blend(hx, gx, hy, gy, ez, fz));   // table units per voxel
+    vec3 g = u_nmat * gi;
+    float n = length(g);
+    return vec4(n > 0.0 ? g / n : vec3(0.0), 127.0 * sqrt(min(n * u_inv_gmax, 1.0)));
+}
+
 float sample_idx(vec3 p) {
+    if (u_recon == 1) return bspline_idx(p);
     if (u_nearest) return table_units(texelFetch(u_vol, clamp(ivec3(p + 0.5), ivec3(0), g_size - 1), 0).r);
     return table_units(texture(u_vol, (p + 0.5) / vec3(g_size)).r);
 }
@@ -135,6 +179,7 @@ vec4 voxel_normal(ivec3 v) {   // _sample._voxel_normal: unit world gradient, ma
 }
 
 vec4 normal_idx(vec3 p) {   // _sample.sample_normal: the voxels' normals, interpolated
+    if (u_recon == 1) return bspline_normal(p);
     if (u_nearest) return voxel_normal(clamp(ivec3(p + 0.5), ivec3(0), g_size - 1));
     ivec3 i0 = clamp(ivec3(floor(p)), ivec3(0), g_size - 1);
     ivec3 i1 = min(i0 + 1, g_size - 1);

@@ -56,14 +56,27 @@ def _raycast(scene, camera, size, device, options):
     return render_cpu(scene, camera, size)
 
 
+def _raycast_only(scene, technique: str) -> None:
+    """The B-spline reconstruction is the ray caster's (its samples and gradients): a one-line error elsewhere."""
+    if scene.sampling.interpolation == "bspline":
+        from ..errors import DeviceLimitError
+
+        raise DeviceLimitError(f"the B-spline reconstruction is drawn by the raycast technique (cpu, cuda, gl), "
+                               f"not {technique}; use --technique raycast")
+
+
 def _slicing(scene, camera, size, device, options):
     from .raster import render_slicing
+
+    _raycast_only(scene, "slicing")
 
     return render_slicing(scene, camera, size, options)
 
 
 def _mesh(scene, camera, size, device, options):
     from .raster import render_isosurface_mesh
+
+    _raycast_only(scene, "mesh")
 
     return render_isosurface_mesh(scene, camera, size, options)
 

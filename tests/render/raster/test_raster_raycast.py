@@ -97,6 +97,9 @@ def test_gl_bspline_reconstruction_equals_cpu(gl):
           f"{np.abs(a.rgba - lin.rgba).mean():.2e}")
     assert mean <= MEAN_TOL and p99 <= P99_TOL and dd <= DEPTH_TOL
     assert np.abs(a.rgba - lin.rgba).mean() > 1e-3  # it is the B-spline that was compared
+    for technique in ("slicing", "mesh"):  # the ray caster's alone: a one-line error, not trilinear silently
+        with pytest.raises(DeviceLimitError, match=f"B-spline .* not {technique}; use --technique raycast"):
+            render(sc, cam, (16, 16), technique=technique)
 
 
 def test_gl_projection_values_equal_cpu(gl):

@@ -144,6 +144,7 @@ class PathTracer:
             rgb = denoise(rgb, mean[..., 5:8], mean[..., 8:11])
         t_denoise = time.perf_counter() - t
         alpha = self.coverage.astype(np.float64)
+        rgb[alpha == 0] = 0.0  # no path met the medium there: the denoiser's filter must not bleed into it
         if not f.settings.hdr:
             rgb = np.minimum(np.clip(rgb, 0.0, 1.0), alpha[..., None])
         rgba = np.concatenate([rgb, alpha[..., None]], axis=-1).astype(np.float32)

@@ -79,3 +79,29 @@ def test_archive_errors_are_one_line_in_the_dialog(make_window, qtbot, archive, 
     assert text.startswith("server archive (") and "HTTP 401" in text and "\n" not in text
     assert "wrong-password-123" not in text and PASSWORD not in text and dlg.results.rowCount() == 0
     dlg.close()
+
+
+def test_a_password_not_configured_is_asked_for_once(make_window, qtbot, archive, archive_config, monkeypatch):
+    """servers.toml names a user without a password: the dialog asks (on the GUI thread, before the request runs on
+    its worker) and the answer serves the search and the series listing after it."""
+    from orthanc_server import PASSWORD
+    from PySide6.QtWidgets import QInputDialog
+
+    archive_config.write_text("\n".join(line for line in archive_config.read_text().splitlines()
+                                        if not line.startswith("password_env")))
+    monkeypatch.setattr(pacs._credentials, "_asked", {})
+    asked = []
+
+    def get_text(parent, title, label, mode):
+        asked.append(label)
+        return PASSWORD, True
+
+    monkeypatch.setattr(QInputDialog, "getText", get_text)
+    win = make_window(load=False)
+    dlg = win.open_archive_dialog()
+    _search(qtbot, dlg, patient_id="PAT-001")
+    assert [s.uid for s in dlg.studies] == [archive.ct.study_uid]
+    dlg.choose_study(0)
+    qtbot.waitUntil(lambda: dlg.series_list.count() == 2, timeout=30000)
+    assert asked == [f"password of alice on archive ({archive.server.dicomweb_url}):"]
+    dlg.close()

@@ -90,19 +90,20 @@ def make_studies(folder: Path) -> tuple[dict, dict]:
     return made, uids
 
 
-def running_archive(tmp_path_factory):
-    """Generator of the session fixture: an Orthanc holding the made studies and pydicom's files."""
+def running_archive(tmp_path_factory, name: str = "archive", *, with_pydicom: bool = True, **settings):
+    """Generator of a fixture: an Orthanc (``settings``: extra Orthanc settings) holding the made studies and,
+    ``with_pydicom``, pydicom's files; stopped at the end. Skips, saying why, without Orthanc."""
     reason = missing_reason()
     if reason:
         pytest.skip(reason)
-    folder = tmp_path_factory.mktemp("archive")
+    folder = tmp_path_factory.mktemp(name)
     made, uids = make_studies(folder / "upload")
-    server = Orthanc(folder / "orthanc")
-    server.start()
+    server = Orthanc(folder / "orthanc", **settings).start()
     try:
         files = [p for series in made.values() for s in series for p in sorted(s.folder.iterdir())]
         assert server.upload(files) == len(files)
-        server.upload(pydicom_files())
+        if with_pydicom:
+            server.upload(pydicom_files())
         yield Archive(server, made, uids)
     finally:
         server.stop()

@@ -9,10 +9,13 @@ independent truth the tests compare volumen's searches with.
 
 from __future__ import annotations
 
+import ctypes
 import json
 import shutil
+import signal
 import socket
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -39,6 +42,15 @@ def missing_reason() -> str | None:
     if _plugin() is None:
         return "Orthanc's DICOMweb plugin is not installed (Debian package orthanc-dicomweb; `make test` installs it)"
     return None
+
+
+def _dying_with_parent():
+    """A ``preexec_fn`` (Linux) asking for SIGTERM when the test process dies, even killed (PR_SET_PDEATHSIG), so a
+    run stopped by a signal leaves no Orthanc behind; resolved here, the child only calls it (no import after fork)."""
+    if not sys.platform.startswith("linux"):
+        return None
+    prctl = ctypes.CDLL(None, use_errno=True).prctl
+    return lambda: prctl(1, signal.SIGTERM)
 
 
 def free_port() -> int:
@@ -106,7 +118,8 @@ class Orthanc:
     def _launch(self, timeout: float) -> None:
         log = open(self.folder / "orthanc.log", "ab")
         self.process = subprocess.Popen(["Orthanc", str(self.config)], stdout=log, stderr=subprocess.STDOUT,
-                                        cwd=self.folder)
+                                        cwd=self.folder,
+                                        preexec_fn=_dying_with_parent())
         log.close()
         end = time.monotonic() + timeout
         while time.monotonic() < end:

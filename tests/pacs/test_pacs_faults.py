@@ -8,8 +8,8 @@ import os
 import threading
 
 import pytest
-from archive_data import PASSWORD_ENV, make_studies, write_servers_toml
-from orthanc_server import PASSWORD, USER, Orthanc, free_port, missing_reason
+from archive_data import PASSWORD_ENV, running_archive, write_servers_toml
+from orthanc_server import PASSWORD, USER, free_port
 
 import volumen
 import volumen.pacs as pacs
@@ -21,17 +21,8 @@ NAME = "faulty"
 
 @pytest.fixture(scope="module")
 def faulty(tmp_path_factory):
-    reason = missing_reason()
-    if reason:
-        pytest.skip(reason)
-    folder = tmp_path_factory.mktemp("faulty")
-    made, uids = make_studies(folder / "upload")
-    server = Orthanc(folder / "orthanc", DicomCheckCalledAet=True).start()
-    try:
-        server.upload([p for series in made.values() for s in series for p in sorted(s.folder.iterdir())])
-        yield server, made
-    finally:
-        server.stop()
+    for archive in running_archive(tmp_path_factory, "faulty", with_pydicom=False, DicomCheckCalledAet=True):
+        yield archive.server, archive.series
 
 
 @pytest.fixture

@@ -6,7 +6,8 @@ never written to the status line or a log), choosing a study lists its series wi
 Retrieve fetches the chosen series into the cache with a progress bar and a Cancel button (what came is
 kept for a later retrieve). When the series is in, ``retrieved(ref)`` carries its
 ``dicomweb://SERVER/STUDY/SERIES`` reference and the main window opens it like a file. Failures are one
-line in the status label.
+line in the status label. A password neither in ``servers.toml`` nor in the environment is asked for here,
+on the GUI thread before the first request, and remembered while the application runs.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from PySide6.QtWidgets import (
     QDialog,
     QFormLayout,
     QHBoxLayout,
+    QInputDialog,
     QLabel,
     QLineEdit,
     QListWidget,
@@ -154,8 +156,29 @@ class ArchiveDialog(QDialog):
             v["study_date"] = date_from if date_from == date_to else f"{date_from}-{date_to}"
         return {k: val for k, val in v.items() if val}
 
-    def _start(self, fn, done, *, progress=None) -> Task:
+    def _ask(self, label: str, user: str) -> str | None:
+        text, ok = QInputDialog.getText(self, "Archive password", f"password of {user} on {label}:",
+                                        QLineEdit.Password)
+        return text if ok and text else None
+
+    def _unlocked(self) -> bool:
+        """The server's password is at hand (asked for here, on the GUI thread, if it must be); else the reason is
+        in the status line."""
+        from ..errors import ArchiveError
+        from ..pacs import resolve_server, unlock
+
+        where = self._where()
+        try:
+            unlock(resolve_server(where["server"], protocol=where["protocol"]), self._ask)
+        except ArchiveError as exc:
+            self._failed(exc)
+            return False
+        return True
+
+    def _start(self, fn, done, *, progress=None) -> Task | None:
         """Run ``fn`` in the background; errors go to the status line. One request at a time."""
+        if not self._unlocked():
+            return None
         self.task = Task(fn, self, with_progress=progress is not None)
         self.task.done.connect(done)
         self.task.error.connect(self._failed)
@@ -174,7 +197,7 @@ class ArchiveDialog(QDialog):
         self.status.setText(str(exc).splitlines()[0] if str(exc) else type(exc).__name__)
 
     # -- search ---------------------------------------------------------------
-    def search(self) -> Task:
+    def search(self) -> Task | None:
         """Search studies with the fields; fills the results table."""
         from ..pacs import find
 
@@ -206,7 +229,7 @@ class ArchiveDialog(QDialog):
         if rows:
             self.list_series(self.studies[rows[0].row()].uid)
 
-    def list_series(self, study_uid: str) -> Task:
+    def list_series(self, study_uid: str) -> Task | None:
         """The series of a study, each with its thumbnail (fetched in the same background job)."""
         from ..pacs import series, thumbnail
 

@@ -10,6 +10,7 @@ series and a rerun resumes), :func:`load` reads ``dicomweb://SERVER/STUDY/SERIES
 from ._api import REF_SCHEMES, connect, echo, find, load, make_ref, parse_ref, retrieve, send, series
 from ._cache import SeriesCache
 from ._config import PROTOCOLS, Server, cache_dir, config_dir, load_servers, resolve_server, servers_file
+from ._credentials import unlock
 from ._derived import make_capture, make_seg, source_images
 from ._records import STUDY_COLUMNS, Query, Series, Studies, Study
 from ._thumbnail import thumbnail
@@ -17,4 +18,4 @@ from ._thumbnail import thumbnail
 __all__ = ["find", "series", "retrieve", "load", "send", "echo", "connect", "parse_ref", "make_ref", "thumbnail",
            "REF_SCHEMES", "PROTOCOLS", "make_seg", "make_capture", "source_images", "Server", "Query", "Study",
            "Studies", "STUDY_COLUMNS", "Series", "SeriesCache", "load_servers", "resolve_server", "servers_file",
-           "config_dir", "cache_dir"]
+           "config_dir", "cache_dir", "unlock"]

@@ -40,23 +40,23 @@ _AE_AT_HOST = re.compile(r"^(?P<aet>[^@\s\\]{1,16})@(?P<host>[^:@\s]+):(?P<port>
 _SECRET_KEYS = ("password", "token")
 
 
+def _folder(own: str, xdg: str, fallback: str) -> Path:
+    """``$own``, else ``$xdg/volumen``, else ``~/fallback/volumen``."""
+    if os.environ.get(own):
+        return Path(os.environ[own])
+    base = os.environ.get(xdg)
+    return (Path(base) if base else Path.home() / fallback) / "volumen"
+
+
 def config_dir() -> Path:
     """``VOLUMEN_CONFIG_DIR``, else ``$XDG_CONFIG_HOME/volumen``, else ``~/.config/volumen``."""
-    env = os.environ.get("VOLUMEN_CONFIG_DIR")
-    if env:
-        return Path(env)
-    xdg = os.environ.get("XDG_CONFIG_HOME")
-    return (Path(xdg) if xdg else Path.home() / ".config") / "volumen"
+    return _folder("VOLUMEN_CONFIG_DIR", "XDG_CONFIG_HOME", ".config")
 
 
 def cache_dir() -> Path:
     """Where retrieved series are kept: ``VOLUMEN_CACHE_DIR``, else ``$XDG_CACHE_HOME/volumen``, else
     ``~/.cache/volumen``."""
-    env = os.environ.get("VOLUMEN_CACHE_DIR")
-    if env:
-        return Path(env)
-    xdg = os.environ.get("XDG_CACHE_HOME")
-    return (Path(xdg) if xdg else Path.home() / ".cache") / "volumen"
+    return _folder("VOLUMEN_CACHE_DIR", "XDG_CACHE_HOME", ".cache")
 
 
 def servers_file() -> Path:

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from ..errors import ArchiveConfigError
 from ._config import Server
 
-__all__ = ["password", "token", "forget", "Prompt"]
+__all__ = ["password", "token", "forget", "unlock", "Prompt"]
 
 #: asks the user for the password of ``user`` on ``server`` (its label); returns it, or None to give up
 Prompt = Callable[[str, str], "str | None"]
@@ -72,3 +72,16 @@ def token(server: Server) -> str | None:
 def forget(server: Server) -> None:
     """Drop the password typed for ``server`` (it refused it): the next connection asks again."""
     _asked.pop((server.label, server.username), None)
+
+
+def unlock(server: Server, ask: Prompt | None) -> None:
+    """Have the secret of a DICOMweb ``server`` at hand now, asking with ``ask`` if it must (the answer is
+    remembered): for a caller that can prompt on one thread and connects on another (the app's dialog).
+
+    Raises
+    ------
+    ArchiveConfigError
+        As :func:`password` and :func:`token`.
+    """
+    if server.kind == "dicomweb" and not token(server):
+        password(server, ask)

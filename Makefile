@@ -10,7 +10,7 @@ STAMP  := $(VENV)/.installed
 # two workers on the two cores; NUMBA caches compiled kernels beside the sources
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server clean
+.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -45,9 +45,9 @@ system-libs:
 	  echo "libfreeimage3 could not be installed; environment-map tests will skip"; \
 	else echo "not root: libfreeimage3 not installed; environment-map tests will skip"; fi
 
-# Optional browser: Debian's chromium opens the notebook viewer's page headless in
-# tests/notebook/test_browser.py. Installing it needs root and apt; without it that test
-# skips with the reason printed.
+# Optional browser: Debian's chromium opens the notebook viewer's page (tests/notebook/test_browser.py) and the
+# browser viewer (tests/web) headless. Installing it needs root and apt; without it those tests skip with the
+# reason printed.
 browser:
 	@if command -v chromium >/dev/null || command -v chromium-browser >/dev/null; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
@@ -71,11 +71,23 @@ pacs-server:
 	  (systemctl disable --now orthanc || service orthanc stop) >/dev/null 2>&1 || true; \
 	else echo "not root: orthanc not installed; the archive tests will skip"; fi
 
+# The browser viewer's tests (tests/web) emulate a headset with the npm package iwer (the Immersive Web Emulation
+# Runtime, MIT), installed here into the git-ignored .web-deps/ (nothing else from npm; the page itself needs
+# nothing but a browser). Without npm or the registry those tests skip with the reason printed.
+IWER_VERSION ?= 2.5.0
+web-deps:
+	@if [ -f .web-deps/node_modules/iwer/build/iwer.min.js ]; then :; \
+	elif command -v npm >/dev/null; then \
+	  echo "installing iwer $(IWER_VERSION) from npm into .web-deps (headset emulator of the browser tests)"; \
+	  npm install --silent --no-audit --no-fund --prefix .web-deps iwer@$(IWER_VERSION) >/dev/null 2>&1 || \
+	  echo "iwer could not be installed; the WebXR tests will skip"; \
+	else echo "npm not found: iwer not installed; the WebXR tests will skip"; fi
+
 demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
-test: $(STAMP) system-data system-libs browser pacs-server
+test: $(STAMP) system-data system-libs browser pacs-server web-deps
 	$(VENV)/bin/ruff check volumen tests
 	$(PY) -m pytest $(PYTEST_ARGS)
 
@@ -92,4 +104,4 @@ huge: $(STAMP)
 	$(VENV)/bin/volumen bench scale --huge
 
 clean:
-	rm -rf $(VENV) out test-output
+	rm -rf $(VENV) out test-output .web-deps

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import importlib
 import re
 import subprocess
 from pathlib import Path
@@ -10,7 +11,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: top-level folders that exist on one machine only (a checkout, a home, a mount); ``/usr/share`` (a
 #: distribution's packages), ``/proc`` and ``/dev`` name the same thing everywhere and are allowed
-_MACHINE_ROOTS = ("work", "home", "Users", "root", "mnt", "media", "opt", "srv", "scratch", "shared", "data")
+_MACHINE_ROOTS = ("work", "home", "Users", "root", "mnt", "media", "opt", "srv", "scratch")
 _MACHINE_PATH = re.compile(r"(?<![\w.~/-])/(?:" + "|".join(_MACHINE_ROOTS) + r")/[\w.-]+|\b[A-Z]:\\Users\\")
 #: packages whose functions take at most this many parameters (more: a record, as ``render/raycast/_frame.py``)
 MAX_PARAMETERS = 8
@@ -70,3 +71,59 @@ def test_the_design_document_is_in_the_repository_and_every_citation_finds_its_s
     assert len(cited) >= 4 and set(cited) <= sections, {n: cited[n] for n in set(cited) - sections}
     assert not re.search(r"(?<!docs/)DESIGN\.md", " ".join(p.read_text(encoding="utf-8") for p in _repository_files()
                                                             if p.suffix in (".py", ".toml")))
+
+
+def _used_files(module) -> set[Path]:
+    """Files of volumen whose compiled code or frozen arrays ``module``'s kernels can reach: dispatchers defined
+    elsewhere, the implementations behind inlined pieces (``raycast._pieces``) and volumen modules it holds."""
+    import types
+
+    from numba.core.dispatcher import Dispatcher
+
+    package = Path(importlib.import_module("volumen").__file__).resolve().parent
+    used: set[Path] = set()
+    for value in vars(module).values():
+        if isinstance(value, Dispatcher):
+            used.add(Path(value.py_func.__code__.co_filename).resolve())
+        elif isinstance(value, types.FunctionType) and isinstance(getattr(value, "impls", None), dict):
+            used.update(Path(fn.py_func.__code__.co_filename).resolve() for fn in value.impls.values())
+        elif isinstance(value, types.ModuleType) and getattr(value, "__file__", None):
+            used.add(Path(value.__file__).resolve())
+    return {f for f in used if f.is_relative_to(package) and f != Path(module.__file__).resolve()}
+
+
+_NO_KERNELS = ("volumen.app", "volumen.cli", "volumen.web", "volumen.notebook", "volumen.bench")
+
+
+def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
+    """Numba checks only a kernel's own file: each module with ``cache=True`` kernels that uses another file's
+    compiled functions (or tables) has that file, and that file's own group, in its stamp (``volumen.jit``)."""
+    import pkgutil
+
+    from numba.core.dispatcher import Dispatcher
+
+    import volumen
+    from volumen.jit import stamped_with
+
+    checked, missing = [], []
+    for info in pkgutil.walk_packages(volumen.__path__, "volumen."):
+        if info.name.startswith(_NO_KERNELS) or info.name.endswith("__main__"):
+            continue  # the top floors (Qt, servers, commands) compile nothing of their own
+        module = importlib.import_module(info.name)
+        own = Path(module.__file__).resolve()
+        cached = [v for v in vars(module).values() if isinstance(v, Dispatcher)
+                  and Path(v.py_func.__code__.co_filename).resolve() == own and type(v._cache).__name__ != "NullCache"]
+        if not cached:
+            continue
+        key = set(stamped_with(own))
+        checked.append(info.name)
+        if key:  # registered: its kernels use the stamped locators (Numba's private _impl._locator)
+            missing += [f"{info.name}.{d.py_func.__name__} not stamped" for d in cached
+                        if type(d._cache._impl._locator).__module__ != "volumen.jit._stamp"]
+        for used in _used_files(module):
+            if used not in key or not set(stamped_with(used)) <= key:
+                missing.append(f"{info.name} uses {used.name}, not in its stamp")
+    print(f"{len(checked)} modules with cached kernels: {', '.join(checked)}")
+    assert {"volumen.render.raycast._march", "volumen.surface._mc_kernel", "volumen.endoscopy._collision"} <= set(
+        checked)
+    assert not missing, "\n".join(missing)

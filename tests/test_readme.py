@@ -15,6 +15,11 @@ the benchmark ``--quick``. Placeholders the README uses for the reader's own dat
 * ``archive``: the test Orthanc (``tests/pacs``) holding ``scan/`` as study ``1.2.840.99``, named in a
   ``servers.toml`` under a temporary ``XDG_CONFIG_HOME`` with an empty cache (the ``pacs`` and
   ``dicomweb://`` commands skip, saying so, where Orthanc is not installed).
+* ``cert.pem`` / ``key.pem``: a self-signed certificate made with ``openssl`` (the https line skips without it).
+
+``volumen serve`` answers one request for ``info.json`` with its token (over https where it serves https) and
+stops instead of serving until Ctrl-C, and opens no browser; its ``--screenshot`` lines run headless Chromium
+in a small window (they skip, saying so, without Chromium, or without the iwer emulator for ``--vr``).
 
 Each command must exit with 0 and write its outputs.
 """
@@ -32,7 +37,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 SERIES = "1.2.840.99.1"
 STUDY = "1.2.840.99"
-SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"}}
+SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"},
+         "serve": {"--window": "320x200"}}
 EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-vtk", "--repeat", "1"],
          "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"]}
 
@@ -60,6 +66,9 @@ def _shrink(argv: list[str]) -> list[str]:
         out += ["--size", "32x32"]
     if cmd == "fly" and "--size" not in out:
         out += ["--size", "24x24"]
+    if cmd == "serve":
+        out += [] if "--window" in out or "--screenshot" not in out else ["--window", "320x200"]
+        out += ["--port", "0"]
     return out + EXTRA.get(cmd, [])
 
 
@@ -96,7 +105,56 @@ def workdir(tmp_path_factory):
     (d / "segmentations").mkdir()
     _nifti(d / "segmentations" / "aorta.nii.gz", torso.meta["truth"]["aorta"].mask.astype(np.uint8), torso.affine)
     _manifest(d / "manifest.csv")
+    _certificate(d)
     return d
+
+
+def _certificate(folder: Path) -> None:
+    """A self-signed certificate for 127.0.0.1 (``cert.pem``, ``key.pem``), where ``openssl`` is installed."""
+    import shutil
+    import subprocess
+
+    if shutil.which("openssl"):
+        subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj",
+                        "/CN=volumen", "-addext", "subjectAltName=IP:127.0.0.1", "-keyout", str(folder / "key.pem"),
+                        "-out", str(folder / "cert.pem")], check=True, capture_output=True)
+
+
+def _serve_once(server) -> None:
+    """Instead of serving until Ctrl-C: start, answer one request for info.json with the token, stop."""
+    import json
+    import ssl
+    import urllib.request
+
+    server.start()
+    try:
+        scheme = "https" if server.ssl_context else "http"
+        ctx = ssl._create_unverified_context() if server.ssl_context else None  # the test's self-signed cert
+        req = urllib.request.Request(f"{scheme}://127.0.0.1:{server.port}/info.json",
+                                     headers={"X-Volumen-Token": server.token})
+        with urllib.request.urlopen(req, timeout=120, context=ctx) as r:
+            assert r.status == 200 and "volume" in json.loads(r.read())
+    finally:
+        server.stop()
+
+
+def _skip_reason(argv: list[str], workdir: Path) -> str | None:
+    """Why a ``volumen serve`` line cannot run here (no certificate, Chromium or iwer), or None."""
+    if argv[0] != "serve":
+        return None
+    if "--certfile" in argv and not (workdir / "cert.pem").exists():
+        return "openssl is not installed: no certificate for the https example"
+    if "--screenshot" in argv:
+        from volumen.web import BrowserUnavailable, find_chromium
+        from volumen.web._bench import iwer_script
+
+        try:
+            find_chromium()
+        except BrowserUnavailable as exc:
+            return str(exc)
+        if "--vr" in argv and iwer_script() is None:
+            return "the WebXR emulator iwer is not installed (`make web-deps`)"
+    return None
 
 
 def _manifest(path: Path) -> None:
@@ -155,6 +213,10 @@ def _run(line: str, workdir: Path, capsys, archive=None) -> str | None:
             return None
         argv = [a.replace("../shared/data", str(shared)) for a in argv]
     argv = _shrink(argv)
+    reason = _skip_reason(argv, workdir)
+    if reason:
+        print(f"skipped ({reason}): {line}")
+        return None
     code = main(argv)
     captured = capsys.readouterr()
     if code != 0:
@@ -169,7 +231,13 @@ def _run(line: str, workdir: Path, capsys, archive=None) -> str | None:
 def test_readme_commands_run_in_order(workdir, readme_archive, monkeypatch, capsys):
     """All of them in one test, in the README's order, in one folder: a later command reads what an earlier
     one wrote (settings, saved flights), so they cannot be spread over test workers."""
+    import webbrowser
+
+    from volumen.web import ViewerServer
+
     monkeypatch.chdir(workdir)
+    monkeypatch.setattr(ViewerServer, "run", _serve_once)
+    monkeypatch.setattr(webbrowser, "open", lambda url: True)
     if not isinstance(readme_archive, str):
         from archive_data import PASSWORD_ENV
         from orthanc_server import PASSWORD

@@ -106,9 +106,9 @@ def test_key_l_cycles_the_shading_models(make_window, qtbot):
 def test_preset_change_changes_the_picture(make_window):
     win = make_window()
     before = _rgb(win)
-    win.tf_editor.presets.setCurrentText("ct-skin-bone")
+    win.tf_editor.presets.setCurrentText("ct-bone")  # the CT's default is ct-skin-bone
     win.tf_editor.presets.activated.emit(win.tf_editor.presets.currentIndex())
-    assert win.state.scene.transfer.name == "ct-skin-bone"
+    assert win.state.scene.transfer.name == "ct-bone"
     assert win.wait_for_final(60)
     after = _rgb(win)
     assert np.abs(after - before).mean() > 5

@@ -64,9 +64,9 @@ def test_shift_drag_pans_and_wheel_zooms_as_in_the_app(viewer, view_size):
 
 def test_a_preset_change_renders_the_new_transfer_function(viewer, head32, view_size):
     before = viewer.frame.copy()
-    viewer.controls.preset.value = "ct-skin-bone"
+    viewer.controls.preset.value = "ct-bone"
     assert viewer.wait(60)
-    tf = TransferFunction.preset("ct-skin-bone", value_range=head32.value_range())
+    tf = TransferFunction.preset("ct-bone", value_range=head32.value_range())
     assert viewer.scene.transfer == tf
     assert viewer.view.frame_state.scene.transfer == tf
     expected = render(viewer.scene, viewer.camera, view_size).to_uint8()

@@ -15,6 +15,7 @@ import volumen
 import volumen.pacs as pacs
 from volumen.cli import main
 from volumen.errors import ArchiveAuthError, ArchiveRefusedError, ArchiveUnreachableError, RetrieveCancelled
+from volumen.pacs import _dimse
 
 NAME = "faulty"
 
@@ -79,10 +80,15 @@ def test_server_stopped_mid_retrieve_one_line_nothing_half_written_rerun_resumes
     assert (vol.data == truth.data).all()
 
 
-def test_cancel_keeps_what_came_and_a_rerun_completes(faulty, config):
+def test_cancel_keeps_what_came_and_a_rerun_completes(faulty, config, monkeypatch):
+    """Cancelled at 2 of 8: two whole files kept, no series; over C-GET the archive is sent a C-CANCEL, so it stops
+    sending (before, it sent all 8, the 6 after the cancel refused one by one)."""
     _, made = faulty
     ct = made["chest"][0]
     cancel = threading.Event()
+    arrived = []  # C-STORE sub-operations that reached volumen
+    handle = _dimse._Receiver.handle
+    monkeypatch.setattr(_dimse._Receiver, "handle", lambda self, event: (arrived.append(1), handle(self, event))[1])
 
     def progress(done, total):
         if done == 2:
@@ -94,6 +100,8 @@ def test_cancel_keeps_what_came_and_a_rerun_completes(faulty, config):
                           refresh=True)
         where = pacs.SeriesCache(NAME, ct.study_uid, ct.series_uid)
         assert len(list(where.partial.iterdir())) == 2 and not where.folder.exists()
+        # 3 seen here: the one in flight when the cancel is seen is refused; one more allowed for the C-CANCEL's trip
+        assert protocol == "dicomweb" or 3 <= len(arrived) <= 4
         cancel.clear()
         assert len(list(pacs.retrieve(NAME, ct.study_uid, ct.series_uid, protocol=protocol).iterdir())) == 8
         where.forget()
@@ -124,6 +132,26 @@ def test_server_down_and_refused_association(faulty, config, capsys):
         pacs.echo(wrong_aet)
     assert main(["pacs", "echo", NAME, "--protocol", "dimse"]) == 0
     assert "answers C-ECHO" in capsys.readouterr().out
+
+
+def test_a_rejection_seen_as_an_abort_is_asked_again(faulty, config, monkeypatch):
+    """Under load pynetdicom was seen to report Orthanc's rejection of a wrong called AE title as an abort: the
+    association is requested once more before saying which."""
+    import pynetdicom
+
+    server, _ = faulty
+    associate, calls = pynetdicom.AE.associate, []
+
+    def first_aborted(self, *args, **kwargs):
+        calls.append(kwargs["ae_title"])
+        if len(calls) == 1:
+            return type("Aborted", (), {"is_established": False, "is_rejected": False})()
+        return associate(self, *args, **kwargs)
+
+    monkeypatch.setattr(pynetdicom.AE, "associate", first_aborted)
+    with pytest.raises(ArchiveRefusedError, match="rejected the association .*its AE title NOT-ORTHANC"):
+        pacs.echo(f"NOT-ORTHANC@127.0.0.1:{server.dicom_port}")
+    assert calls == ["NOT-ORTHANC"] * 2
 
 
 def test_study_deleted_between_find_and_get(faulty, config, capsys):

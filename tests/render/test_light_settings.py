@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from render_helpers import sphere_volume
 
-from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import Camera, Environment, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 
 TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
@@ -100,7 +100,8 @@ def test_sixteen_lights_in_one_scene(vol):
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
     lights = tuple(Light(position=tuple(c + 90 * d), intensity=0.06, color=tuple(rng.uniform(0.3, 1, 3)))
                    for d in dirs)
-    base = Scene(volume=vol, transfer=TF, sampling=Sampling(seed=2))
+    # uniform: the ambient-only term (with no lights of its own, "auto" would light the scene with the studio rig)
+    base = Scene(volume=vol, transfer=TF, sampling=Sampling(seed=2), environment=Environment(kind="uniform"))
     all_ = render(base.with_(lights=lights, shading=Shading(mode="shadows")), cam, (24, 24))
     assert all_.stats["light_volumes_built"] == 16
     total = render(base.with_(shading=Shading(mode="shadows")), cam, (24, 24)).rgba

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from render_helpers import sphere_volume, three_lights
 
-from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from volumen.core import Camera, Environment, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 
 TF = TransferFunction(color=((-1000, 1, 1, 1), (1000, 0.9, 0.6, 0.4)), opacity=((-1000, 0), (0, 0.05), (1000, 0.6)))
@@ -34,7 +34,8 @@ def test_lights_add_up(vol):
     c = np.asarray(vol.center)
     lights = three_lights(c)
     sh = Shading(mode="phong", ambient=0.15)
-    base = Scene(volume=vol, transfer=TF, sampling=Sampling(seed=7))
+    # uniform: the ambient-only term (with no lights of its own, "auto" would light the scene with the studio rig)
+    base = Scene(volume=vol, transfer=TF, sampling=Sampling(seed=7), environment=Environment(kind="uniform"))
 
     def go(lts, shading):
         return render(base.with_(lights=lts, shading=shading), cam, (48, 48)).rgba

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from render_helpers import axis_camera, sphere_volume, three_lights
 
-from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction, Volume
+from volumen.core import Camera, Environment, Light, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 from volumen.render.optics import hg_phase
 
@@ -78,7 +78,8 @@ def test_lights_add_linearly(mode):
     cam = Camera.orbit(vol, azimuth=-25, zoom=1.4)
     c = np.asarray(vol.center)
     lights = three_lights(c)
-    base = Scene(volume=vol, transfer=tf, sampling=Sampling(seed=7))
+    # uniform: the ambient-only term (with no lights of its own, "auto" would light the scene with the studio rig)
+    base = Scene(volume=vol, transfer=tf, sampling=Sampling(seed=7), environment=Environment(kind="uniform"))
 
     def go(lts, ambient):
         sh = Shading(mode=mode, ambient=ambient, phase_g=0.3, sigma_a=0.2, sigma_s=0.9)

@@ -18,7 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import Camera, Scene, Window, canonical
+from ..core import Camera, Scene, Window, canonical, default_window
 from ..render import Technique, resolve_device
 
 __all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
@@ -137,11 +137,7 @@ class AppState:
                                  clipping=replace(self.scene.clipping, crop=None))
             self.camera = camera if camera is not None else Camera.anatomical(volume, "anterior")
             self.crosshair = np.asarray(volume.center, float)
-            if volume.units == "HU" or volume.modality == "CT":
-                self.window = Window(level=40.0, width=400.0)
-            else:
-                lo, hi = volume.value_range()
-                self.window = Window(level=(lo + hi) / 2, width=max(hi - lo, 1e-6))
+            self.window = default_window(volume)
             self.mask = self.mask_canonical = None
             self.seeds = []
             self.mesh = None

@@ -24,6 +24,7 @@ COMMANDS = {
     "cpr": "_cpr",
     "mesh": "_mesh",
     "view": "_view",
+    "serve": "_serve",
     "pacs": "_pacs",
     "batch": "_batch",
     "bench": "_bench",

@@ -294,8 +294,10 @@ def _write(image, out, background) -> None:
 
 
 def _default_iso(volume) -> float:
+    from volumen.core import is_ct
+
     lo, hi = volume.value_range()
-    return 300.0 if volume.units == "HU" or volume.modality == "CT" else 0.5 * (lo + hi)
+    return 300.0 if is_ct(volume) else 0.5 * (lo + hi)
 
 
 def _volume_ref(args, base) -> str:

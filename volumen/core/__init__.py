@@ -6,14 +6,25 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 
 from . import gestures
 from ._camera import VIEWS, Camera
+from ._ct import is_ct
 from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
 from ._scene import MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
-from ._slices import PLANES, WINDOW_PRESETS, Window, canonical, montage, slice_at, slice_image, window_to_uint8
+from ._slices import (
+    PLANES,
+    WINDOW_PRESETS,
+    Window,
+    canonical,
+    default_window,
+    montage,
+    slice_at,
+    slice_image,
+    window_to_uint8,
+)
 from ._tonemap import TONEMAPS, Display
-from ._transfer import PRESETS, TransferFunction, default_preset, hu_offset, is_ct
+from ._transfer import PRESETS, TransferFunction, default_preset, hu_offset
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
@@ -53,6 +64,7 @@ __all__ = [
     "WINDOW_PRESETS",
     "Window",
     "canonical",
+    "default_window",
     "montage",
     "slice_at",
     "slice_image",

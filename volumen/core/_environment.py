@@ -1,4 +1,4 @@
-"""The environment light: what surrounds the volume (DESIGN.md section 5), and the built-in studio rig.
+"""The environment light: what surrounds the volume (docs/design.md section 5), and the built-in studio rig.
 
 An :class:`Environment` is part of the lighting settings of a :class:`~volumen.core.Scene`. The path tracer
 importance-samples it; the other lit models (``phong``, ``shadows``, ``scattering``) take it as their ambient

@@ -19,9 +19,11 @@ from typing import Literal
 
 import numpy as np
 
+from ._ct import is_ct
 from ._volume import Volume, axis_codes, is_chunked
 
-__all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "montage", "slice_at", "slice_image", "window_to_uint8"]
+__all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "default_window", "montage", "slice_at", "slice_image",
+           "window_to_uint8"]
 
 Plane = Literal["axial", "coronal", "sagittal"]
 PLANES: tuple[str, ...] = ("axial", "coronal", "sagittal")
@@ -53,6 +55,15 @@ WINDOW_PRESETS: dict[str, Window] = {
     "lung": Window(level=-600.0, width=1500.0),
     "brain": Window(level=40.0, width=80.0),
 }
+
+
+def default_window(volume: Volume) -> Window:
+    """The window a volume is first shown with: ``soft-tissue`` (L 40, W 400 HU) for a CT (:func:`is_ct`,
+    also one read without a modality), else its whole value range."""
+    if is_ct(volume):
+        return WINDOW_PRESETS["soft-tissue"]
+    lo, hi = volume.value_range()
+    return Window(level=(lo + hi) / 2, width=max(hi - lo, 1e-6))
 
 
 def window_to_uint8(values: np.ndarray, window: Window | str | tuple[float, float] | None = None) -> np.ndarray:
@@ -183,11 +194,12 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     axis with the larger pixel spacing so one pixel covers the same mm both ways.
     Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
     ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
-    data with no window is shown as stored, 0..255). A volume whose
+    data with no window is shown as stored, 0..255). With no window a CT (:func:`is_ct`) gets the
+    ``soft-tissue`` window, anything else the slice's 1st..99th percentile. A volume whose
     ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
-    if window is None and volume.units == "HU":
+    if window is None and is_ct(volume):
         window = "soft-tissue"
     if window is None and volume.is_color and img.dtype == np.uint8:
         window = Window(level=127.5, width=255.0)

@@ -1,6 +1,6 @@
 """The display transform: exposure, a filmic tone curve and sRGB encoding, from linear radiance to display values.
 
-Renderers return linear, premultiplied radiance (DESIGN.md section 5); this is the one place it becomes a
+Renderers return linear, premultiplied radiance (docs/design.md section 5); this is the one place it becomes a
 picture for a screen or a file (:meth:`volumen.core.Image.to_uint8`, which the PNG writer, the videos, the
 application and the notebook all call). :class:`Display` is the setting, declared once with the scene
 (``Scene.display``) and carried by the rendered :class:`~volumen.core.Image`, so every surface shows the same

@@ -14,9 +14,10 @@ from typing import Literal, get_args
 
 import numpy as np
 
+from ._ct import is_ct
 from ._jsondata import JsonData
 
-__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "is_ct", "default_preset"]
+__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset"]
 
 Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "ct-cinematic-bone",
                  "ct-cinematic-vessels", "ct-cinematic-soft-tissue", "mr-default", "mip-gray"]
@@ -227,14 +228,6 @@ def hu_offset(volume) -> float | None:
         except ValueError:
             return 0.0
     return 0.0 if is_ct(volume) else None
-
-
-def is_ct(volume) -> bool:
-    """A CT: modality ``CT``, units in HU, or values that span air (<= -900) to bone (>= 300) as HU do."""
-    if str(getattr(volume, "modality", "")).upper() == "CT" or str(getattr(volume, "units", "")).upper()[:2] == "HU":
-        return True
-    lo, hi = volume.value_range()
-    return lo <= -900.0 and hi >= 300.0
 
 
 def default_preset(volume, mode: str = "composite") -> TransferFunction:

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..render.raycast import stamp_sources
+from ..jit import stamp_sources
+from ..render.raycast import SOURCES
 
-stamp_sources(Path(__file__).parent)
+stamp_sources(sorted(Path(__file__).resolve().parent.glob("*.py")), also=SOURCES)
 #: True once this package's sources are stamped
 stamped = True

@@ -12,7 +12,7 @@ from __future__ import annotations
 import ipywidgets as widgets
 import numpy as np
 
-from ..core import PLANES, Window, canonical, slice_image
+from ..core import PLANES, Window, canonical, default_window, slice_image
 from . import pictures
 
 __all__ = ["SliceViews", "slice_picture", "crosshair_pixels", "PLANE_AXIS", "PLANE_COLOURS"]
@@ -53,7 +53,8 @@ class SliceViews:
     def __init__(self, volume, width: int = 220):
         self.volume = canonical(volume)
         lo, hi = self.volume.value_range()
-        level, wwidth = (40.0, 400.0) if volume.units == "HU" else (0.5 * (lo + hi), max(hi - lo, 1e-6))
+        start = default_window(volume)  # soft tissue for a CT, the value range otherwise
+        level, wwidth = min(max(start.level, lo), hi), start.width
         span = max(hi - lo, 1e-6)
         self.level = widgets.FloatSlider(value=level, min=lo, max=hi, step=span / 500, description="level",
                                          continuous_update=True)

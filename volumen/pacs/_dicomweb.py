@@ -92,6 +92,26 @@ def _bearer(value: str):
     return Bearer()
 
 
+def _session(ca_bundle: str | None):
+    """A ``requests`` session trusting ``ca_bundle`` for every request, ours and ``dicomweb-client``'s.
+
+    ``requests`` lets ``REQUESTS_CA_BUNDLE`` / ``CURL_CA_BUNDLE`` (often set system-wide) override a session's
+    ``verify``; here a configured ``ca_bundle`` wins, and without one the environment's bundle applies.
+    """
+    import requests
+
+    class Session(requests.Session):
+        def merge_environment_settings(self, url, proxies, stream, verify, cert):
+            merged = super().merge_environment_settings(url, proxies, stream, verify, cert)
+            if ca_bundle:
+                merged["verify"] = ca_bundle
+            return merged
+
+    session = Session()
+    session.verify = ca_bundle or True
+    return session
+
+
 def _reason(exc: Exception) -> str:
     """A short cause for a connection failure (no URL: it is in the server's label already)."""
     import requests
@@ -119,13 +139,12 @@ class DicomWebArchive:
 
         redact_logs()
         self.server = server
-        session = requests.Session()
+        session = _session(server.ca_bundle)
         secret = token(server)
         if secret:
             session.auth = _bearer(secret)
         elif server.username is not None:
             session.auth = requests.auth.HTTPBasicAuth(server.username, password(server, ask))
-        session.verify = server.ca_bundle or True
         self.session = session
         self.timeout = (min(server.timeout, 10.0), server.timeout)
         self.client = DICOMwebClient(url=server.url.rstrip("/"), session=session, timeout=self.timeout)
@@ -143,7 +162,8 @@ class DicomWebArchive:
         prepared = self.session.prepare_request(requests.Request("GET", url, headers={
             "Accept": "application/dicom+json"}))
         prepared.url = url  # as written: requests would escape the ^ of a name again
-        response = self.session.send(prepared, timeout=self.timeout, verify=self.session.verify)
+        settings = self.session.merge_environment_settings(url, {}, None, None, None)  # proxies, CA bundle
+        response = self.session.send(prepared, timeout=self.timeout, **settings)
         response.raise_for_status()
         found = response.json() if response.content else []
         with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values

@@ -84,13 +84,17 @@ class DimseArchive:
                 for ts in _GET_SYNTAXES[: max(1, (127 - len(contexts)) // len(storage))]:
                     ae.add_requested_context(sop_class, [ts])
             roles = [pn.build_role(uid, scp_role=True) for uid in storage]
-        assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
-                             evt_handlers=handlers)
+        for attempt in range(2):
+            assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
+                                 evt_handlers=handlers)
+            if assoc.is_established or assoc.is_rejected or attempt or self._reachable() is not None:
+                break  # else ask once more: an archive that rejects and hangs up at once is seen, under load, to abort
         if assoc.is_established:
             return assoc
         if assoc.is_rejected:
-            raise ArchiveRefusedError(self.server.label, f"rejected the association (is the calling AE title "
-                                                         f"{self.server.calling_ae_title} known to it?)")
+            raise ArchiveRefusedError(self.server.label, f"rejected the association (is its AE title "
+                                                         f"{self.server.ae_title}, and is volumen's, "
+                                                         f"{self.server.calling_ae_title}, known to it?)")
         reachable = self._reachable()
         if reachable is not None:
             raise ArchiveUnreachableError(self.server.label, f"did not answer ({reachable})")
@@ -181,6 +185,7 @@ class DimseArchive:
 
         classes = self._sop_classes or tuple(cx.abstract_syntax for cx in StoragePresentationContexts[:126])
         assoc = self._associate([GET], storage=classes, handlers=[(evt.EVT_C_STORE, received.handle)])
+        received.on_stop = lambda: assoc.send_c_cancel(1, query_model=GET)
         try:
             self._run("C-GET", assoc.send_c_get(_identifier("IMAGE", (), filters), GET))
         finally:
@@ -200,6 +205,7 @@ class DimseArchive:
                               evt_handlers=[(evt.EVT_C_STORE, received.handle)])
         try:
             assoc = self._associate([MOVE])
+            received.on_stop = lambda: assoc.send_c_cancel(1, query_model=MOVE)
             try:
                 self._run("C-MOVE", assoc.send_c_move(_identifier("IMAGE", (), filters),
                                                       self.server.calling_ae_title, MOVE))
@@ -236,16 +242,21 @@ class DimseArchive:
 
 
 class _Receiver:
-    """The C-STORE handler of C-GET / C-MOVE: each instance to ``sink``; stops storing once ``stop()``."""
+    """The C-STORE handler of C-GET / C-MOVE: each instance to ``sink``; once ``stop()`` (or a failed store) it
+    refuses them and calls ``on_stop`` once (a C-CANCEL of the retrieve, so the archive sends no more)."""
 
     def __init__(self, sink: Callable, stop: Callable[[], bool]):
         self.sink, self.stop = sink, stop
         self.error: BaseException | None = None
         self.count = 0
         self.lock = threading.Lock()
+        self.on_stop: Callable[[], None] | None = None
 
     def handle(self, event) -> int:
         if self.error is not None or self.stop():
+            if self.on_stop is not None:
+                self.on_stop, cancel = None, self.on_stop
+                cancel()
             return _OUT_OF_RESOURCES
         ds = event.dataset
         ds.file_meta = event.file_meta

@@ -5,7 +5,18 @@ from __future__ import annotations
 import warnings
 import weakref
 
-from ..core import Camera, Image, Isosurface, Sampling, Scene, Shading, TransferFunction, default_preset, is_chunked
+from ..core import (
+    Camera,
+    Image,
+    Isosurface,
+    Sampling,
+    Scene,
+    Shading,
+    TransferFunction,
+    default_preset,
+    is_chunked,
+    is_ct,
+)
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
@@ -161,7 +172,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
         tf = TransferFunction.preset(preset, value_range=volume.value_range())
     if iso_value is None:
         lo, hi = volume.value_range()
-        iso_value = 300.0 if (volume.modality == "CT" or volume.units == "HU") else 0.5 * (lo + hi)
+        iso_value = 300.0 if is_ct(volume) else 0.5 * (lo + hi)
     scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
     camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)

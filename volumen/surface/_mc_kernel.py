@@ -28,6 +28,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._sources import SOURCES as SOURCES  # first: the Numba cache stamp, before any kernel is defined
+
+# isort: split
+
 from . import _mc_tables as T
 from ._mc_rows import U1, count_bytes, low_byte, next_shift, valid, words2, words4, x_cross
 

@@ -25,6 +25,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._sources import SOURCES as SOURCES  # first: the Numba cache stamp, before any kernel is defined
+
+# isort: split
+
 U0 = np.uint64(0)
 U1 = np.uint64(1)
 U8 = np.uint64(8)

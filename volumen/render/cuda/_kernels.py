@@ -1,6 +1,6 @@
 """The CUDA kernels: thin grid drivers, one thread per pixel (or per lattice ray), around the shared functions.
 
-Each kernel is the CUDA twin of a CPU driver (run on the CPU's threads by ``raycast._threads``) and calls the same
+Each kernel is the CUDA twin of a CPU driver (run on the CPU's threads by ``volumen.jit``) and calls the same
 per-pixel / per-ray function (see :mod:`._target`):
 
 * :func:`trace`: ``raycast.trace_pixel`` for pixel ``(px, py)``, specialised (like the CPU driver) for the

@@ -24,16 +24,12 @@ import numpy as np
 from ...errors import DeviceLimitError
 from ._context import Target, get_context, gl_thread
 from ._rc_textures import FrameTextures, check_limits
+from ._rc_uniforms import MAX_LIGHTS, MAX_PLANES, frame_uniforms, variant
 from ._shaders import program
 from ._uniforms import set_uniform
 
 __all__ = ["render_raycast_gl", "MAX_LIGHTS", "MAX_PLANES"]
 
-#: most lights and clip planes one pass takes
-MAX_LIGHTS = 16
-MAX_PLANES = 16
-_MODES = {"Composite": 0, "Preintegrated": 1, "Mip": 2, "Minip": 3, "Average": 4, "Isosurface": 5}
-_LIGHTS = {"Unlit": 0, "Phong": 1, "Headlight": 1, "Shadowed": 2, "Scatter": 3}
 _quad: dict = {}
 
 
@@ -48,63 +44,6 @@ def _check(scene) -> None:
     if len(scene.clipping.planes) > MAX_PLANES:
         raise DeviceLimitError(f"{len(scene.clipping.planes)} clip planes: the gl ray caster takes at most "
                                f"{MAX_PLANES}; use --device cpu")
-
-
-def _vec3s(rows: np.ndarray, cap: int) -> bytes:
-    out = np.zeros((cap, 3), np.float32)
-    out[:len(rows)] = rows
-    return out.tobytes()
-
-
-def _set_geometry(prog, a) -> None:
-    cam, geo = a.cam, a.geo
-    for name, i in (("u_eye", 0), ("u_right", 3), ("u_up", 6), ("u_fwd", 9)):
-        set_uniform(prog, name, tuple(float(v) for v in cam[i:i + 3]))
-    set_uniform(prog, "u_ortho", bool(cam[12] > 0.5))
-    set_uniform(prog, "u_half", float(cam[13]))
-    set_uniform(prog, "u_wh", (float(cam[14]), float(cam[15])))
-    set_uniform(prog, "u_near", float(cam[16]))
-    set_uniform(prog, "u_far", float(min(cam[17], 1e30)))
-    m = np.eye(4)
-    m[:3, :4] = geo[:12].reshape(3, 4)
-    set_uniform(prog, "u_to_index", m.T.astype(np.float32).tobytes())  # column-major
-    set_uniform(prog, "u_nmat", np.ascontiguousarray(a.nrm[:3].T, np.float32).tobytes())
-    for name, i in (("u_box_lo", 12), ("u_box_hi", 15), ("u_wlo", 18), ("u_whi", 21)):
-        set_uniform(prog, name, tuple(float(v) for v in geo[i:i + 3]))
-    set_uniform(prog, "u_pp", _vec3s(a.planes[:, :3], MAX_PLANES))
-    set_uniform(prog, "u_pn", _vec3s(a.planes[:, 3:6], MAX_PLANES))
-
-
-def _set_lights(prog, a, s) -> None:
-    n = s.nlights
-    li = a.lights[:n]
-    set_uniform(prog, "u_nlights", int(n))
-    set_uniform(prog, "u_lpos", _vec3s(li[:, 0:3], MAX_LIGHTS))
-    set_uniform(prog, "u_ldir", _vec3s(li[:, 3:6], MAX_LIGHTS))
-    set_uniform(prog, "u_lcol", _vec3s(li[:, 6:9], MAX_LIGHTS))
-    exp = np.zeros(MAX_LIGHTS, np.float32)
-    exp[:n] = li[:, 9]
-    set_uniform(prog, "u_lexp", exp.tobytes())
-    lvm = np.zeros((MAX_LIGHTS, 16), np.float32)
-    off = np.zeros(MAX_LIGHTS, np.int32)
-    m = min(len(a.lvm), MAX_LIGHTS)
-    lvm[:m] = a.lvm[:m]
-    off[:m] = a.lvm[:m, 1]   # LV_OFF, exact as an integer past float32's 2**24
-    set_uniform(prog, "u_lvm", lvm.tobytes())
-    set_uniform(prog, "u_lvoff", off.tobytes())
-    set_uniform(prog, "u_envsh", _vec3s(a.envsh, 9))
-
-
-def _set_settings(prog, s) -> None:
-    for name in ("ds", "ds0", "et", "ka", "kd", "ks", "shine", "iso", "pre_scale", "sh_off", "sh_step", "kext",
-                 "albedo", "g"):
-        set_uniform(prog, f"u_{name}", float(getattr(s, name)))
-    set_uniform(prog, "u_iso_rgb", (float(s.iso_r), float(s.iso_g), float(s.iso_b)))
-    for name in ("nearest", "jitter", "skip", "gradop", "sobel", "color", "hdr"):
-        set_uniform(prog, f"u_{name}", bool(getattr(s, name)))
-    set_uniform(prog, "u_envmode", int(s.envmode))
-    set_uniform(prog, "u_seed", int(s.seed))
-    set_uniform(prog, "u_block", int(s.block))
 
 
 def _draw(ctx, prog, size):
@@ -133,18 +72,16 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     t_start = time.perf_counter()
     f = pack_frame(scene, camera, size)
     t = time.perf_counter()
-    prog = program(ctx, "raycast", {"MODE": _MODES[type(f.mode).__name__], "LIGHT": _LIGHTS[type(f.light).__name__],
-                                    "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES})
+    prog = program(ctx, "raycast", variant(f))
     tex = FrameTextures(ctx, f.arrays, f.settings, f.prep)
     try:
         for name, unit in tex.units.items():
             set_uniform(prog, f"u_{name}", unit)
         set_uniform(prog, "u_lvd_w", tex.width)
-        set_uniform(prog, "u_nplanes", int(f.settings.nplanes))
-        _set_geometry(prog, f.arrays)
-        _set_lights(prog, f.arrays, f.settings)
-        _set_settings(prog, f.settings)
-        set_uniform(prog, "u_inv_gmax", float(f.arrays.nrm[3, 0] / f.settings.ufac))  # table units
+        set_uniform(prog, "u_vol_map", (0.0, 1.0))  # the R32F volume holds table units
+        set_uniform(prog, "u_origin", (0.0, 0.0))
+        for name, value in frame_uniforms(f).items():
+            set_uniform(prog, name, value.tobytes() if isinstance(value, np.ndarray) else value)
         t_up = time.perf_counter()
         rgba, aux = _draw(ctx, prog, f.size)
     finally:

@@ -2,16 +2,25 @@
 
 One file per program, in the moderngl-window layout::
 
-    #version 330 core
     #if defined VERTEX_SHADER
     ...
     #elif defined FRAGMENT_SHADER
     ...
     #endif
 
-A variant is the same file compiled with extra ``#define`` lines injected
-after ``#version``. A line ``#include "name.glsl"`` is replaced by that file of
-the same folder (shared code such as ``lighting.glsl``, written once). Sources are read once
+The files carry no ``#version`` line: the same files compile as desktop GLSL 3.30 core (moderngl, this
+module's :func:`program`) and as GLSL ES 3.00 (WebGL2: the browser viewer of ``volumen.web``, which fetches
+the sources :func:`stage_parts` writes). A stage's source is::
+
+    #version 330 core | #version 300 es     (DIALECTS)
+    #define VERTEX_SHADER | FRAGMENT_SHADER
+    #define NAME value ...                  (the variant's defines)
+    preamble.glsl                           (precision statements under GL_ES)
+    #line 1
+    the program's file
+
+A variant is the same file compiled with other ``#define`` lines. A line ``#include "name.glsl"`` is replaced
+by that file of the same folder (shared code such as ``lighting.glsl``, written once). Sources are read once
 (``importlib.resources``) and each (context, file, defines) program is compiled once and cached.
 """
 
@@ -20,10 +29,14 @@ from __future__ import annotations
 import functools
 from importlib import resources
 
-__all__ = ["shader_source", "program", "SHADER_FILES"]
+__all__ = ["shader_source", "stage_parts", "stage_source", "program", "SHADER_FILES", "DIALECTS", "STAGES"]
 
 #: the shader files of the package (without the ``.glsl`` suffix)
-SHADER_FILES = ("slicing", "mesh", "lighting", "raycast", "raycast_modes")
+SHADER_FILES = ("preamble", "slicing", "mesh", "lighting", "raycast", "raycast_modes")
+#: dialect -> its #version line: desktop OpenGL 3.3 core, and WebGL2 (OpenGL ES 3.0)
+DIALECTS = {"gl330": "#version 330 core", "es300": "#version 300 es"}
+#: stage -> the macro its source is compiled with
+STAGES = {"vertex": "VERTEX_SHADER", "fragment": "FRAGMENT_SHADER"}
 
 _programs: dict = {}
 
@@ -42,19 +55,35 @@ def _expand(source: str) -> str:
         s = line.strip()
         if s.startswith("#include"):
             name = s.split('"')[1].removesuffix(".glsl")
-            out += [_expand(shader_source(name)), f"#line {n + 2}"]
+            out += ["#line 1", _expand(shader_source(name)), f"#line {n + 1}"]
         else:
             out.append(line)
     return "\n".join(out)
 
 
-def _stage(source: str, stage: str, defines: tuple[tuple[str, str], ...]) -> str:
-    first, _, rest = source.partition("\n")
-    if not first.startswith("#version"):
-        raise ValueError("a shader file must start with its #version line")
-    lines = [first, f"#define {stage}"] + [f"#define {k} {v}".rstrip() for k, v in defines]
-    # keep line numbers of compiler messages equal to the file's
-    return "\n".join(lines) + f"\n#line 2\n{_expand(rest)}"
+@functools.cache
+def stage_parts(name: str, stage: str, dialect: str = "gl330") -> tuple[str, str]:
+    """``(head, body)`` of one stage of program ``name``: the variant's ``#define`` lines go between them.
+
+    ``head`` is the dialect's ``#version`` line and the stage's macro; ``body`` the preamble and the
+    program's file with its includes expanded, line numbers of compiler messages kept equal to the files'.
+    """
+    if dialect not in DIALECTS:
+        raise ValueError(f"unknown GLSL dialect {dialect!r}; valid: {', '.join(DIALECTS)}")
+    if stage not in STAGES:
+        raise ValueError(f"unknown shader stage {stage!r}; valid: {', '.join(STAGES)}")
+    source = shader_source(name)
+    if source.startswith("#version"):
+        raise ValueError(f"{name}.glsl must not start with a #version line: the dialect's is put before it")
+    head = f"{DIALECTS[dialect]}\n#define {STAGES[stage]}"
+    return head, f"{shader_source('preamble')}\n#line 1\n{_expand(source)}"
+
+
+def stage_source(name: str, stage: str, defines: dict | None = None, dialect: str = "gl330") -> str:
+    """The whole source of one stage of ``name`` with ``defines`` (``{NAME: value or ""}``)."""
+    head, body = stage_parts(name, stage, dialect)
+    lines = [f"#define {k} {v}".rstrip() for k, v in sorted((str(k), str(v)) for k, v in (defines or {}).items())]
+    return "\n".join([head, *lines, body])
 
 
 def program(ctx, name: str, defines: dict | None = None):
@@ -63,8 +92,8 @@ def program(ctx, name: str, defines: dict | None = None):
     key = (id(ctx), name, key_defs)
     prog = _programs.get(key)
     if prog is None:
-        src = shader_source(name)
-        prog = ctx.program(vertex_shader=_stage(src, "VERTEX_SHADER", key_defs),
-                           fragment_shader=_stage(src, "FRAGMENT_SHADER", key_defs))
+        d = dict(key_defs)
+        prog = ctx.program(vertex_shader=stage_source(name, "vertex", d),
+                           fragment_shader=stage_source(name, "fragment", d))
         _programs[key] = prog
     return prog

@@ -18,7 +18,7 @@ The CUDA backend (:mod:`volumen.render.cuda`) uses the names below only.
 """
 
 from ._inlining import active as inlining_active  # first: Numba's inliner without its repeated work (patched)
-from ._stamp import installed, stamp_sources  # first: the Numba cache stamp, before any compiled function is defined
+from ._sources import SOURCES  # first: the Numba cache stamp, before any compiled function is defined
 
 # isort: split
 from ._cache import clear_cache, prepare, prepared_volumes
@@ -62,5 +62,5 @@ __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "coverage_pixel", "NACC",
            "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
-           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "installed",
-           "stamp_sources", "sweep_medium", "Medium", "inlining_active"]
+           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "SOURCES",
+           "sweep_medium", "Medium", "inlining_active"]

@@ -1,7 +1,7 @@
 """CPU backend: pack the scene into a :class:`~._frame.Frame`, run the specialised kernel over tiles (Numba).
 
 The driver (``_march.render_tiles``) runs 16x16-pixel tiles on every thread,
-each thread taking the next tile when it finishes one (``_threads.run_claiming``),
+each thread taking the next tile when it finishes one (``volumen.jit.run_claiming``),
 in a scrambled order, only those meeting the volume's projected footprint
 (``_geometry.footprint``) traced and the others drawn blank after them (:func:`frame_tiles`); each pixel is one
 call of ``_march.trace_pixel`` specialised for the frame's mode and shading model. ``pathtrace`` shading goes to the

@@ -1,33 +1,43 @@
-"""Numba's IR inliner without its repeated work: narrow fixes that cut the kernels' cold compile 2-5x.
+"""Numba's IR inliner without its repeated work: three narrow patches that cut the kernels' cold compile 2-5x.
 
 The marching skeleton reaches every per-sample function through ``inline="always"`` (``_march``) and the mode
 and light pieces through inlined overloads (``_pieces``): one flat kernel per (mode, light), which is what makes
-it fast. Numba (seen with 0.68.1) repeats work while building it; this is known upstream
-(numba/numba#8989, #9204; numba-cuda#688, #689: the same fixes, proposed there):
+it fast. Numba repeats work while building it. Each patch replaces one private internal of Numba, names the
+upstream report it works around and what would let it go:
 
-* **Copying a callee's IR, block by block.** ``InlineWorker.inline_ir`` deep-copies each block with a fresh
-  memo, so every block copies the callee's whole ``Scope`` (all its variables) again: the cost grows as
-  blocks x variables. :class:`_BlockCopier` shares one memo across the blocks of one copy, which is what
-  one deep copy of the whole IR would do: each block still gets its own statements, and all of them one new
-  scope (as in the original, where the blocks share one scope).
-* **Typing an inlined overload again for the same argument types.** The typing of a call to an
-  ``inline="always"`` overload re-runs the implementation's untyped passes and type inference every time type
-  inference revisits the call (88 times for 8 distinct signatures in the composite-headlight kernel).
-  :func:`_cached_generic` keeps the answer per (template, typing context, argument types); the template records the
-  inlining information on its first call, keyed the same way.
-* **Compiling an inlined overload's implementation on its own.** Numba compiles it to machine code that is
-  never used (it is inlined), linking and optimizing again everything it calls. Implementations marked
-  :func:`inline_only` (the pieces of ``_pieces``) are typed but not compiled (:func:`_typing_only`).
+* **Copying a callee's IR, block by block** (``numba.core.inline_closurecall.copy``, read by
+  ``InlineWorker.inline_ir``'s ``copy_ir``, whose local ``the_ir`` the copier reads from the caller's frame).
+  Each block is deep-copied with a fresh memo, so every block copies the callee's whole ``Scope`` (all its
+  variables) again: the cost grows as blocks x variables. :class:`_BlockCopier` shares one memo across the
+  blocks of one copy, which is what one deep copy of the whole IR would do: each block still gets its own
+  statements, and all of them one new scope (as in the original, where the blocks share one scope).
+  Upstream: numba/numba#8989 (open), NVIDIA/numba-cuda#688 (open); goes when ``copy_ir`` copies the IR once.
+* **Typing an inlined overload again for the same argument types**
+  (``numba.core.typing.templates._OverloadFunctionTemplate.generic``). Type inference revisits a call to an
+  ``inline="always"`` overload and re-runs the implementation's untyped passes and type inference each time (88
+  times for 8 distinct signatures in the composite-headlight kernel). :func:`_cached_generic` keeps the answer
+  per (template, typing context, argument types); the template records the inlining information on its first
+  call, keyed the same way. Upstream: NVIDIA/numba-cuda#914 (open: memoizes overload resolution per typing
+  context and argument types); goes when Numba does that.
+* **Compiling an inlined overload's implementation on its own** (``numba.core.dispatcher.Dispatcher.
+  get_call_template`` and its ``_can_compile`` flag). Numba compiles it to machine code that is never used (it
+  is inlined), linking and optimizing again everything it calls. Implementations marked :func:`inline_only` (the
+  pieces of ``_pieces``) are typed but not compiled (:func:`_typing_only`). Upstream: numba/numba#6856 ("Avoid
+  recompiling inlined overload impl", closed unmerged); goes when Numba skips that compile.
 
-None changes what is compiled: the pictures are bit-identical with and without (``tests/render``).
-:func:`install` (run on import, before any kernel compiles) patches only when Numba has the code these fixes
-expect, and is a no-op otherwise.
+None changes what is compiled: pictures are bit-identical with and without them (``tests/render/test_inlining.py``
+compiles one kernel both ways in fresh processes). :func:`install` (run on import, before any kernel compiles)
+patches only inside the tested Numba range (:mod:`volumen.jit._guard`: ``pyproject.toml``'s range; outside it,
+or with ``VOLUMEN_NUMBA_PATCHES=0``, the patches stand down and a warning says so once) and only when Numba has
+the code the patches expect.
 """
 
 from __future__ import annotations
 
 import copy
 import sys
+
+from ...jit import patches_allowed
 
 __all__ = ["install", "active", "inline_only"]
 
@@ -104,9 +114,12 @@ def _cached_generic(original):
 
 
 def install() -> bool:
-    """Apply both fixes once (process-wide); whether they are in place."""
+    """Apply the three patches once (process-wide) where :func:`volumen.jit.patches_allowed`; whether they are in
+    place."""
     if _state["installed"]:
         return True
+    if not patches_allowed():
+        return False
     from numba.core import dispatcher, inline_closurecall, ir
     from numba.core.typing import templates
 

@@ -14,6 +14,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numba import njit
 
+from ...jit import run_parts
 from ._geometry import region_interval
 from ._medium import Medium, depth_at
 from ._params import (
@@ -33,7 +34,6 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
-from ._threads import run_parts
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of", "sweep_medium"]
@@ -213,7 +213,7 @@ def sweep_medium(sw):
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
 def _sweep(part, parts, sw, work, out):
     """Fill ``out[i, v, u]`` (slice ``k0 + i``) with the transmittance along lattice ray (v, u), for the rows
-    of part ``part`` of ``parts`` (contiguous) (``_threads.run_parts``).
+    of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``).
 
     The work arrays ``work[0..4]`` (nv, nu) hold each ray's region interval in
     ``s``, its optical depth so far, its last sample (-1 before the region, -2

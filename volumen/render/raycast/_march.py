@@ -32,11 +32,11 @@ import math
 import numpy as np
 from numba import njit
 
+from ...jit import claim, fetch_add, run_claiming
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
 from ._frame import FAR
 from ._pieces import eager, finish, init, radius, step
 from ._ray import begin_ray, sample_at
-from ._threads import claim, fetch_add, run_claiming
 
 __all__ = ["trace_pixel", "render_tiles"]
 
@@ -153,7 +153,7 @@ def trace_pixel(px, py, a, s, out, mode, light):
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
 def _trace_tiles(counter, order, tile, a, s, out, mode, light):
-    """The rows ``order[claim(counter)]`` (``_cpu.frame_tiles``; ``_threads.run_claiming``) until none is left:
+    """The rows ``order[claim(counter)]`` (``_cpu.frame_tiles``; ``volumen.jit.run_claiming``) until none is left:
     ``(tile, 0)`` traced, every pixel's ``trace_pixel`` inlined, its samples and hit rays added to
     ``counter[1]`` / ``counter[2]``; ``(tile, run)`` a run of blank tiles. Compiled without reference counting
     (nothing in it allocates): reading an array from the records then costs no atomic increments, which threads

@@ -23,8 +23,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ...jit import run_parts
 from ._sample import _cell, world_grad
-from ._threads import run_parts
 
 __all__ = ["DIRS", "NO_CODES", "encode_normals", "sample_normal"]
 
@@ -67,7 +67,7 @@ def _encode(gx, gy, gz, g):
 
 @njit(cache=True, fastmath=True, nogil=True)
 def _encode_kernel(part, parts, u, m, sobel, inv_gmax, dirs, mags):
-    """Planes of part ``part`` of ``parts`` (contiguous) (``_threads.run_parts``)."""
+    """Planes of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``)."""
     nz, ny, nx = u.shape
     want_dir = dirs.shape[0] == nz
     want_mag = mags.shape[0] == nz

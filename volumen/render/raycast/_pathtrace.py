@@ -11,7 +11,7 @@ Per pixel sample (the ray through the pixel centre):
   light's from a point drawn uniformly in its ball; the environment's radiance in a direction drawn from its
   importance-sampling tables (:mod:`._environment`), weighted against the phase function's sampling of the same
   direction by the power heuristic (multiple importance sampling); each times a ratio-tracking transmittance
-  to the light or the edge of the drawn region, from ``shadow_offset`` off the event for the lights (DESIGN.md
+  to the light or the edge of the drawn region, from ``shadow_offset`` off the event for the lights (docs/design.md
   section 3: no self-shadowing), from the event itself for the environment (the paths it is weighted against
   see the whole medium);
 * ``pt_bounces == 1`` (single scattering): the event also adds the environment's ambient term unshadowed (the
@@ -35,6 +35,7 @@ import math
 
 from numba import njit
 
+from ...jit import claim
 from ..optics import hg_phase
 from ._color import sample_rgb
 from ._environment import env_pdf, env_radiance, env_sample, sh_phase
@@ -44,7 +45,6 @@ from ._medium import event_color, frame_medium
 from ._sample import sample_table
 from ._shade import L_COL, L_RAD, light_vector
 from ._sobol import SOBOL_DIMS, draw, path_key
-from ._threads import claim
 
 __all__ = ["trace_path", "coverage_pixel", "sample_hg", "trace_tiles", "NACC"]
 
@@ -318,7 +318,7 @@ def coverage_pixel(px, py, a, s, alpha):
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
 def trace_tiles(counter, order, tile, s0, s1, a, s, acc, alpha):
-    """The tiles ``order[claim(counter)]`` (``_threads.run_claiming``) until none is left: samples ``s0 .. s1 - 1``
+    """The tiles ``order[claim(counter)]`` (``volumen.jit.run_claiming``) until none is left: samples ``s0 .. s1 - 1``
     of each pixel (none when ``s1 <= s0``) into ``acc``, and when ``s0 == 0`` its opacity into ``alpha``."""
     h, w = acc.shape[0], acc.shape[1]
     ntx = (w + tile - 1) // tile

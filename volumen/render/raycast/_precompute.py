@@ -21,8 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ...jit import run_parts
 from ._sample import world_grad
-from ._threads import run_parts
 
 __all__ = ["NLUT", "normalize", "normal_params", "build_blocks"]
 
@@ -103,7 +103,7 @@ def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
 
 @njit(cache=True, nogil=True)
 def _blocks_kernel(part, parts, u, b, bmin, bmax):
-    """Block planes of part ``part`` of ``parts`` (contiguous) (``_threads.run_parts``)."""
+    """Block planes of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``)."""
     nz, ny, nx = u.shape
     gz, gy, gx = bmin.shape
     for bk in range(part * gz // parts, (part + 1) * gz // parts):

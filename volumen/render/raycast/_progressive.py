@@ -1,7 +1,7 @@
 """The progressive path tracer of one (scene, camera, size): samples added step by step, denoised on request.
 
 The kernels are :mod:`._pathtrace`'s; this module packs the frame (adding the majorant grid and the index ->
-world gradient matrix the path tracer reads), runs the tiles on every thread (``_threads.run_claiming``) and
+world gradient matrix the path tracer reads), runs the tiles on every thread (``volumen.jit.run_claiming``) and
 turns the running sums into an :class:`~volumen.core.Image`, through Intel Open Image Denoise (:mod:`._denoise`)
 fed the first events' albedo and normal when denoising.
 """
@@ -13,12 +13,12 @@ from dataclasses import replace
 
 import numpy as np
 
+from ...jit import run_claiming
 from ._denoise import denoise
 from ._majorant import MAJ_BLOCK, majorant_grid
 from ._medium import depth_bound, label_scale
 from ._pack import pack_frame
 from ._pathtrace import NACC, trace_tiles
-from ._threads import run_claiming
 from ._tiles import TILE, tile_order
 
 __all__ = ["PathTracer"]
@@ -144,6 +144,7 @@ class PathTracer:
             rgb = denoise(rgb, mean[..., 5:8], mean[..., 8:11])
         t_denoise = time.perf_counter() - t
         alpha = self.coverage.astype(np.float64)
+        rgb[alpha == 0] = 0.0  # no path met the medium there: the denoiser's filter must not bleed into it
         if not f.settings.hdr:
             rgb = np.minimum(np.clip(rgb, 0.0, 1.0), alpha[..., None])
         rgba = np.concatenate([rgb, alpha[..., None]], axis=-1).astype(np.float32)

@@ -1,4 +1,3 @@
-#version 330 core
 // Triangle meshes in world mm, lit by the scene's lights.
 // Variants: GOURAUD (lighting per vertex, colours interpolated; else Phong per
 // pixel from the interpolated normal), MAX_LIGHTS, MAX_CLIP.

@@ -1,10 +1,11 @@
-#version 330 core
 // Ray casting in a fragment shader: the CPU kernels' marching skeleton
 // (volumen/render/raycast/_march.py) with the same pieces, one pixel per fragment.
 // Every table and volume is built by the Python/Numba code (raycast.pack_frame) and only
 // read here; each formula below names the CPU function it mirrors.
 // Variants (#define): MODE (MODE_COMPOSITE, MODE_PREINT, MODE_MIP, MODE_MINIP, MODE_AVERAGE,
 // MODE_ISO), LIGHT (LIGHT_UNLIT, LIGHT_PHONG, LIGHT_SHADOWED, LIGHT_SCATTER), MAX_LIGHTS, MAX_PLANES.
+// Compiled as GLSL 3.30 (OpenGL: raster/_raycast.py) and GLSL ES 3.00 (WebGL2: the page of volumen.web),
+// see raster/_shaders.py; under GL_ES there is one colour attachment (a canvas or an XR layer).
 
 #define MODE_COMPOSITE 0
 #define MODE_PREINT 1
@@ -25,7 +26,11 @@ void main() { gl_Position = vec4(in_pos, 0.0, 1.0); }
 #elif defined FRAGMENT_SHADER
 
 layout(location = 0) out vec4 o_rgba;  // premultiplied colour, opacity
+#if defined GL_ES
+vec4 o_aux;                            // (not written out)
+#else
 layout(location = 1) out vec4 o_aux;   // depth (mm, FAR: none), value (table units, FAR: none), samples
+#endif
 
 const float FAR = 1e30;
 const float PI = 3.14159265358979;
@@ -34,7 +39,8 @@ const float TAU_STOP = 14.0;       // _shadow.TAU_STOP
 const float NEAR_STEPS = 3.0;      // _params.NEAR_STEPS
 
 // volume and tables (fields of raycast.Arrays)
-uniform sampler3D u_vol;      // samples in table units, trilinear, clamped
+uniform sampler3D u_vol;      // samples, trilinear, clamped; in table units: (texel + u_vol_map.x) * u_vol_map.y
+uniform vec2 u_vol_map;       // (0, 1) where the texture holds table units (OpenGL's R32F; WebGL's 16-bit differs)
 uniform sampler3D u_rgb;      // colour volume: voxel RGB in [0, 1] (raycast._color), used when u_color
 uniform sampler2D u_lut;      // (NLUT x 1) straight rgb, alpha per step
 uniform sampler2D u_pre;      // (NPRE x NPRE) pre-integrated, x = back value, y = front value
@@ -51,6 +57,7 @@ uniform vec3 u_eye, u_right, u_up, u_fwd;
 uniform bool u_ortho;
 uniform float u_half, u_near, u_far;
 uniform vec2 u_wh;
+uniform vec2 u_origin;        // framebuffer pixel of the picture's bottom-left corner (an XR eye's viewport)
 // region (_geometry.pack_geometry, pack_planes)
 uniform mat4 u_to_index;      // world -> voxel index (x, y, z)
 uniform vec3 u_box_lo, u_box_hi, u_wlo, u_whi;
@@ -63,7 +70,7 @@ uniform vec3 u_lpos[MAX_LIGHTS];
 uniform vec3 u_ldir[MAX_LIGHTS];
 uniform vec3 u_lcol[MAX_LIGHTS];
 uniform float u_lexp[MAX_LIGHTS];
-uniform float u_lvm[MAX_LIGHTS * 16];
+uniform vec4 u_lvm[MAX_LIGHTS * 4];   // each light's 16 meta values (LV_*), four per vec4
 uniform int u_lvoff[MAX_LIGHTS];
 // settings (raycast.Settings)
 uniform float u_ds, u_ds0, u_et, u_ka, u_kd, u_ks, u_shine, u_iso, u_pre_scale, u_sh_off, u_sh_step, u_kext;
@@ -91,12 +98,14 @@ vec3 sh_sum(vec3 d, float w1, float w2) {
 }
 
 // ---- reconstruction (_sample) ----
+float table_units(float texel) { return (texel + u_vol_map.x) * u_vol_map.y; }
+
 float sample_idx(vec3 p) {
-    if (u_nearest) return texelFetch(u_vol, clamp(ivec3(p + 0.5), ivec3(0), g_size - 1), 0).r;
-    return texture(u_vol, (p + 0.5) / vec3(g_size)).r;
+    if (u_nearest) return table_units(texelFetch(u_vol, clamp(ivec3(p + 0.5), ivec3(0), g_size - 1), 0).r);
+    return table_units(texture(u_vol, (p + 0.5) / vec3(g_size)).r);
 }
 
-float voxel(int i, int j, int k) { return texelFetch(u_vol, ivec3(i, j, k), 0).r; }
+float voxel(int i, int j, int k) { return table_units(texelFetch(u_vol, ivec3(i, j, k), 0).r); }
 
 vec3 grad_at(ivec3 v) {   // _sample.grad_at: central differences or 3x3x3 Sobel, neighbours clamped
     ivec3 hi = g_size - 1;
@@ -224,7 +233,7 @@ float shadow_transmittance(vec3 o, vec3 l, float smax) {
 }
 
 float lvd(int i) { return texelFetch(u_lvd, ivec2(i % u_lvd_w, i / u_lvd_w), 0).r; }
-float lvm(int li, int f) { return u_lvm[li * 16 + f]; }
+float lvm(int li, int f) { return u_lvm[li * 4 + f / 4][f % 4]; }
 
 float slice_value(int base, int nv, int nu, float s, float pb, float pc, float ov, float ou, float h, float cb,
                   float cc) {
@@ -337,8 +346,8 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
 
 void main() {
     g_size = textureSize(u_vol, 0);
-    int px = int(gl_FragCoord.x);
-    int py = int(u_wh.y) - 1 - int(gl_FragCoord.y);
+    int px = int(gl_FragCoord.x - u_origin.x);
+    int py = int(u_wh.y) - 1 - int(gl_FragCoord.y - u_origin.y);
     o_rgba = vec4(0.0);
     o_aux = vec4(FAR, FAR, 0.0, 0.0);
     if (!begin_ray(px, py)) return;

@@ -1,4 +1,3 @@
-#version 330 core
 // Texture slicing: view-aligned polygons through the volume, blended in order.
 // Variants: PRE_CLASSIFIED (u_volume holds premultiplied RGBA per voxel, else the
 // normalized value looked up in the transfer function), SHADED (Phong from the

@@ -1,4 +1,4 @@
-"""The CPU kernels' threads: one compiled function run on every Numba thread, without a Numba parallel loop.
+"""The one thread driver of every compiled pass: one compiled function run on every Numba thread, no parallel loop.
 
 A ``prange`` loop around a kernel compiles a second time everything the kernel inlines: Numba builds the
 loop as its own function and links and optimizes the kernel's machine code into it again (about 2.5 s of a
@@ -6,12 +6,16 @@ ray-casting kernel's first use). Here a ``nogil`` kernel runs once per thread, t
 on ``numba.get_num_threads()`` threads (what ``numba.set_num_threads`` and ``NUMBA_NUM_THREADS`` set):
 
 * :func:`run_parts`: the kernel takes ``(part, parts, ...)`` and does the contiguous part ``part * n // parts``
-  up to ``(part + 1) * n // parts`` of its items (``_lightsweep``, ``_normals``, ``_precompute``: items of
-  even cost);
+  up to ``(part + 1) * n // parts`` of its items (the ray caster's ``_lightsweep``, ``_normals``,
+  ``_precompute``, ``_labelled``: items of even cost). The kernel may also be a Python function whose items
+  are calls of compiled ``nogil`` functions: marching cubes (``surface._mc_rows.run_pass``) hands its runs of
+  rows out one at a time that way;
 * :func:`run_claiming`: the kernel takes the next item with :func:`claim` (an atomic counter) whenever it
-  finishes one (the tile tracer, ``_march``: a tile's cost varies a hundredfold; static halves of the tiles
-  left one thread 7% more work than the other on translucent CT, interleaved ones 1.6x), and can add up totals
-  with :func:`fetch_add`.
+  finishes one (the tile tracer, ``render.raycast._march``: a tile's cost varies a hundredfold; static halves
+  of the tiles left one thread 7% more work than the other on translucent CT, interleaved ones 1.6x), and can
+  add up totals with :func:`fetch_add`.
+
+One pool of ``NUMBA_NUM_THREADS - 1`` threads serves every pass (a forked child makes its own).
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ def _executor() -> ThreadPoolExecutor:
     with _lock:
         if "pool" not in _pool:
             _pool["pool"] = ThreadPoolExecutor(max(numba.config.NUMBA_NUM_THREADS - 1, 1),
-                                               thread_name_prefix="volumen-raycast")
+                                               thread_name_prefix="volumen-jit")
         return _pool["pool"]
 
 

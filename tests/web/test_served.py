@@ -1,0 +1,105 @@
+"""What the server sends, checked without a browser: the volume fitted to a texture size and budget and
+encoded as 16 bits (exactly where it can be), the frames' binary layout, the scenes the viewer refuses, the
+slice pictures and their pixel -> world map, and the shader sources of both dialects."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from volumen.core import Camera, Scene, Shading, TransferFunction, Volume, Window, canonical, slice_image
+from volumen.data import phantom
+from volumen.errors import DeviceLimitError
+from volumen.web import ServedVolume, decode, encode, web_frame
+from volumen.web._served import encode_half, fit_volume
+
+
+def test_integer_ct_is_sent_exactly_and_floats_within_half_a_table_entry():
+    """int16 data spanning <= 4097 values: the half-float texels plus the map give the table units of every
+    voxel exactly; float data (and wider integer ranges): within 0.5 table units (1/8190 of the range)."""
+    rng = np.random.default_rng(1)
+    u = rng.integers(-1024, 3072, size=(6, 7, 8)).astype(np.int16)
+    u0, ufac = -1024.0, 4095.0 / 4095.0
+    texels, (add, mul), exact = encode_half(u, u0, ufac)
+    assert exact and texels.dtype == np.float16
+    assert np.array_equal((texels.astype(np.float64) + add) * mul, (u - u0) * ufac)
+    f = rng.uniform(0, 4095, size=(6, 7, 8)).astype(np.float32)
+    texels, (add, mul), exact = encode_half(f, 0.0, 1.0)
+    assert not exact
+    assert np.abs((texels.astype(np.float64) + add) * mul - f).max() <= 0.5
+    wide = rng.integers(0, 60000, size=(4, 4, 4)).astype(np.int32)
+    texels, (add, mul), exact = encode_half(wide, 0.0, 4095 / 60000)
+    assert not exact and np.abs((texels.astype(np.float64) + add) * mul - wide * 4095 / 60000).max() <= 0.5
+
+
+def test_a_large_volume_is_resampled_to_the_budget_and_the_texture_size():
+    """A volume past the budget (2 bytes a voxel) or an axis past the client's 3-D texture size is resampled
+    onto a coarser grid covering the same box (within one new voxel), with a notice; a fitting one is kept."""
+    vol = phantom("head", size=(36, 40, 40))
+    fitted, factor = fit_volume(vol, 2048, 2 * 40 ** 3)
+    assert fitted is vol and factor == 1.0
+    served = ServedVolume(vol, max_3d=2048, budget_mb=2 * 20 ** 3 / 2 ** 20)
+    v = served.volume
+    assert 2 * np.prod(v.shape) <= 2 * 20 ** 3 and served.factor > 1 and "resampled" in served.notices[0]
+    lo, hi = vol.bounds()
+    lo2, hi2 = v.bounds()
+    assert np.allclose(lo2, lo) and np.all(hi2 <= hi + 1e-6) and np.all(hi - hi2 < np.array(v.spacing[::-1]))
+    small = ServedVolume(vol, max_3d=24, budget_mb=256).volume
+    assert max(small.shape) <= 24
+    info = served.info()
+    assert info["shape"] == list(v.shape) and "name" not in info and "meta" not in info
+
+
+def test_frames_round_trip_and_refuse_what_the_viewer_does_not_draw():
+    vol = phantom("head", size=(24, 24, 24))
+    scene = Scene(volume=vol, transfer=TransferFunction.preset("ct-bone"), shading=Shading(mode="headlight"))
+    cam = Camera.orbit(vol)
+    header, arrays = web_frame(vol, scene.to_dict(), cam.to_dict(), (32, 24))
+    h2, a2 = decode(encode(header, arrays))
+    assert h2["defines"] == {"MODE": 0, "LIGHT": 1, "MAX_LIGHTS": 16, "MAX_PLANES": 16}
+    assert h2["uniforms"]["u_wh"] == [32.0, 24.0] and len(h2["uniforms"]["u_to_index"]) == 16
+    for name, a in arrays.items():
+        assert a2[name].dtype == a.dtype and np.array_equal(a2[name], a), name
+    with pytest.raises(DeviceLimitError, match="path tracing"):
+        web_frame(vol, scene.with_(shading=Shading(mode="pathtrace")).to_dict(), cam.to_dict(), (8, 8))
+    with pytest.raises(ValueError, match="Scene.mode"):
+        web_frame(vol, {**scene.to_dict(), "mode": "x-ray"}, cam.to_dict(), (8, 8))
+    with pytest.raises(ValueError, match="picture size"):
+        web_frame(vol, scene.to_dict(), cam.to_dict(), (0, 8))
+
+
+def test_slice_pictures_are_the_core_slices_and_map_pixels_to_world():
+    """The server's slice PNG is ``core.slice_image`` of the plane through the crosshair; its pixel map sends
+    the pixel where the other planes cross (which it reports with their names) to the crosshair's world point
+    (to within a voxel: the slice is the nearest voxel's)."""
+    from io import BytesIO
+
+    from PIL import Image as PILImage
+
+    from volumen.web._slices import slice_png
+
+    vol = Volume(phantom("head", size=(30, 40, 36)).data, spacing=(2.0, 1.0, 1.5), modality="CT", units="HU")
+    point = np.asarray(vol.center) + [5.0, -4.0, 6.0]
+    can = canonical(vol)
+    others = {"axial": ("coronal", "sagittal"), "coronal": ("axial", "sagittal"), "sagittal": ("axial", "coronal")}
+    for plane in ("axial", "coronal", "sagittal"):
+        png, m, cross = slice_png(vol, plane, point, 40.0, 400.0)
+        gray = np.asarray(PILImage.open(BytesIO(png)))
+        expected = slice_image(can, plane, world=point, window=Window(40.0, 400.0), canonical_volume=can)
+        assert np.array_equal(gray, expected), plane
+        assert (cross["row_plane"], cross["col_plane"]) == others[plane]
+        world = m[0] + cross["col"] * m[1] + cross["row"] * m[2]
+        assert np.all(np.abs(world - point) <= max(vol.spacing) / 2 + 1e-6), (plane, world, point)
+
+
+def test_both_dialects_come_from_the_same_files():
+    """raycast.glsl carries no #version line; GLSL 3.30 and GLSL ES 3.00 stages differ only in the first line
+    (the preamble's precision statements are under GL_ES, which only ES compilers define)."""
+    from volumen.render.raster._shaders import shader_source, stage_source
+
+    assert not shader_source("raycast").startswith("#version")
+    d = {"MODE": 0, "LIGHT": 2, "MAX_LIGHTS": 16, "MAX_PLANES": 16}
+    desktop, es = (stage_source("raycast", "fragment", d, dialect) for dialect in ("gl330", "es300"))
+    assert desktop.split("\n", 1)[0] == "#version 330 core" and es.split("\n", 1)[0] == "#version 300 es"
+    assert desktop.split("\n", 1)[1] == es.split("\n", 1)[1]
+    assert "precision highp sampler3D;" in es and "#if defined GL_ES" in es

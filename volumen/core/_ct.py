@@ -1,0 +1,58 @@
+"""Is this volume a CT in Hounsfield units? From its modality and units, else from its values.
+
+A NIfTI or NRRD file carries no modality, so a CT opened from one looks like any other volume.
+Its values give it away: Hounsfield units reaching about -1000 (air, or the scanner's padding
+below it, -1024 or -3024 outside the field of view), a share of the voxels at air
+(-1100..-900 HU) and some at bone (>= 300 HU). A scan in scanner units (0..4095, air at 0), an
+MRI (no negative values) or a PET (no air peak at -1000) is not taken for one. The test is
+read on a strided sample of at most about 200,000 voxels (a few planes of a chunked volume).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._volume import is_chunked
+
+__all__ = ["is_ct", "AIR_HU", "BONE_HU"]
+
+#: the values of air in a CT (HU)
+AIR_HU = (-1100.0, -900.0)
+#: the values of cortical bone start here (HU)
+BONE_HU = 300.0
+_MIN_AIR = 0.005    # at least this share of the voxels at air
+_MIN_BONE = 0.0005  # and this share at bone
+_SAMPLE = 200_000
+_NOT_CT = ("MR", "PT", "NM", "US", "SEG", "RTDOSE", "XA", "DX", "CR", "MG")
+
+
+def _sample(volume) -> np.ndarray:
+    data = volume.data
+    if is_chunked(data):
+        nz = data.shape[0]
+        planes = [np.asarray(data[k]) for k in sorted({nz // 4, nz // 2, (3 * nz) // 4})]
+        data = np.stack(planes)
+    step = max(1, int(round((data.size / _SAMPLE) ** (1.0 / 3.0))))
+    return np.asarray(data[::step, ::step, ::step]).ravel()
+
+
+def is_ct(volume) -> bool:
+    """Whether ``volume`` holds a CT in Hounsfield units.
+
+    True for modality ``CT`` or units in HU (``"HU"``, ``"HU+1000"``: see ``hu_offset``); False for a colour
+    volume, another known modality (MR, PT, ...) or other units; otherwise decided from the values (module
+    docstring).
+    """
+    modality = str(volume.modality or "").upper()
+    units = str(volume.units or "")
+    if modality == "CT" or units.upper().startswith("HU"):
+        return True
+    if volume.is_color or modality in _NOT_CT or units not in ("", "unknown"):
+        return False
+    v = _sample(volume).astype(np.float64, copy=False)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return False
+    air = np.count_nonzero((v >= AIR_HU[0]) & (v <= AIR_HU[1])) / v.size
+    bone = np.count_nonzero(v >= BONE_HU) / v.size
+    return bool(v.min() <= AIR_HU[1] and air >= _MIN_AIR and bone >= _MIN_BONE)

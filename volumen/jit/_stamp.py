@@ -1,0 +1,130 @@
+"""Numba's on-disk cache keyed on every source a kernel is compiled from, not only its own file.
+
+A cached kernel inlines (or links) functions of other files: the ray caster's skeleton calls the mode pieces
+of ``_composite`` / ``_iso`` / ..., the lighting of ``_shade`` and the thread counter of
+:mod:`volumen.jit._threads`; endoscopy's collision march calls the ray caster's sampling; marching cubes
+calls ``_mc_rows``' word helpers and freezes the tables of ``_mc_tables`` into its code. Numba checks only
+the calling function's own file, so a change to one of those would leave the cached kernel stale. A package
+registers its kernels' files with :func:`stamp_sources` *before defining them* (its ``__init__`` does it
+first); the cache locators below then give each registered file the stamp of its whole group: the
+modification times and sizes of every file in it, so editing any of them recompiles the group.
+
+This puts two locators at the front of ``numba.core.caching.CacheImpl._locator_classes`` (a private list,
+the fourth patch of Numba's internals, guarded by :mod:`._guard`; upstream: numba/numba#6845, "cache
+invalidation does not consider dependencies", open). Unlike the inliner's patches it does not stand down
+outside the tested Numba range, because without it a cache could be stale (wrong); it steps aside only when
+Numba lacks the list or the locator methods it extends, and then says so once.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from collections.abc import Iterable
+from pathlib import Path
+
+__all__ = ["stamp_sources", "stamped_with", "install", "installed"]
+
+_PACKAGE = Path(__file__).resolve().parents[1]  # volumen/
+#: registered file -> the files its kernels' cache is keyed on (sorted)
+_KEYS: dict[Path, tuple[Path, ...]] = {}
+_state = {"installed": False}
+
+
+def stamp_sources(files: Iterable, *, also: Iterable = ()) -> tuple[Path, ...]:
+    """Key the cached kernels of each of ``files`` on all of ``files``, ``also`` and the groups ``also`` belong to.
+
+    Parameters
+    ----------
+    files : iterable of path
+        Source files whose ``@njit(cache=True)`` kernels are keyed (call before those kernels are defined).
+    also : iterable of path
+        More sources they are compiled from; a file registered before brings its whole group.
+
+    Returns
+    -------
+    tuple of Path
+        The group: every file whose stamp the kernels of ``files`` carry.
+    """
+    own = {Path(f).resolve() for f in files}
+    extra = {Path(f).resolve() for f in also}
+    group = set(own) | extra
+    for f in extra:
+        group.update(_KEYS.get(f, ()))
+    key = tuple(sorted(group))
+    for f in own:
+        _KEYS[f] = tuple(sorted(set(_KEYS.get(f, ())) | group))
+    install()
+    return key
+
+
+def stamped_with(path) -> tuple[Path, ...]:
+    """The files whose stamp the cached kernels of ``path`` carry (empty: not registered, Numba's own check)."""
+    return _KEYS.get(Path(path).resolve(), ())
+
+
+def _stamp(files: tuple[Path, ...]) -> tuple:
+    out = []
+    for f in files:
+        st = os.stat(f)
+        out.append((f.relative_to(_PACKAGE).as_posix() if f.is_relative_to(_PACKAGE) else f.name, st.st_mtime,
+                    st.st_size))
+    return tuple(out)
+
+
+def _bases(caching) -> tuple:
+    """Numba's user-provided (``NUMBA_CACHE_DIR``) and in-tree locators (underscored names in older releases)."""
+    return tuple(getattr(caching, name, None) or getattr(caching, "_" + name, None)
+                 for name in ("UserProvidedCacheLocator", "InTreeCacheLocator"))
+
+
+def _locators():
+    from numba.core import caching
+
+    class _Stamped:
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            key = _KEYS.get(Path(py_file).resolve())
+            if not key:
+                return None
+            locator = super().from_function(py_func, py_file)
+            if locator is not None:
+                locator._volumen_key = key
+            return locator
+
+        def get_source_stamp(self):
+            return _stamp(self._volumen_key)
+
+    user_provided, in_tree = _bases(caching)
+
+    class _UserProvided(_Stamped, user_provided):
+        pass
+
+    class _InTree(_Stamped, in_tree):
+        pass
+
+    return _UserProvided, _InTree  # Numba's order: NUMBA_CACHE_DIR when set, else beside the sources
+
+
+def install() -> bool:
+    """Put the stamped locators first in Numba's list (once); whether they are in place."""
+    if _state["installed"]:
+        return True
+    from numba.core import caching
+
+    locators = getattr(getattr(caching, "CacheImpl", None), "_locator_classes", None)
+    bases = _bases(caching)
+    if not isinstance(locators, list) or not all(hasattr(b, "from_function") and hasattr(b, "get_source_stamp")
+                                                 for b in bases):
+        warnings.warn("this Numba has no cache locator list volumen can extend: cached kernels are keyed on their "
+                      "own file only; after editing volumen's kernels, delete its __pycache__ folders", stacklevel=2)
+        return False
+    for cls in reversed(_locators()):
+        locators.insert(0, cls)
+    _state["installed"] = True
+    return True
+
+
+def installed() -> bool:
+    """Whether the stamped locators are in place in this process."""
+    return _state["installed"]

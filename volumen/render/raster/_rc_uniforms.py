@@ -1,0 +1,90 @@
+"""The ray-casting shader's variant and uniforms for one packed frame, as plain values (no OpenGL here).
+
+:func:`variant` gives the ``#define`` s of ``shaders/raycast.glsl`` (mode, lighting model, array sizes) and
+:func:`frame_uniforms` every uniform but the texture units and the texture-layout ones (``u_vol_map``,
+``u_lvd_w``, ``u_origin``): python numbers and tuples, and float32 / int32 arrays already in the order a
+``glUniform*v`` call takes (matrices column-major). The OpenGL device sets them with moderngl
+(``_raycast.py``); the browser viewer (``volumen.web``) sends the same dict to its page, which sets them with
+WebGL2, so both draw from the values packed here once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["MAX_LIGHTS", "MAX_PLANES", "MODES", "LIGHTS", "variant", "frame_uniforms", "CAMERA_UNIFORMS",
+           "LIGHT_UNIFORMS"]
+
+#: most lights and clip planes one pass takes
+MAX_LIGHTS = 16
+MAX_PLANES = 16
+#: mode tag (``raycast._pieces``) -> MODE of raycast.glsl
+MODES = {"Composite": 0, "Preintegrated": 1, "Mip": 2, "Minip": 3, "Average": 4, "Isosurface": 5}
+#: lighting tag -> LIGHT of raycast.glsl
+LIGHTS = {"Unlit": 0, "Phong": 1, "Headlight": 1, "Shadowed": 2, "Scatter": 3}
+#: uniforms of the packed camera (``raycast._geometry.pack_camera``): what a viewer changes per frame
+CAMERA_UNIFORMS = ("u_eye", "u_right", "u_up", "u_fwd", "u_ortho", "u_half", "u_wh", "u_near", "u_far")
+#: uniforms of the packed lights (``raycast._shade.pack_lights``)
+LIGHT_UNIFORMS = ("u_nlights", "u_lpos", "u_ldir", "u_lcol", "u_lexp")
+
+
+def variant(frame) -> dict:
+    """The ``#define`` s of the frame's program: ``{"MODE": int, "LIGHT": int, "MAX_LIGHTS": .., "MAX_PLANES": ..}``."""
+    return {"MODE": MODES[type(frame.mode).__name__], "LIGHT": LIGHTS[type(frame.light).__name__],
+            "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES}
+
+
+def _vec3s(rows: np.ndarray, cap: int) -> np.ndarray:
+    out = np.zeros((cap, 3), np.float32)
+    out[:len(rows)] = rows
+    return out
+
+
+def _geometry(a) -> dict:
+    cam, geo = a.cam, a.geo
+    u = {name: tuple(float(v) for v in cam[i:i + 3])
+         for name, i in (("u_eye", 0), ("u_right", 3), ("u_up", 6), ("u_fwd", 9))}
+    u.update(u_ortho=bool(cam[12] > 0.5), u_half=float(cam[13]), u_wh=(float(cam[14]), float(cam[15])),
+             u_near=float(cam[16]), u_far=float(min(cam[17], 1e30)))
+    m = np.eye(4)
+    m[:3, :4] = geo[:12].reshape(3, 4)
+    u["u_to_index"] = np.ascontiguousarray(m.T, np.float32)  # column-major
+    u["u_nmat"] = np.ascontiguousarray(a.nrm[:3].T, np.float32)
+    for name, i in (("u_box_lo", 12), ("u_box_hi", 15), ("u_wlo", 18), ("u_whi", 21)):
+        u[name] = tuple(float(v) for v in geo[i:i + 3])
+    u["u_pp"] = _vec3s(a.planes[:, :3], MAX_PLANES)
+    u["u_pn"] = _vec3s(a.planes[:, 3:6], MAX_PLANES)
+    return u
+
+
+def _lights(a, s) -> dict:
+    n = s.nlights
+    li = a.lights[:n]
+    exp = np.zeros(MAX_LIGHTS, np.float32)
+    exp[:n] = li[:, 9]
+    lvm = np.zeros((MAX_LIGHTS, 16), np.float32)
+    off = np.zeros(MAX_LIGHTS, np.int32)
+    m = min(len(a.lvm), MAX_LIGHTS)
+    lvm[:m] = a.lvm[:m]
+    off[:m] = a.lvm[:m, 1]   # LV_OFF, exact as an integer past float32's 2**24
+    return {"u_nlights": int(n), "u_lpos": _vec3s(li[:, 0:3], MAX_LIGHTS), "u_ldir": _vec3s(li[:, 3:6], MAX_LIGHTS),
+            "u_lcol": _vec3s(li[:, 6:9], MAX_LIGHTS), "u_lexp": exp, "u_lvm": lvm, "u_lvoff": off,
+            "u_envsh": _vec3s(a.envsh, 9)}   # the environment's ambient: 9 spherical-harmonic RGB coefficients
+
+
+def _settings(s) -> dict:
+    u = {f"u_{name}": float(getattr(s, name)) for name in ("ds", "ds0", "et", "ka", "kd", "ks", "shine", "iso",
+                                                           "pre_scale", "sh_off", "sh_step", "kext", "albedo", "g")}
+    u["u_iso_rgb"] = (float(s.iso_r), float(s.iso_g), float(s.iso_b))
+    flags = ("nearest", "jitter", "skip", "gradop", "sobel", "color", "hdr")
+    u.update({f"u_{name}": bool(getattr(s, name)) for name in flags})
+    u.update(u_seed=int(s.seed), u_block=int(s.block), u_nplanes=int(s.nplanes), u_envmode=int(s.envmode))
+    return u
+
+
+def frame_uniforms(frame) -> dict:
+    """Every uniform of the frame's program but the texture units, ``u_vol_map``, ``u_lvd_w`` and ``u_origin``."""
+    a, s = frame.arrays, frame.settings
+    u = {**_geometry(a), **_lights(a, s), **_settings(s)}
+    u["u_inv_gmax"] = float(a.nrm[3, 0] / s.ufac)  # table units
+    return u

@@ -1,0 +1,138 @@
+// The WebGL2 context and the frame's textures: the page's side of raster/_rc_textures.py.
+//   vol    3-D R16F, trilinear, clamped (the served volume: volumen/web/_served.py; table units through
+//          u_vol_map); texel centres are voxel centres
+//   rgb    3-D RGB8 placeholder (colour volumes are not served)
+//   bflag  3-D R8UI, bmin / bmax 3-D R32F: the empty-space skipping grids, read per texel
+//   lut    (NLUT x 1) RGBA32F, sig (NLUT x 1) R32F, glut (128 x 1) R32F, pre (NPRE x NPRE) RGBA32F
+//   lvd    the illumination volumes' buffer as rows of `lvdWidth` R32F values
+// Only the frame's tables change between frames; the volume is uploaded once.
+
+export const FIELDS = ['vol', 'lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd', 'rgb'];
+
+// a WebGL2 context on `canvas` able to draw into an XR layer; throws with the reason when there is none
+export function createContext(canvas) {
+  const gl = canvas.getContext('webgl2', { alpha: true, premultipliedAlpha: true, antialias: false, depth: false,
+    stencil: false, preserveDrawingBuffer: true, xrCompatible: true });
+  if (!gl) throw new Error('this browser has no WebGL2');
+  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+  return gl;
+}
+
+export function limits(gl) {
+  return { max3d: gl.getParameter(gl.MAX_3D_TEXTURE_SIZE), max2d: gl.getParameter(gl.MAX_TEXTURE_SIZE),
+    renderer: gl.getParameter(gl.RENDERER), version: gl.getParameter(gl.VERSION) };
+}
+
+function make(gl, target, filter) {
+  const t = gl.createTexture();
+  gl.bindTexture(target, t);
+  gl.texParameteri(target, gl.TEXTURE_MIN_FILTER, filter);
+  gl.texParameteri(target, gl.TEXTURE_MAG_FILTER, filter);
+  for (const w of [gl.TEXTURE_WRAP_S, gl.TEXTURE_WRAP_T, gl.TEXTURE_WRAP_R]) gl.texParameteri(target, w, gl.CLAMP_TO_EDGE);
+  return t;
+}
+
+function texture3d(gl, [nz, ny, nx], internal, format, type, data, filter) {
+  const t = make(gl, gl.TEXTURE_3D, filter);
+  gl.texImage3D(gl.TEXTURE_3D, 0, internal, nx, ny, nz, 0, format, type, data);
+  return t;
+}
+
+function texture2d(gl, w, h, internal, format, type, data) {
+  const t = make(gl, gl.TEXTURE_2D, gl.NEAREST);
+  gl.texImage2D(gl.TEXTURE_2D, 0, internal, w, h, 0, format, type, data);
+  return t;
+}
+
+export class Textures {
+  constructor(gl) {
+    this.gl = gl;
+    this.tex = {};
+    this.lvdWidth = Math.min(gl.getParameter(gl.MAX_TEXTURE_SIZE), 8192);
+    this.tex.rgb = texture3d(gl, [1, 1, 1], gl.RGB8, gl.RGB, gl.UNSIGNED_BYTE, new Uint8Array(3), gl.LINEAR);
+  }
+
+  // the volume: {shape, vol_map} and its float16 texels (Uint16Array)
+  setVolume(header, texels) {
+    const gl = this.gl;
+    if (this.tex.vol) gl.deleteTexture(this.tex.vol);
+    this.tex.vol = texture3d(gl, header.shape, gl.R16F, gl.RED, gl.HALF_FLOAT, texels, gl.LINEAR);
+    this.volMap = header.vol_map;
+    this.shape = header.shape;
+  }
+
+  // the frame's tables and grids (the arrays of a /frame.bin answer)
+  setFrame(a) {
+    const gl = this.gl;
+    const old = ['lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd'].map((n) => this.tex[n]);
+    const row = (x, comps, internal, format) => texture2d(gl, x.shape[0], 1, internal, format, gl.FLOAT, x.data);
+    this.tex.lut = row(a.lut, 4, gl.RGBA32F, gl.RGBA);
+    this.tex.sig = row(a.sig, 1, gl.R32F, gl.RED);
+    this.tex.glut = row(a.glut, 1, gl.R32F, gl.RED);
+    this.tex.pre = texture2d(gl, a.pre.shape[1], a.pre.shape[0], gl.RGBA32F, gl.RGBA, gl.FLOAT, a.pre.data);
+    this.tex.bflag = texture3d(gl, a.bflag.shape, gl.R8UI, gl.RED_INTEGER, gl.UNSIGNED_BYTE, a.bflag.data, gl.NEAREST);
+    this.tex.bmin = texture3d(gl, a.bmin.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmin.data, gl.NEAREST);
+    this.tex.bmax = texture3d(gl, a.bmax.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmax.data, gl.NEAREST);
+    const w = this.lvdWidth, n = a.lvd.data.length, rows = Math.ceil(n / w);
+    if (rows > w) throw new Error(`illumination volumes of ${n} values are past this browser's ${w} x ${w} texture`);
+    const lvd = new Float32Array(rows * w).fill(1);
+    lvd.set(a.lvd.data);
+    this.tex.lvd = texture2d(gl, w, rows, gl.R32F, gl.RED, gl.FLOAT, lvd);
+    for (const t of old) if (t) gl.deleteTexture(t);
+  }
+
+  get ready() { return Boolean(this.tex.vol && this.tex.lut); }
+
+  // bind every texture to its unit; the sampler uniforms and the layout uniforms to set
+  bind() {
+    const gl = this.gl;
+    const u = {};
+    FIELDS.forEach((name, unit) => {
+      gl.activeTexture(gl.TEXTURE0 + unit);
+      const target = ['lut', 'pre', 'glut', 'sig', 'lvd'].includes(name) ? gl.TEXTURE_2D : gl.TEXTURE_3D;
+      gl.bindTexture(target, this.tex[name]);
+      u[`u_${name}`] = unit;
+    });
+    u.u_lvd_w = this.lvdWidth;
+    u.u_vol_map = this.volMap;
+    return u;
+  }
+}
+
+// An offscreen RGBA8 picture (reduced resolution while dragging, and the frame governor's in VR), shown by a
+// linear blit onto the canvas or an XR view's viewport.
+export class Offscreen {
+  constructor(gl) { this.gl = gl; this.size = [0, 0]; }
+
+  use(w, h) {
+    const gl = this.gl;
+    if (this.size[0] !== w || this.size[1] !== h) {
+      if (this.fbo) { gl.deleteFramebuffer(this.fbo); gl.deleteTexture(this.tex); }
+      this.tex = texture2d(gl, w, h, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, null);
+      this.fbo = gl.createFramebuffer();
+      gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
+      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.tex, 0);
+      this.size = [w, h];
+    }
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
+    gl.viewport(0, 0, w, h);
+  }
+
+  // blit onto `target` (null: the canvas) at viewport [x, y, w, h]
+  show(target, [x, y, w, h]) {
+    const gl = this.gl;
+    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, this.fbo);
+    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, target);
+    gl.blitFramebuffer(0, 0, this.size[0], this.size[1], x, y, x + w, y + h, gl.COLOR_BUFFER_BIT, gl.LINEAR);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, target);
+  }
+}
+
+// RGBA8 of the region [x, y, w, h] of the bound framebuffer, rows from the TOP (as volumen.core.Image)
+export function readRGBA(gl, [x, y, w, h]) {
+  const px = new Uint8Array(w * h * 4);
+  gl.readPixels(x, y, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  const out = new Uint8Array(w * h * 4);
+  for (let r = 0; r < h; r++) out.set(px.subarray((h - 1 - r) * w * 4, (h - r) * w * 4), r * w * 4);
+  return out;
+}

@@ -1,0 +1,137 @@
+// The page: load the scan (info, shaders, the volume as a 3-D texture), then the view, its gestures and
+// overlay, the slice views, the panel and VR. `window.volumen` is the page's script interface (tests,
+// benchmarks): set a view, read the picture back, enter VR and read both eyes.
+
+import { getBinary, getJSON } from './api.js';
+import { attachGestures, aimLight, dragZoom, moveLight, orbit, pan, wheelZoom } from './camera.js';
+import { createContext, limits, Textures } from './gl.js';
+import { drawOverlay, lightLength, pickLight } from './overlay.js';
+import { RaycastProgram } from './program.js';
+import { SliceViews } from './slices.js';
+import { Panel, shifted } from './ui.js';
+import { Viewer } from './viewer.js';
+import { XRView, xrSupported } from './xr.js';
+
+const status = document.getElementById('status');
+
+function base64(bytes) {
+  let s = '';
+  for (let i = 0; i < bytes.length; i += 0x8000) s += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return btoa(s);
+}
+
+function fitCanvases(viewer, overlay) {
+  const box = viewer.gl.canvas.parentElement.getBoundingClientRect();
+  const w = Math.max(1, Math.round(box.width * devicePixelRatio));
+  const h = Math.max(1, Math.round(box.height * devicePixelRatio));
+  if (viewer.fixedSize || viewer.xrActive) return;
+  for (const c of [viewer.gl.canvas, overlay]) { c.width = w; c.height = h; }
+  viewer.redraw();
+}
+
+async function boot() {
+  const canvas = document.getElementById('gl'), overlay = document.getElementById('overlay');
+  const gl = createContext(canvas);
+  const lim = limits(gl);
+  const max3d = lim.max3d;
+  const [info, sources, volume] = await Promise.all([getJSON('info.json', { max3d }), getJSON('shaders.json'),
+    getBinary('volume.bin', { max3d })]);
+  const textures = new Textures(gl);
+  textures.setVolume(volume.header, volume.arrays.vol.data);
+  const program = new RaycastProgram(gl, sources.raycast);
+  const viewer = new Viewer({ gl, program, textures, info, max3d });
+  const xr = new XRView(viewer, { onPreset: (step) => panel.cyclePreset(step), onChange: () => panel.refresh('xr') });
+  const slices = new SliceViews(document.getElementById('slices'), { info, max3d,
+    onCrosshair: () => viewer.redraw() });
+  const panel = new Panel(document.getElementById('panel'), { viewer, slices, xr, xrAvailable: await xrSupported() });
+  panel.cyclePreset = (step) => {
+    const names = info.presets.filter((n) => n !== 'mip-gray');
+    panel.presetName = names[(names.indexOf(panel.presetName) + step + names.length) % names.length];
+    panel.applyPreset();
+  };
+  for (const n of [...info.notices, ...volume.header.notices]) panel.notice(n);
+
+  const size = () => [canvas.width, canvas.height];
+  attachGestures(canvas, (x, y) => pickLight(viewer.scene.lights, viewer.camera, size(), lightLength(info),
+    x * devicePixelRatio, y * devicePixelRatio), (kind, dx, dy, light) => {
+    viewer.interacting = kind !== 'wheel';
+    const cam = viewer.camera, r = devicePixelRatio;
+    if (kind === 'orbit') viewer.setCamera(orbit(cam, dx * r, dy * r));
+    else if (kind === 'pan') viewer.setCamera(pan(cam, dx * r, dy * r, size()));
+    else if (kind === 'zoom') viewer.setCamera(dragZoom(cam, dy * r));
+    else if (kind === 'wheel') viewer.setCamera(wheelZoom(cam, dy));
+    else {
+      const lights = viewer.scene.lights.slice();
+      lights[light] = kind === 'light' ? moveLight(lights[light], cam, dx * r, dy * r, size())
+        : aimLight(lights[light], cam, dx * r, dy * r);
+      panel.selected = light;
+      viewer.scene = { ...viewer.scene, lights };   // drawn at once, its shadows when the button is released
+      viewer.redraw();
+    }
+  }, () => {
+    viewer.interacting = false;
+    viewer.setScene({ ...viewer.scene });
+  });
+  viewer.onChange((what) => {
+    if (what === 'drawn') drawOverlay(overlay, { info, scene: viewer.scene, camera: viewer.camera,
+      selected: panel.selected, crosshair: slices.crosshair });
+  });
+  new ResizeObserver(() => fitCanvases(viewer, overlay)).observe(canvas.parentElement);
+  fitCanvases(viewer, overlay);
+  viewer.requestFrame();
+  const slicesShown = slices.update();
+  status.textContent = `${lim.renderer} | ${lim.version}`;
+
+  window.volumen = {
+    viewer, xr, info, limits: lim, shifted,
+    // fix the picture's size (pixels) and show `scene` / `camera` (JSON); resolves once it is drawn
+    async show({ scene, camera, size: wh }) {
+      if (wh) {
+        viewer.fixedSize = true;
+        document.body.classList.add('fixed');
+        canvas.width = overlay.width = wh[0];
+        canvas.height = overlay.height = wh[1];
+      }
+      if (camera) viewer.camera = camera;
+      if (scene) viewer.setScene(scene); else viewer.requestFrame();
+      if (viewer.xrActive) {   // the canvas is the XR layer: wait for the frame and one XR picture
+        await viewer.idle();
+        await xr.afterFrames(1);
+      } else {
+        await viewer.settled();
+      }
+      return { error: viewer.error };
+    },
+    // the canvas: RGBA8 (base64), rows from the top, with the scene and camera it shows
+    capture() {
+      return { width: canvas.width, height: canvas.height, rgba: base64(viewer.read()), camera: viewer.camera,
+        scene: viewer.scene, error: viewer.error };
+    },
+    async enterVR({ governor = true, placement = 'table-top' } = {}) {
+      xr.governor = governor;
+      xr.placement = placement;
+      await xr.enter();
+      return true;
+    },
+    // both eyes of the next XR frame: [{eye, viewport, camera, rgba (base64)}]
+    async captureVR() {
+      const shots = await xr.capture();
+      return shots.map((s) => ({ ...s, rgba: base64(s.rgba) }));
+    },
+    stateVR() { return { model: xr.model, scene: viewer.scene, stats: xr.stats(), eyes: xr.lastEyes }; },
+    framesVR(n) { return xr.afterFrames(n); },
+    timeFrames(n) { return viewer.timeFrames(n); },
+    // resolves once the first picture and the slice views are shown
+    async shown() { await Promise.all([viewer.settled(), slicesShown]); },
+    timeFramesVR(n) { return xr.timeFrames(n); },
+    // a new scene during an XR session: resolves once its frame arrived
+    async sceneVR(scene) { viewer.setScene(scene); await viewer.idle(); await xr.afterFrames(1); },
+  };
+  document.body.dataset.ready = 'yes';
+}
+
+window.volumenReady = boot().catch((e) => {
+  status.textContent = `error: ${e.message || e}`;
+  document.body.dataset.ready = 'error';
+  throw e;
+});

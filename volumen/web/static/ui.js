@@ -1,0 +1,165 @@
+// The panel beside the 3-D view: preset (and its shift along the values), mode, shading, lights (add at the
+// camera, select, delete; dragged on the picture), crop box, slice window, VR, notices and frame times.
+// Every control edits the scene (Scene.to_dict() JSON) through viewer.setScene.
+
+import { lightAtCamera } from './camera.js';
+
+const MODES = ['composite', 'mip', 'minip', 'average', 'isosurface'];
+const SHADINGS = ['none', 'headlight', 'phong', 'shadows', 'scattering'];   // path tracing: cpu and cuda only
+
+function el(tag, props = {}, ...children) {
+  const e = Object.assign(document.createElement(tag), props);
+  e.append(...children);
+  return e;
+}
+
+function labelled(text, control) {
+  return el('label', {}, el('span', { textContent: text }), control);
+}
+
+function select(options, value, onChange) {
+  const s = el('select');
+  for (const o of options) s.append(el('option', { value: o, textContent: o, selected: o === value }));
+  s.addEventListener('change', () => onChange(s.value));
+  return s;
+}
+
+function slider(min, max, step, value, onInput) {
+  const s = el('input', { type: 'range', min, max, step, value });
+  s.addEventListener('input', () => onInput(Number(s.value)));
+  return s;
+}
+
+// TransferFunction.shifted: the inner control points moved by `offset`, clamped between the end points
+export function shifted(tf, offset) {
+  const move = (pts) => (pts.length <= 2 ? pts : [pts[0], ...pts.slice(1, -1).map(([v, ...rest]) =>
+    [Math.min(Math.max(v + offset, pts[0][0]), pts[pts.length - 1][0]), ...rest]), pts[pts.length - 1]]);
+  return { ...tf, color: move(tf.color), opacity: move(tf.opacity) };
+}
+
+export class Panel {
+  constructor(root, { viewer, slices, xr, xrAvailable }) {
+    Object.assign(this, { root, viewer, slices, xr });
+    this.selected = null;
+    this.presetName = viewer.scene.transfer.name || viewer.info.presets[0];
+    const info = viewer.info;
+    this.shift = info.shift || 0;
+    const [lo, hi] = info.volume.value_range;
+    const span = Math.max(hi - lo, Math.abs(this.shift) * 2);
+    this.notices = el('ul', { className: 'notices' });
+    this.timing = el('p', { className: 'timing' });
+    this.lightList = el('select', { size: 4, className: 'lights' });
+    this.lightList.addEventListener('change', () => this.select(this.lightList.selectedIndex));
+    this.iso = slider(lo, hi, span / 500, viewer.scene.isosurface.value, (v) => this.edit({ isosurface:
+      { ...viewer.scene.isosurface, value: v } }));
+    const sc = viewer.scene;
+    root.append(
+      el('h2', { textContent: 'volumen' }),
+      this.notices,
+      labelled('preset', select(info.presets, this.presetName, (n) => { this.presetName = n; this.applyPreset(); })),
+      labelled('shift', slider(-span / 2, span / 2, span / 500, this.shift, (v) => {
+        this.shift = v;
+        this.applyPreset();
+      })),
+      labelled('mode', select(MODES, sc.mode, (m) => this.setMode(m))),
+      labelled('iso value', this.iso),
+      labelled('shading', select(SHADINGS, sc.shading.mode, (m) => this.edit({ shading: { ...viewer.scene.shading,
+        mode: m } }))),
+      el('h3', { textContent: 'lights' }), this.lightList,
+      el('div', { className: 'row' },
+        el('button', { textContent: 'add at camera', onclick: () => this.addLight() }),
+        el('button', { textContent: 'delete', onclick: () => this.deleteLight() })),
+      el('p', { className: 'hint', textContent: 'drag a cone to move a light, ctrl + drag to aim it' }),
+      el('h3', { textContent: 'crop box' }), this.cropControls(),
+      el('h3', { textContent: 'slice window' }),
+      labelled('level', slider(lo - span / 2, hi, span / 500, slices.window.level,
+        (v) => slices.setWindow(v, slices.window.width))),
+      labelled('width', slider(span / 500, 2 * span, span / 500, slices.window.width,
+        (v) => slices.setWindow(slices.window.level, v))),
+      el('h3', { textContent: 'VR' }), this.vrControls(xrAvailable),
+      this.timing,
+    );
+    viewer.onChange((what) => this.refresh(what));
+    this.refresh('scene');
+  }
+
+  edit(changes) { this.viewer.setScene({ ...this.viewer.scene, ...changes }); }
+
+  applyPreset() {
+    const tf = this.viewer.info.transfers[this.presetName];
+    this.edit({ transfer: shifted(tf, this.shift) });
+  }
+
+  setMode(mode) {
+    const projection = ['mip', 'minip', 'average'].includes(mode);
+    const transfer = projection ? this.viewer.info.transfers['mip-gray']
+      : shifted(this.viewer.info.transfers[this.presetName], this.shift);
+    this.edit({ mode, transfer });
+  }
+
+  select(i) {
+    this.selected = i >= 0 ? i : null;
+    this.viewer.redraw();
+  }
+
+  addLight() {
+    const v = this.viewer;
+    if (v.scene.lights.length >= v.maxLights) return;
+    const shading = ['none', 'headlight'].includes(v.scene.shading.mode) ? { ...v.scene.shading, mode: 'phong' }
+      : v.scene.shading;
+    this.selected = v.scene.lights.length;
+    this.edit({ shading, lights: [...v.scene.lights, lightAtCamera(v.camera)] });
+  }
+
+  deleteLight() {
+    if (this.selected === null) return;
+    const lights = this.viewer.scene.lights.filter((_, i) => i !== this.selected);
+    this.selected = null;
+    this.edit({ lights });
+  }
+
+  cropControls() {
+    const [nz, ny, nx] = this.viewer.info.volume.shape;
+    const n = [nx - 1, nx - 1, ny - 1, ny - 1, nz - 1, nz - 1];
+    const box = [0, nx - 1, 0, ny - 1, 0, nz - 1];
+    const on = el('input', { type: 'checkbox' });
+    const apply = () => this.edit({ clipping: { ...this.viewer.scene.clipping, crop: on.checked ? box.slice() : null,
+      crop_space: 'voxel' } });
+    on.addEventListener('change', apply);
+    const rows = ['x min', 'x max', 'y min', 'y max', 'z min', 'z max'].map((name, i) => labelled(name,
+      slider(0, n[i], 1, box[i], (v) => {
+        box[i] = v;
+        if (i % 2 === 0) box[i + 1] = Math.max(box[i + 1], v); else box[i - 1] = Math.min(box[i - 1], v);
+        on.checked = true;
+        apply();
+      })));
+    return el('div', { className: 'crop' }, labelled('crop', on), ...rows);
+  }
+
+  vrControls(available) {
+    const enter = el('button', { textContent: 'Enter VR', disabled: !available, onclick: () => this.xr.enter()
+      .catch((e) => this.notice(`VR: ${e.message || e}`)) });
+    const placement = select(['table-top', 'life-size'], 'table-top', (p) => this.xr.place(p));
+    const gov = el('input', { type: 'checkbox', checked: true });
+    gov.addEventListener('change', () => { this.xr.governor = gov.checked; });
+    return el('div', {}, enter, labelled('placement', placement), labelled('frame-time governor', gov),
+      available ? '' : el('p', { className: 'hint', textContent: 'no immersive-vr here (a headset\'s browser, '
+        + 'or desktop Chrome with an OpenXR runtime, over https or localhost)' }));
+  }
+
+  notice(text) { this.notices.append(el('li', { textContent: text })); }
+
+  refresh(what) {
+    const v = this.viewer;
+    if (what === 'scene') {
+      const names = v.scene.lights.map((lt, i) => `${i + 1}: ${lt.kind} at ${lt.position.map((x) => x.toFixed(0))
+        .join(', ')} mm`);
+      this.lightList.replaceChildren(...names.map((t, i) => el('option', { textContent: t, selected: i === this.selected })));
+      this.iso.parentElement.hidden = v.scene.mode !== 'isosurface';
+    }
+    if (what === 'error' && v.error) this.notice(v.error);
+    const xr = this.xr.session ? this.xr.stats() : null;
+    this.timing.textContent = xr ? `VR ${xr.mean_ms.toFixed(1)} ms a frame (both eyes), step level ${xr.level}`
+      : `${v.lastDraw.ms.toFixed(1)} ms a picture (${v.lastDraw.size.join(' x ')})`;
+  }
+}

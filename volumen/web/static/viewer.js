@@ -1,0 +1,196 @@
+// The view's state and its drawing: the scene (Scene.to_dict() JSON), the camera, the packed frame the server
+// sent for that scene, and one draw of the ray caster into the canvas (or an XR view: xr.js calls drawView).
+// A changed scene asks the server for its frame (tables, grids, illumination volumes, uniforms); a moved
+// camera or light changes only the camera's and the lights' uniforms, drawn at once. A light moved away from
+// where its illumination volume was built is drawn without that volume's shadows until the new one arrives.
+
+import { postBinary } from './api.js';
+import { lightUniforms, packCamera } from './camera.js';
+import { Offscreen, readRGBA } from './gl.js';
+
+export const REDUCED_FRACTION = 0.5;   // picture scale while dragging (notebook/_loop.py)
+const LATTICE = 1;                     // raycast._params: an illumination volume's kind
+
+export class Viewer {
+  constructor({ gl, program, textures, info, max3d }) {
+    Object.assign(this, { gl, program, textures, info, max3d });
+    this.scene = info.scene;
+    this.camera = info.camera;
+    this.frame = null;          // {defines, uniforms, ...} of the last frame received
+    this.seq = 0;               // frames asked for
+    this.pending = 0;           // frames asked for and not yet received
+    this.interacting = false;
+    this.offscreen = new Offscreen(gl);
+    this.listeners = [];
+    this.waiters = [];
+    this.idleWaiters = [];
+    this.error = null;
+    this.lastDraw = { ms: 0, size: [0, 0], scale: 1 };
+  }
+
+  get maxLights() { return this.info.limits.max_lights; }
+
+  onChange(fn) { this.listeners.push(fn); }
+
+  // a new scene (or a part of it): ask for its frame; the picture follows when it arrives
+  setScene(scene) {
+    this.scene = scene;
+    this.requestFrame();
+    this.listeners.forEach((fn) => fn('scene'));
+  }
+
+  setCamera(camera) {
+    this.camera = camera;
+    if (this.needsFrameForCamera()) this.requestFrame();
+    this.redraw();
+    this.listeners.forEach((fn) => fn('camera'));
+  }
+
+  // lights attached to the camera cast their shadows from where the camera is
+  needsFrameForCamera() {
+    return !this.interacting && ['shadows', 'scattering'].includes(this.scene.shading.mode)
+      && this.scene.lights.some((lt) => lt.attach === 'camera');
+  }
+
+  async requestFrame() {
+    const seq = ++this.seq;
+    this.pending++;
+    const canvas = this.gl.canvas;
+    try {
+      const { header, arrays } = await postBinary('frame.bin', { scene: this.scene, camera: this.camera,
+        size: [canvas.width, canvas.height], max3d: this.max3d, seq });
+      if (seq === this.seq) {   // answers to older requests are dropped
+        this.textures.setFrame(arrays);
+        this.frame = header;
+        this.error = null;
+      }
+    } catch (e) {
+      if (seq === this.seq) this.error = String(e.message || e);
+      this.listeners.forEach((fn) => fn('error'));
+    } finally {
+      this.pending--;
+      if (this.pending === 0) this.idleWaiters.splice(0).forEach((resolve) => resolve());
+      this.redraw();
+    }
+  }
+
+  redraw() {
+    if (this.scheduled) return;
+    this.scheduled = true;
+    requestAnimationFrame(() => {
+      this.scheduled = false;
+      if (!this.xrActive) this.drawCanvas();
+    });
+  }
+
+  // resolves when no frame asked for is still on its way
+  idle() {
+    if (this.pending === 0) return Promise.resolve();
+    return new Promise((resolve) => this.idleWaiters.push(resolve));
+  }
+
+  // resolves after the picture of the current state is on the canvas
+  settled() {
+    return new Promise((resolve) => { this.waiters.push(resolve); this.redraw(); });
+  }
+
+  // every uniform of one picture: the frame's, the camera's (`packed`, packCamera's), the lights' and the
+  // textures'; `origin` the framebuffer pixel of the picture's bottom-left corner
+  uniforms(packed, camera, origin) {
+    const lit = this.frame.uniforms.u_nlights > 0;
+    const lights = lightUniforms(this.scene, camera, lit, this.maxLights);
+    const u = { ...this.frame.uniforms, ...packed, ...lights, ...this.textures.bind(), u_origin: origin };
+    u.u_lvm = staleVolumesOff(this.frame.uniforms, lights, this.maxLights);
+    return u;
+  }
+
+  // draw the ray caster into framebuffer `target`'s region `viewport` = [x, y, w, h]; `scaleDown` < 1 draws a
+  // smaller picture offscreen and stretches it (reduced resolution); `shift` moves the picture's centre by
+  // that fraction of its size (an XR eye's off-axis projection); `opaque` leaves the target's alpha at 1 (an
+  // XR layer: the picture over black, as a headset shows it)
+  drawView(target, viewport, packedFor, camera, scaleDown = 1, shift = [0, 0], opaque = false) {
+    const gl = this.gl;
+    const [x, y, w, h] = viewport;
+    const p = this.program.variant(this.frame.defines);
+    if (scaleDown < 1) {
+      const rw = Math.max(1, Math.round(w * scaleDown)), rh = Math.max(1, Math.round(h * scaleDown));
+      this.offscreen.use(rw, rh);
+      gl.clearColor(0, 0, 0, 0);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      this.program.set(p, this.uniforms(packedFor(rw, rh), camera, [shift[0] * rw, shift[1] * rh]));
+      this.program.draw();
+      this.offscreen.show(target, viewport);
+    } else {
+      gl.bindFramebuffer(gl.FRAMEBUFFER, target);
+      gl.viewport(x, y, w, h);
+      if (opaque) gl.colorMask(true, true, true, false);
+      this.program.set(p, this.uniforms(packedFor(w, h), camera, [x + shift[0] * w, y + shift[1] * h]));
+      this.program.draw();
+      gl.colorMask(true, true, true, true);
+    }
+    if (opaque && scaleDown < 1) {   // the blit copied the picture's alpha: back to 1
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(x, y, w, h);
+      gl.colorMask(false, false, false, true);
+      gl.clearColor(0, 0, 0, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      gl.colorMask(true, true, true, true);
+      gl.disable(gl.SCISSOR_TEST);
+    }
+  }
+
+  drawCanvas() {
+    const gl = this.gl;
+    const w = gl.canvas.width, h = gl.canvas.height;
+    if (this.frame && this.textures.ready) {
+      const t0 = performance.now();
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      gl.viewport(0, 0, w, h);
+      gl.clearColor(0, 0, 0, 0);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      const scale = this.interacting ? REDUCED_FRACTION : 1;
+      this.drawView(null, [0, 0, w, h], (pw, ph) => packCamera(this.camera, pw, ph), this.camera, scale);
+      this.lastDraw = { ms: performance.now() - t0, size: [w, h], scale };
+    }
+    this.listeners.forEach((fn) => fn('drawn'));
+    if (this.pending === 0 && this.frame) {
+      const done = this.waiters.splice(0);
+      done.forEach((resolve) => resolve());
+    }
+  }
+
+  // the canvas as RGBA8, rows from the top
+  read() {
+    const gl = this.gl;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    return readRGBA(gl, [0, 0, gl.canvas.width, gl.canvas.height]);
+  }
+
+  // milliseconds per picture: the median of `n` pictures drawn back to back, each finished (a pixel read
+  // back) before the next
+  timeFrames(n) {
+    const gl = this.gl;
+    const w = gl.canvas.width, h = gl.canvas.height;
+    const one = new Uint8Array(4), ms = [];
+    for (let i = 0; i < n; i++) {
+      const t0 = performance.now();
+      this.drawView(null, [0, 0, w, h], (pw, ph) => packCamera(this.camera, pw, ph), this.camera);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+      ms.push(performance.now() - t0);
+    }
+    return ms.sort((a, b) => a - b)[Math.floor(n / 2)];
+  }
+}
+
+// the frame's illumination-volume meta rows, with the kind of every light that moved away from where its
+// lattice was built set to none (drawn unshadowed until the server sends the new lattice)
+function staleVolumesOff(frameUniforms, lights, maxLights) {
+  const lvm = Float32Array.from(frameUniforms.u_lvm);
+  const built = frameUniforms.u_lpos;
+  for (let i = 0; i < Math.min(lights.u_nlights, maxLights); i++) {
+    if (lvm[16 * i] !== LATTICE) continue;
+    const moved = [0, 1, 2].some((c) => Math.abs(built[3 * i + c] - lights.u_lpos[3 * i + c]) > 1e-3);
+    if (moved) lvm[16 * i] = 0;
+  }
+  return lvm;
+}

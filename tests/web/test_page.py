@@ -118,15 +118,17 @@ def test_gestures_move_the_camera_and_lights_as_the_application_does(browser, he
     """Left drag orbits, shift + left drag pans, right drag zooms, a drag on a light's cone moves the light,
     ctrl + drag aims it: the page's camera and lights equal ``volumen.core.gestures`` applied to the same pixel
     offsets (to 1e-6 mm); while the button is down the picture is drawn at half resolution, after it at full;
-    the final picture equals the CPU's; the cone of a light is drawn over the picture."""
+    the final picture equals the CPU's (linear, and as shown: the picture is past 128 x 128 pixels, so the page
+    meters its exposure on a subsample of it: within 0.05 stops of the CPU's meter of every pixel); the cone of
+    a light is drawn over the picture."""
     browser.open(head_server.url)
     scene, cam, _ = reference_scenes.scenes()["head/composite/phong"]
     vol = head_server.handlers.served().volume
     r, u, f = cam.basis()
     inside = Light(position=tuple(np.asarray(vol.center) + vol.diagonal * (0.25 * r + 0.15 * u - 0.4 * f)),
                    direction=tuple(f - 0.3 * r), exponent=4.0, intensity=0.8)
-    scene = scene.with_(volume=vol, lights=(inside, scene.lights[1]))
-    size = (120, 100)
+    scene = scene.with_(volume=vol, lights=(inside, scene.lights[1]), display=Display())
+    size = (160, 120)
     show(browser, scene, cam, size)
     ox, oy = _canvas_origin(browser)
     centre = (ox + 60, oy + 50)
@@ -142,14 +144,20 @@ def test_gestures_move_the_camera_and_lights_as_the_application_does(browser, he
     _drag(browser, centre, [(0, -12)], button="right")
     expected = gestures.drag_zoom(expected, -12)
     browser.evaluate("volumen.viewer.settled()")
-    got = capture(browser)
+    got = capture(browser, linear=True)
     page = Camera.from_dict(got["camera"])
     for field in ("position", "target", "up"):
         assert np.allclose(getattr(page, field), getattr(expected, field), atol=1e-6), field
     assert scale_during == 0.5 and browser.evaluate("volumen.viewer.lastDraw.scale") == 1
     ref = render(scene, page, size, device="cpu")
-    mean, p99, _ = compare(got["rgba"], ref.rgba)
+    mean, p99, _ = compare(got["linear"], ref.rgba)
     assert mean <= MEAN_TOL and p99 <= P99_TOL
+    ev, cpu_ev = got["shown"]["exposure"], ref.display.stops(ref.rgba)
+    dmean, dp99, _ = compare(got["rgba"][..., :3], displayed(ref, ev), rgb_only=True)
+    print(f"gestures: exposure metered on a subsample {ev:+.4f}, on every pixel (cpu) {cpu_ev:+.4f} stops; shown "
+          f"mean {dmean * 255:.2f}/255 p99 {dp99 * 255:.2f}/255")
+    assert got["shown"]["tonemap"] == "aces" and abs(ev - cpu_ev) <= 0.05
+    assert dmean <= DISPLAY_MEAN_TOL and dp99 <= DISPLAY_P99_TOL
 
     # a light of the scene: drag its cone's apex, then ctrl + drag to aim it
     light = scene.lights[0]

@@ -127,3 +127,17 @@ def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
     assert {"volumen.render.raycast._march", "volumen.surface._mc_kernel", "volumen.endoscopy._collision"} <= set(
         checked)
     assert not missing, "\n".join(missing)
+
+
+def test_every_test_module_has_a_name_of_its_own():
+    """pytest imports the test folders' modules by their bare names (rootdir conftest, no packages): two files of
+    one name in two folders break collection of the second (tests/render/test_display.py did, in CI)."""
+    seen: dict[str, Path] = {}
+    clashes = []
+    for p in sorted((ROOT / "tests").rglob("*.py")):
+        if p.name in ("conftest.py", "__init__.py"):
+            continue
+        if p.name in seen:
+            clashes.append(f"{seen[p.name].relative_to(ROOT)} and {p.relative_to(ROOT)}")
+        seen.setdefault(p.name, p)
+    assert not clashes, clashes

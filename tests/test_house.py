@@ -149,3 +149,17 @@ def test_every_compiled_pass_runs_on_the_one_thread_driver():
             elif isinstance(node, ast.keyword) and node.arg == "parallel" and getattr(node.value, "value", 0) is True:
                 found.append(f"{name}:{node.value.lineno} parallel=True")
     assert not found, "\n".join(found)
+
+
+def test_every_test_module_has_a_name_of_its_own():
+    """pytest imports the test folders' modules by their bare names (rootdir conftest, no packages): two files of
+    one name in two folders break collection of the second (tests/render/test_display.py did, in CI)."""
+    seen: dict[str, Path] = {}
+    clashes = []
+    for p in sorted((ROOT / "tests").rglob("*.py")):
+        if p.name in ("conftest.py", "__init__.py"):
+            continue
+        if p.name in seen:
+            clashes.append(f"{seen[p.name].relative_to(ROOT)} and {p.relative_to(ROOT)}")
+        seen.setdefault(p.name, p)
+    assert not clashes, clashes

@@ -7,7 +7,8 @@ inter-process file lock named after (source file, function, signature); the seco
 then finds the kernel in Numba's disk cache (``compile`` looks there before compiling) and loads it.
 
 Lock order follows the call graph (a kernel's compilation compiles its callees, never its callers), so two
-workers cannot wait for each other. A lock not obtained within :data:`PATIENCE` seconds is given up and the
+workers cannot wait for each other; within a worker the file lock is taken under Numba's own compiler lock, so
+two threads of one process cannot either. A lock not obtained within :data:`PATIENCE` seconds is given up and the
 kernel compiled as before; dispatchers without a disk cache are not locked at all. Test infrastructure only:
 volumen itself does not depend on it.
 """
@@ -54,22 +55,23 @@ def _log(key: str, waited: float, took: float) -> None:
             f.write(f"{os.environ.get('PYTEST_XDIST_WORKER', '-')}\t{waited:.2f}\t{took:.2f}\t{key}\n")
 
 
-def _locked(original, lock_dir: Path):
+def _locked(original, lock_dir: Path, global_compiler_lock):
     def compile(self, sig):
         if type(getattr(self, "_cache", None)).__name__ == "NullCache":
             return original(self, sig)
         code = self.py_func.__code__
         key = f"{code.co_filename}:{self.py_func.__qualname__}:{sig}"
-        t0 = time.monotonic()
-        fd = _acquire(lock_dir / (hashlib.sha1(key.encode()).hexdigest() + ".lock"))
-        t1 = time.monotonic()
-        try:
-            return original(self, sig)
-        finally:
-            if fd is not None:
-                fcntl.flock(fd, fcntl.LOCK_UN)
-                os.close(fd)
-            _log(key, t1 - t0, time.monotonic() - t1)
+        with global_compiler_lock:  # first the process's own lock (as compile takes it): no thread holds
+            t0 = time.monotonic()     # a file lock while another thread of its process compiles
+            fd = _acquire(lock_dir / (hashlib.sha1(key.encode()).hexdigest() + ".lock"))
+            t1 = time.monotonic()
+            try:
+                return original(self, sig)
+            finally:
+                if fd is not None:
+                    fcntl.flock(fd, fcntl.LOCK_UN)
+                    os.close(fd)
+                _log(key, t1 - t0, time.monotonic() - t1)
 
     compile.__wrapped__ = original
     return compile
@@ -79,9 +81,10 @@ def install() -> bool:
     """Wrap ``numba.core.dispatcher.Dispatcher.compile`` once; whether it is wrapped (False where Numba's
     dispatcher has no ``compile(self, sig)``: the suite then runs as before)."""
     from numba.core import dispatcher
+    from numba.core.compiler_lock import global_compiler_lock
 
     original = getattr(dispatcher.Dispatcher, "compile", None)
     if original is None or hasattr(original, "__wrapped__"):
         return original is not None
-    dispatcher.Dispatcher.compile = _locked(original, _lock_dir())
+    dispatcher.Dispatcher.compile = _locked(original, _lock_dir(), global_compiler_lock)
     return True

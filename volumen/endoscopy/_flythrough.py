@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..core import Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from ..core import Display, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 
 __all__ = ["Endoscope", "FrameLog", "ENDOSCOPY_PRESETS", "endoscopy_transfer"]
 
@@ -124,6 +124,10 @@ class Endoscope:
         a tube into fine noise fixed on the screen, which does not crawl in motion.
         None (default): on in composite mode, off in isosurface mode (whose
         refined hits show no rings).
+    display : Display
+        How the frames' radiance becomes display values. Default: linear, no exposure: the
+        flashlight's fall-off with distance is the picture's depth cue (near wall bright, far
+        lumen dark), which a metered exposure would lift away (a milky, flat picture).
     """
 
     volume: object = field(repr=False)
@@ -139,6 +143,7 @@ class Endoscope:
     samples_per_voxel: float = 2.0
     interpolation: str = "linear"
     jitter: bool | None = None
+    display: Display = field(default_factory=lambda: Display(tonemap="linear"))
 
     def __post_init__(self):
         if self.mode not in ("isosurface", "composite"):
@@ -171,7 +176,8 @@ class Endoscope:
         return {"mode": self.mode, "threshold": self.threshold, "transfer": self.transfer.to_dict(),
                 "color": list(self.color), "shading": self.shading, "flashlight": self.flashlight,
                 "lights": [light.to_dict() for light in self.lights], "fov": self.fov, "near": self.near,
-                "samples_per_voxel": self.samples_per_voxel, "interpolation": self.interpolation, "jitter": self.jitter}
+                "samples_per_voxel": self.samples_per_voxel, "interpolation": self.interpolation, "jitter": self.jitter,
+                "display": self.display.to_dict()}
 
     @classmethod
     def from_dict(cls, d: dict, volume) -> Endoscope:
@@ -186,6 +192,8 @@ class Endoscope:
         d["lights"] = tuple(Light.from_dict(x) for x in d.get("lights", ()))
         if "color" in d:
             d["color"] = tuple(d["color"])
+        if "display" in d:
+            d["display"] = Display.from_dict(d["display"])
         return cls(volume=volume, **d)
 
     def scene(self, pose) -> Scene:
@@ -197,7 +205,7 @@ class Endoscope:
                      shading=Shading(mode=self.shading),
                      sampling=Sampling(samples_per_voxel=self.samples_per_voxel, interpolation=self.interpolation,
                                        jitter=self.jitter, seed=0),
-                     isosurface=Isosurface(value=self.threshold, color=self.color))
+                     isosurface=Isosurface(value=self.threshold, color=self.color), display=self.display)
 
     def camera(self, pose):
         """The endoscopic camera at ``pose``."""

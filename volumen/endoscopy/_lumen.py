@@ -9,12 +9,16 @@ The growing itself is :func:`volumen.segment.region_grow`; this module only find
 an in-range seed voxel near the user's point.
 
 :func:`find_lumen` is what ``volumen fly`` uses: from a start (and an end)
-point alone it checks both lie in the scan, finds the lumen's polarity and
-range (:func:`estimate_lumen`), grows from the start, refuses a region that
-fills the scan (the point is in no lumen), cuts thin bridges to other
-structures (:func:`volumen.segment.cut_bridges`) and checks the end lies in
-the same lumen; each failure is a one-line :class:`~volumen.errors.LumenError`
-naming the point.
+point alone it checks both lie in the scan, finds the lumen's polarity, values
+and wall from the start's neighbourhood (:func:`~volumen.endoscopy.estimate_lumen`),
+grows from the start with explosion control and out to its partial-volume edge
+(:mod:`._grow`), joins tagged fluid to an air lumen (:mod:`._fluid`), cuts thin
+bridges to other structures (:func:`volumen.segment.cut_bridges`) and checks the
+end lies in the same lumen. Each failure is a one-line
+:class:`~volumen.errors.LumenError` naming the point, or the leak and the flags to
+try (:data:`FLAGS`): a region that fills the scan (the point is in no lumen), a
+growth that breaks through its wall into a larger region before it reaches the
+end, points that join only through an opening narrower than the bridges cut.
 """
 
 from __future__ import annotations

@@ -112,8 +112,11 @@ class LumenWall:
         out = np.array(data, np.float32)
         if e.tag is not None:  # cleanse: the fluid-wall edge mapped onto an air-wall edge, near the fluid only
             fluid = ndimage.binary_dilation(sub & (out > 0.5 * (e.wall + e.tag)), iterations=2)
-            ramp = fluid & (out > e.wall)
-            out[ramp] = e.wall + (out[ramp] - e.wall) * (e.lumen - e.wall) / (e.tag - e.wall)
+            # the fluid's uneven tagging and noise, scaled up by the mapping, would roughen the wall drawn under
+            # it: its edge is read through a Gaussian of half a voxel (what the rays' smoothing does too)
+            calm = ndimage.gaussian_filter(out, 0.5, mode="nearest")
+            ramp = fluid & (calm > e.wall)
+            out[ramp] = e.wall + (calm[ramp] - e.wall) * (e.lumen - e.wall) / (e.tag - e.wall)
         out[s <= -h] = e.lumen
         far = s >= h
         lumen_like = e.sign * out < e.sign * e.threshold

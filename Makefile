@@ -7,8 +7,9 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
-# two workers on the two cores; NUMBA caches compiled kernels beside the sources
-PYTEST_ARGS ?= -n 2
+# two workers on the two cores, a test file to one worker (its tests share kernel variants: on a cold checkout
+# two workers given neighbouring tests compiled the same kernels side by side); Numba caches them beside the sources
+PYTEST_ARGS ?= -n 2 --dist loadfile
 
 .PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps clean
 

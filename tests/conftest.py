@@ -12,6 +12,14 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def pytest_configure(config):
+    """Workers compile each cached Numba kernel once between them (tests/compile_lock.py)."""
+    if os.environ.get("VOLUMEN_COMPILE_LOCK", "1") != "0":
+        from compile_lock import install
+
+        install()
+
+
 @pytest.fixture(scope="session")
 def output_dir() -> Path:
     """A folder kept after the run (test-output/) for pictures worth looking at."""

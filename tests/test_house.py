@@ -127,3 +127,39 @@ def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
     assert {"volumen.render.raycast._march", "volumen.surface._mc_kernel", "volumen.endoscopy._collision"} <= set(
         checked)
     assert not missing, "\n".join(missing)
+
+
+#: the pools that are not compiled passes: the one OpenGL thread, the web server's render thread
+_OTHER_POOLS = ("volumen/render/raster/_context.py", "volumen/web/_server.py")
+
+
+def test_every_compiled_pass_runs_on_the_one_thread_driver():
+    """No ``prange`` / ``parallel=True`` (a second compile of the kernel's machine code, a fixed share per
+    thread) and no thread pool of its own outside ``volumen/jit/_threads.py`` (docs/design.md section 8)."""
+    found = []
+    for path in sorted((ROOT / "volumen").rglob("*.py")):
+        name = str(path.relative_to(ROOT))
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Name | ast.Attribute | ast.alias):
+                ident = node.id if isinstance(node, ast.Name) else node.attr if isinstance(node, ast.Attribute) \
+                    else node.name
+                if ident == "prange" or (ident == "ThreadPoolExecutor" and name != "volumen/jit/_threads.py"
+                                         and name not in _OTHER_POOLS):
+                    found.append(f"{name}:{getattr(node, 'lineno', '?')} {ident}")
+            elif isinstance(node, ast.keyword) and node.arg == "parallel" and getattr(node.value, "value", 0) is True:
+                found.append(f"{name}:{node.value.lineno} parallel=True")
+    assert not found, "\n".join(found)
+
+
+def test_every_test_module_has_a_name_of_its_own():
+    """pytest imports the test folders' modules by their bare names (rootdir conftest, no packages): two files of
+    one name in two folders break collection of the second (tests/render/test_display.py did, in CI)."""
+    seen: dict[str, Path] = {}
+    clashes = []
+    for p in sorted((ROOT / "tests").rglob("*.py")):
+        if p.name in ("conftest.py", "__init__.py"):
+            continue
+        if p.name in seen:
+            clashes.append(f"{seen[p.name].relative_to(ROOT)} and {p.relative_to(ROOT)}")
+        seen.setdefault(p.name, p)
+    assert not clashes, clashes

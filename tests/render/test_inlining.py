@@ -58,6 +58,77 @@ def test_outside_the_tested_range_the_patches_stand_down_and_say_so_once(monkeyp
     assert not patches_allowed()
 
 
+
+def _shape_problems() -> list[str]:
+    """What no longer looks as the four patches expect in the installed Numba: each the internal, the change, and
+    what it costs (``render/raycast/_inlining.py``, ``jit/_stamp.py``)."""
+    import inspect
+
+    from numba.core import caching, dispatcher, inline_closurecall
+    from numba.core.typing import templates
+
+    def params(fn) -> list[str]:
+        return list(inspect.signature(getattr(fn, "__wrapped__", fn)).parameters)
+
+    out = []
+    copy_ir = next((c for c in inline_closurecall.InlineWorker.inline_ir.__code__.co_consts
+                    if getattr(c, "co_name", "") == "copy_ir"), None)
+    if copy_ir is None or "the_ir" not in copy_ir.co_varnames or not {"copy", "deepcopy"} <= set(copy_ir.co_names):
+        out.append("inline_closurecall.InlineWorker.inline_ir has no nested copy_ir(the_ir) calling copy.deepcopy: "
+                   "the block copier cannot find the IR it copies (silently slower compiles, 27 s and more)")
+    if not isinstance(getattr(inline_closurecall, "copy", None), _BlockCopier):
+        out.append("inline_closurecall.copy is not volumen's _BlockCopier: the block-copy patch is not in place")
+    tpl = getattr(templates, "_OverloadFunctionTemplate", None)
+    if tpl is None or params(tpl.generic) != ["self", "args", "kws"]:
+        out.append("typing.templates._OverloadFunctionTemplate.generic is not generic(self, args, kws): the "
+                   "overload typing cache would call it wrongly")
+    gct = dispatcher.Dispatcher.get_call_template
+    gct_names = getattr(gct, "__wrapped__", gct).__code__.co_names
+    if params(gct) != ["self", "args", "kws"] or "_can_compile" not in gct_names:
+        out.append("dispatcher.Dispatcher.get_call_template(self, args, kws) no longer reads self._can_compile: "
+                   "inline_only pieces would be compiled anyway, or every kernel break")
+    elif njit(lambda x: x)._can_compile is not True:
+        out.append("a new Dispatcher's _can_compile is not True: the typing-only patch would stop its compiles")
+    init_names = caching.CacheImpl.__init__.__code__.co_names
+    locators = getattr(caching.CacheImpl, "_locator_classes", None)
+    if not isinstance(locators, list) or not {"_locator_classes", "from_function"} <= set(init_names):
+        out.append("caching.CacheImpl no longer picks a locator from its _locator_classes list with from_function: "
+                   "cached kernels are keyed on their own file only (a stale cache after editing a helper)")
+    elif [c.__module__ for c in locators[:2]] != ["volumen.jit._stamp"] * 2:
+        out.append(f"the stamped locators are not first in CacheImpl._locator_classes: {locators[:2]}")
+    else:
+        for cls in locators[:2]:
+            base = cls.__mro__[2]  # (stamped class, _Stamped, Numba's locator, ...)
+            if params(base.from_function) != ["py_func", "py_file"] or params(base.get_source_stamp) != ["self"]:
+                out.append(f"caching.{base.__name__}.from_function(py_func, py_file) / get_source_stamp(self) "
+                           "changed: the source stamp cannot extend it")
+    return out
+
+
+def test_the_numba_internals_the_patches_replace_still_have_the_shape_they_expect():
+    """Not only that the four patched internals exist: their signatures, the local the block copier reads from
+    its caller's frame, the flag the typing-only patch flips, the locator list the cache walks. A Numba release
+    that reshapes one fails here, saying which and what it costs, instead of silently compiling 2-5x slower or
+    keeping a stale cache."""
+    problems = _shape_problems()
+    assert not problems, (f"Numba {numba.__version__} changed internals volumen patches (NUMBA_TESTED "
+                          f"{NUMBA_TESTED}): fix the patch or lower pyproject.toml's numba ceiling and NUMBA_TESTED "
+                          "below this release.\n  " + "\n  ".join(problems))
+
+
+def test_a_reshaped_internal_is_named_in_the_failure(monkeypatch):
+    from numba.core import dispatcher
+
+    original = dispatcher.Dispatcher.get_call_template
+
+    def get_call_template(self, args, kws, extra=None):  # a Numba release that added a parameter
+        return original(self, args, kws)
+
+    monkeypatch.setattr(dispatcher.Dispatcher, "get_call_template", get_call_template)
+    (problem,) = _shape_problems()
+    assert problem.startswith("dispatcher.Dispatcher.get_call_template(self, args, kws)")
+
+
 # A kernel built as the ray caster's are: pieces (inlined overloads picked by a tag), reaching branchy
 # ``inline="always"`` functions, typed with the same arguments many times. Compiled in a fresh process
 # with and without the patches (``VOLUMEN_NUMBA_PATCHES``); CPU seconds of the compile, compiles counted.

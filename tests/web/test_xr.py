@@ -1,17 +1,28 @@
 """The page in an emulated headset: iwer (the Immersive Web Emulation Runtime, a Meta Quest 3 with stereo
-views) over headless Chromium. Each eye's picture equals the CPU's from that eye's pose and projection,
-computed here from the emulator's head pose, interpupillary distance and field of view (not read from the
-page); a controller with its trigger pressed places a spot light where it is (dragged to where it is
-released) and the next frame is the CPU's picture with that light; a grab turned through a known rotation
-turns the volume by it (+- 1 degree)."""
+views) over headless Chromium. Each eye's picture equals the CPU's from that eye's pose and projection
+(through the display transform: tone mapped, both eyes with the exposure metered on the first), computed here
+from the emulator's head pose, interpupillary distance and field of view (not read from the page); a
+controller with its trigger pressed places a spot light where it is (dragged to where it is released) and the
+next frame is the CPU's picture with that light; a grab turned through a known rotation turns the volume by
+it (+- 1 degree)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from web_helpers import MEAN_TOL, P99_TOL, compare, picture, reference_scenes, save_pair, scene_json
+from web_helpers import (
+    DISPLAY_MEAN_TOL,
+    DISPLAY_P99_TOL,
+    EXPOSURE_TOL,
+    compare,
+    displayed,
+    picture,
+    reference_scenes,
+    save_pair,
+    scene_json,
+)
 
-from volumen.core import Camera, Light
+from volumen.core import Camera, Display, Light
 from volumen.render import render
 
 EYE = 56                     # pixels of each eye's picture (the emulator's layer: the window's size)
@@ -81,20 +92,28 @@ def eye_cameras(model, head_position, head_q, ipd, fovy) -> dict:
 
 
 def check_eyes(browser, scene, cameras, output_dir, tag) -> list:
+    """Each eye's picture in the layer (display values over black) equals ``Image.to_uint8`` of the CPU's picture
+    from that eye, both eyes shown with one exposure: the CPU's meter of the first eye's picture (+- 0.02 stops)."""
     shots = browser.evaluate("volumen.captureVR()")
+    assert [s["shown"] for s in shots] == [shots[0]["shown"]] * 2, "the eyes are shown differently"
+    shown = shots[0]["shown"]
     rows = []
-    for s in shots:
+    for i, s in enumerate(shots):
         x, y, w, h = s["viewport"]
         assert (w, h) == (EYE, EYE) and x == (0 if s["eye"] == "left" else EYE), s["viewport"]
         got = picture(s["rgba"], w, h)
         ref = render(scene, cameras[s["eye"]], (w, h), device="cpu")
-        assert ref.alpha.max() > 0.2
-        mean, p99, cover = compare(got, ref.rgba, rgb_only=True)
-        rows.append((f"{tag} {s['eye']}", mean, p99, cover))
-        if mean > MEAN_TOL / 2:
-            save_pair(output_dir / f"web_xr_{tag}_{s['eye']}.png", got, ref.rgba)
-    print("\n".join(f"{n:40s} mean {m:.5f} p99 {p:.4f} coverage differs {c:.4f}" for n, m, p, c in rows))
-    assert len(rows) == 2 and all(m <= MEAN_TOL and p <= P99_TOL and c <= 0.005 for _, m, p, c in rows), rows
+        assert ref.alpha.max() > 0.2 and shown["tonemap"] == ref.display.tonemap
+        if i == 0:
+            assert abs(shown["exposure"] - ref.display.stops(ref.rgba)) <= EXPOSURE_TOL, (shown, ref.display)
+        mean, p99, cover = compare(got[..., :3], displayed(ref, shown["exposure"]), rgb_only=True)
+        rows.append((f"{tag} {s['eye']} ({shown['tonemap']} {shown['exposure']:+.3f})", mean, p99, cover))
+        if mean > DISPLAY_MEAN_TOL / 2:
+            save_pair(output_dir / f"web_xr_{tag}_{s['eye']}.png", got, displayed(ref, shown["exposure"]))
+    print("\n".join(f"{n:40s} mean {m * 255:.2f}/255 p99 {p * 255:.2f}/255 coverage differs {c:.4f}"
+                    for n, m, p, c in rows))
+    assert len(rows) == 2 and all(m <= DISPLAY_MEAN_TOL and p <= DISPLAY_P99_TOL and c <= 0.005
+                                  for _, m, p, c in rows), rows
     return rows
 
 
@@ -102,7 +121,7 @@ def test_headset_eyes_light_and_grab(xr_browser, head_server, output_dir):
     b = xr_browser
     vol = head_server.handlers.served().volume
     scene, cam, _ = reference_scenes.scenes()["head/composite/shadows-fast"]
-    scene = scene.with_(volume=vol)
+    scene = scene.with_(volume=vol, display=Display())   # auto: tone mapped, exposure metered
     b.evaluate(f"volumen.show({{scene: {scene_json(scene)}, camera: {cam.to_json()}}})")
     assert b.evaluate("volumen.enterVR({governor: false})")
     dev = b.evaluate("({ipd: iwerDevice.ipd, fovy: iwerDevice.fovy})")

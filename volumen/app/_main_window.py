@@ -65,6 +65,8 @@ class MainWindow(QMainWindow):
         self.token = 0
         self.final_token = -1
         self.last_error = None
+        #: which device the 3-D view ray casts on and why (None until the worker has probed OpenGL)
+        self.device_reason: str | None = None
         self.endoscopy = None
         self._loading = None
         self.series_chooser = None  # the open series chooser, if any
@@ -170,17 +172,26 @@ class MainWindow(QMainWindow):
             self.final_token = token  # nothing more will come for this request
         self.report_error("Rendering failed", message)
 
-    def _raster_status(self, ok: bool, reason: str) -> None:
-        """OpenGL found (or not) by the worker: the 3-D view ray casts on ``gl`` when it can, else on the CPU."""
-        self.render_panel.set_raster_available(ok, reason)
-        self.segment_panel.set_raster_available(ok, reason)
+    def _raster_status(self, ok: bool, found: str) -> None:
+        """OpenGL found (``found``: its renderer) or not (``found``: why) by the worker. The 3-D view ray casts on
+        the fastest device here, as ``auto`` does (``render.choose_device``): ``gl`` on a hardware renderer, the
+        CPU when OpenGL is missing or a software rasterizer (llvmpipe, SwiftShader); the status bar and
+        :attr:`device_reason` say which and why."""
+        from ..render.raster import is_software_renderer
+
+        self.render_panel.set_raster_available(ok, "" if ok else found)
+        self.segment_panel.set_raster_available(ok, "" if ok else found)
         st = self.state
-        if ok and st.device == "cpu" and st.technique.name == "raycast":
-            st.set_display(device="gl")
-            self.statusBar().showMessage("3-D view: OpenGL ray casting", 10000)
-        elif not ok and st.device == "gl":
-            st.set_display(device="cpu")
-            self.statusBar().showMessage(f"3-D view on the CPU: {reason}", 10000)
+        if ok and not is_software_renderer(found):
+            self.device_reason = f"3-D view: OpenGL ray casting on {found} (a hardware renderer)"
+            if st.device == "cpu" and st.technique.name == "raycast":
+                st.set_display(device="gl")
+        else:
+            self.device_reason = (f"3-D view on the CPU: OpenGL is {found}, a software renderer slower than the CPU "
+                                  f"ray caster" if ok else f"3-D view on the CPU: {found}")
+            if st.device == "gl" and st.technique.name == "raycast":
+                st.set_display(device="cpu")
+        self.statusBar().showMessage(self.device_reason, 15000)
 
     # -- data -----------------------------------------------------------------
     def set_volume(self, volume, ref: str) -> None:

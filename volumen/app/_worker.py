@@ -89,13 +89,13 @@ class RenderWorker(QObject):
         from ._frame import on_gl_thread
 
         def probe():
-            from ..render.raster import get_context
+            from ..render.raster import gl_renderer
 
-            get_context()
+            return gl_renderer()[0]
 
         try:
-            on_gl_thread(probe)
-            self.raster_status.emit(True, "")
+            renderer = on_gl_thread(probe)
+            self.raster_status.emit(True, renderer)
         except Exception as exc:  # noqa: BLE001 - any failure means: no OpenGL here
             self.raster_status.emit(False, f"OpenGL is not available: {type(exc).__name__}: {exc}")
 

@@ -19,7 +19,7 @@ DEFAULT_PORT = 8765
 
 
 def register(sub):
-    from volumen.core import MODES, PRESETS, SHADINGS, VIEWS
+    from volumen.core import MODES, PRESETS, SHADINGS, TONEMAPS, VIEWS
 
     p = sub.add_parser("serve", help="open a scan in the browser viewer (WebGL2 ray casting, VR headsets)")
     p.add_argument("path", nargs="?", default="phantom:head",
@@ -46,6 +46,10 @@ def register(sub):
     p.add_argument("--mode", choices=MODES, help="mode to open with (default composite)")
     p.add_argument("--shading", choices=[s for s in SHADINGS if s != "pathtrace"],
                    help="shading to open with (default headlight)")
+    p.add_argument("--tonemap", choices=TONEMAPS, help="display transform: auto (default: aces for phong, shadows "
+                   "and scattering, linear otherwise), linear, aces")
+    p.add_argument("--exposure", type=float, help="stops (EV) before the tone curve (default: metered on each "
+                   "picture with aces, 0 with linear)")
     p.add_argument("--view", choices=VIEWS, default="anterior", help="anatomical view to open with")
     p.add_argument("--azimuth", type=float, default=0.0, help="degrees about the view's up axis")
     p.add_argument("--elevation", type=float, default=0.0, help="degrees above the view")
@@ -55,7 +59,7 @@ def register(sub):
 
 
 def _scene_and_camera(args, volume):
-    from volumen.core import Camera, Scene, Shading, TransferFunction
+    from volumen.core import Camera, Display, Scene, Shading, TransferFunction
     from volumen.render import default_transfer
 
     if args.settings:
@@ -76,6 +80,9 @@ def _scene_and_camera(args, volume):
         scene = scene.with_(mode=args.mode)
     if args.shading:
         scene = scene.with_(shading=Shading(mode=args.shading))
+    if args.tonemap is not None or args.exposure is not None:
+        ev = scene.display.exposure if args.exposure is None else args.exposure
+        scene = scene.with_(display=Display(tonemap=args.tonemap or scene.display.tonemap, exposure=ev))
     if scene.shading.mode in ("phong", "shadows", "scattering") and not scene.lights:
         scene = scene.with_(lights=(_key_light(volume, camera),))
     return scene.with_(volume_ref=""), camera

@@ -28,7 +28,8 @@ def add_technique_options(p: argparse.ArgumentParser) -> None:
 
     g = p.add_argument_group("device and technique")
     g.add_argument("--device", choices=DEVICES, help="where the picture is computed: cpu (Numba), cuda (NVIDIA GPU), "
-                   "gl (OpenGL), auto (the technique's best usable one); default: cpu for raycast, gl for the others")
+                   "gl (OpenGL), auto (the fastest here: cuda, else gl on a hardware OpenGL renderer, else cpu; "
+                   "it says which and why); default: cpu for raycast, gl for the others")
     g.add_argument("--technique", choices=list(TECHNIQUES), help="; ".join(
         f"{n} ({', '.join(t.devices)}): {t.description}" for n, t in TECHNIQUES.items()) + " (default raycast)")
     for name, field, flag, dest, kind in _flags():
@@ -59,7 +60,7 @@ def technique_from_args(args: argparse.Namespace, base: dict | None = None):
 
     An option flag of another technique than the chosen one is an error naming both.
     """
-    from volumen.render import Technique, resolve_device
+    from volumen.render import Technique, choose_device
 
     base_device, base_tech = settings_technique(base)
     name = args.technique or (base_tech.name if base_tech else "raycast")
@@ -74,4 +75,7 @@ def technique_from_args(args: argparse.Namespace, base: dict | None = None):
     options = base_tech.options if base_tech is not None and base_tech.name == name else None
     technique = Technique(name, options, **given)
     device = args.device or (base_device if base_tech is not None and base_tech.name == name else None)
-    return resolve_device(device, name), technique
+    chosen, why = choose_device(device, name)
+    if device == "auto":
+        print(f"device auto: {chosen} ({why})")
+    return chosen, technique

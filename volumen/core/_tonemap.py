@@ -29,7 +29,7 @@ import numpy as np
 from ._jsondata import JsonData, _choice
 
 __all__ = ["Display", "Tonemap", "TONEMAPS", "aces", "aces_inverse", "srgb_encode", "meter", "luminance",
-           "LIT_SHADINGS"]
+           "LIT_SHADINGS", "ACES", "SRGB", "shader_constants"]
 
 Tonemap = Literal["auto", "linear", "aces"]
 TONEMAPS: tuple[str, ...] = get_args(Tonemap)
@@ -41,13 +41,18 @@ LUMA = (0.2126, 0.7152, 0.0722)
 MIDDLE_GREY = 0.18
 #: range of a metered exposure, stops
 METER_RANGE = (-4.0, 8.0)
-_A, _B, _C, _D, _E = 2.51, 0.03, 2.43, 0.59, 0.14
+#: Narkowicz's ACES fit ``x (A x + B) / (x (C x + D) + E)``: (A, B, C, D, E)
+ACES = (2.51, 0.03, 2.43, 0.59, 0.14)
+#: sRGB transfer function: (linear-segment limit, its slope, scale, exponent, offset) of IEC 61966-2-1
+SRGB = (0.0031308, 12.92, 1.055, 2.4, 0.055)
+_A, _B, _C, _D, _E = ACES
 
 
 def srgb_encode(x: np.ndarray) -> np.ndarray:
     """The sRGB transfer function (IEC 61966-2-1) of linear values in [0, 1]."""
     x = np.asarray(x, dtype=np.float64)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(np.maximum(x, 0.0031308), 1 / 2.4) - 0.055)
+    lim, slope, k, gamma, off = SRGB
+    return np.where(x <= lim, slope * x, k * np.power(np.maximum(x, lim), 1 / gamma) - off)
 
 
 def aces(x: np.ndarray) -> np.ndarray:
@@ -86,6 +91,14 @@ def meter(rgba: np.ndarray) -> float:
         return METER_RANGE[1]
     ev = math.log2(aces_inverse(MIDDLE_GREY) / med)
     return float(min(max(ev, METER_RANGE[0]), METER_RANGE[1]))
+
+
+def shader_constants() -> dict:
+    """The constants of this module a shader or a page applying the same transform needs (JSON-ready): the
+    curve's and the encoding's coefficients, the luminance weights, the radiance metered subjects are shown
+    at (``aces_inverse(MIDDLE_GREY)``) and the metered exposure's range (the browser viewer: ``display.glsl``)."""
+    return {"aces": list(ACES), "srgb": list(SRGB), "luma": list(LUMA), "grey": aces_inverse(MIDDLE_GREY),
+            "range": list(METER_RANGE)}
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -22,8 +22,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
+from ..jit import run_parts
 from ._march import first_hit
 
 __all__ = ["FlightScore", "score_flight", "dice", "keyframes_inside", "look_down_ratio", "wall_offsets",
@@ -77,10 +78,12 @@ def pixel_rays(camera, size) -> np.ndarray:
     return d / np.linalg.norm(d, axis=-1, keepdims=True)
 
 
-@njit(parallel=True, cache=True)
-def _first_hits(w, eye, dirs, tmax, out):
-    """:func:`first_hit` of the wall record ``w`` from ``eye`` (3,) along each of ``dirs`` (n, 3) into ``out``."""
-    for n in prange(dirs.shape[0]):
+@njit(cache=True, nogil=True)
+def _first_hits(part, parts, w, eye, dirs, tmax, out):
+    """:func:`first_hit` of the wall record ``w`` from ``eye`` (3,) along each of ``dirs`` (n, 3) into ``out``, for
+    the rays of part ``part`` of ``parts`` (``volumen.jit.run_parts``)."""
+    n_rays = dirs.shape[0]
+    for n in range(part * n_rays // parts, (part + 1) * n_rays // parts):
         out[n] = first_hit(w, (eye[0], eye[1], eye[2]), (dirs[n, 0], dirs[n, 1], dirs[n, 2]), tmax)
 
 
@@ -115,8 +118,8 @@ class _Boundary:
         dirs = pixel_rays(camera, image.depth.shape[::-1]).reshape(-1, 3)
         eye = np.asarray(camera.position, float)
         out = np.empty(len(dirs))
-        _first_hits(Wall(w.field, w.geometry, float(w.level), w.step), eye, np.ascontiguousarray(dirs),
-                    float(self.volume.diagonal), out)
+        run_parts(_first_hits, len(dirs), Wall(w.field, w.geometry, float(w.level), w.step), eye,
+                  np.ascontiguousarray(dirs), float(self.volume.diagonal), out)
         depth = image.depth.reshape(-1).astype(float)
         keep = np.isfinite(depth) & (out < NO_HIT)
         cos = np.abs(np.sum(self.normals(eye + out[keep, None] * dirs[keep]) * dirs[keep], axis=1))

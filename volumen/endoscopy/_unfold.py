@@ -22,8 +22,9 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
+from ..jit import run_parts
 from ..render.optics import phong_terms
 from ._march import NO_HIT, Wall, first_hit, wall_gradient
 
@@ -32,7 +33,7 @@ __all__ = ["Unfolded", "WallLook", "unfold"]
 
 class WallLook(NamedTuple):
     """How the unfolded wall is shaded: Phong terms lit from the centerline point (the kernel gets ``color`` as an
-    array: a parallel loop takes no tuple)."""
+    array of three)."""
 
     color: tuple[float, float, float] = (0.93, 0.6, 0.52)  #: linear RGB of the wall
     ambient: float = 0.15
@@ -52,13 +53,14 @@ class _Rays(NamedTuple):
     tmax: float        #: how far a ray looks for the wall, mm
 
 
-@njit(parallel=True, cache=True)
-def _unfold_kernel(w, r, look, rgb, radius):
+@njit(cache=True, nogil=True)
+def _unfold_kernel(part, parts, w, r, look, rgb, radius):
+    """Columns (centerline samples) of part ``part`` of ``parts`` (``volumen.jit.run_parts``)."""
     pts, nrm, bin_, cos_a, sin_a = r.pts, r.nrm, r.bin_, r.cos_a, r.sin_a
     color, ka, kd, ks = look.color, look.ambient, look.diffuse, look.specular
     n = pts.shape[0]
     m = cos_a.shape[0]
-    for i in prange(n):
+    for i in range(part * n // parts, (part + 1) * n // parts):
         for j in range(m):
             dx = cos_a[j] * nrm[i, 0] + sin_a[j] * bin_[i, 0]
             dy = cos_a[j] * nrm[i, 1] + sin_a[j] * bin_[i, 1]
@@ -180,5 +182,6 @@ def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, ma
     rays = _Rays(cl.points, np.ascontiguousarray(nrm), np.ascontiguousarray(bin_), np.cos(theta), np.sin(theta),
                  float(max_radius))
     look = WallLook(np.asarray(look.color, np.float64), *(float(v) for v in look[1:]))  # the kernel's record
-    _unfold_kernel(Wall(wall.field, wall.geometry, float(wall.level), wall.step), rays, look, rgb, radius)
+    run_parts(_unfold_kernel, len(cl.points), Wall(wall.field, wall.geometry, float(wall.level), wall.step), rays, look,
+              rgb, radius)
     return Unfolded(rgb, radius, cl.arc.copy(), np.degrees(theta), nrm, bin_)

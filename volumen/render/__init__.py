@@ -13,10 +13,19 @@ rasterized picture.
 
 from ._api import clear_cache, default_transfer, render, render_volume
 from ._reduced import reduced_size, render_reduced, upscale
-from ._techniques import DEVICES, TECHNIQUES, Technique, legacy_backend, option_choices, resolve_device
+from ._techniques import (
+    DEVICES,
+    TECHNIQUES,
+    Technique,
+    choose_device,
+    legacy_backend,
+    option_choices,
+    resolve_device,
+)
 
 __all__ = ["render", "render_volume", "render_reduced", "reduced_size", "upscale", "default_transfer", "clear_cache",
-           "DEVICES", "TECHNIQUES", "Technique", "option_choices", "resolve_device", "legacy_backend", "PathTracer"]
+           "DEVICES", "TECHNIQUES", "Technique", "option_choices", "resolve_device", "choose_device", "legacy_backend",
+           "PathTracer"]
 
 
 def __getattr__(name):

@@ -12,9 +12,10 @@ so rows far from the surface cost a few comparisons.
 
 Work is split into contiguous runs of rows cut where the estimated cost (busy words,
 crossed edges, triangles) is balanced -- bone levels put the surface in a few slices --
-four runs per thread, handed out one at a time to the calling thread and a pool of the
-other threads Numba uses (the kernels release the GIL; a calling thread that only waited
-for the pool cost a thread switch per run, up to a fifth of a mesh's time on two cores).
+four runs per thread, handed out one at a time to the calling thread and the other threads
+of the one thread driver (``volumen.jit.run_parts``; the kernels release the GIL; a calling
+thread that only waited for the others cost a thread switch per run, up to a fifth of a
+mesh's time on two cores).
 A thread that the system holds back delays only the run it holds; the others take the
 rest (Numba's parallel loops give each thread a fixed share and wait for the slowest,
 which on a busy machine cost up to twice the time).
@@ -22,12 +23,14 @@ which on a busy machine cost up to twice the time).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from numba import njit
 
 from ._sources import SOURCES as SOURCES  # first: the Numba cache stamp, before any kernel is defined
 
 # isort: split
+from ..jit import run_parts
 
 U0 = np.uint64(0)
 U1 = np.uint64(1)
@@ -170,7 +173,6 @@ def threshold(dtype: np.dtype, level: float):
 SERIAL_COST = 100_000
 #: runs per thread: enough for a late thread's share to be taken by the others, few enough to cost nothing
 RUNS_PER_THREAD = 4
-_POOLS: dict = {}
 
 
 @njit(cache=True)
@@ -223,24 +225,12 @@ def balanced_runs(cost: np.ndarray, parts: int) -> np.ndarray:
     return np.concatenate([[0], cuts, [len(cost)]]).astype(np.int64)
 
 
-def _pool(threads: int):
-    """The worker threads of this process (a forked child makes its own)."""
-    import os
-    from concurrent.futures import ThreadPoolExecutor
-
-    key = (os.getpid(), threads)
-    if key not in _POOLS:
-        _POOLS[key] = ThreadPoolExecutor(threads, thread_name_prefix="volumen-mc")
-    return _POOLS[key]
-
-
 def run_pass(rows_fn, cost: np.ndarray, head: tuple, tail: tuple, scratch: int = 0) -> None:
     """Run ``rows_fn(*head, r0, r1, *tail)`` over all rows: on this thread when the work is small, else over
-    runs of balanced cost on ``numba.get_num_threads()`` threads, this one included. With ``scratch``,
-    ``rows_fn`` gets one more argument: an int64 scratch row of that length, its own for each run."""
-    from numba import get_num_threads
-
-    threads = get_num_threads()
+    runs of balanced cost handed out one at a time to ``numba.get_num_threads()`` threads, this one included
+    (the one thread driver, ``volumen.jit.run_parts``: each thread's part takes runs until none is left). With
+    ``scratch``, ``rows_fn`` gets one more argument: an int64 scratch row of that length, its own for each run."""
+    threads = numba.get_num_threads()
     parts = 1 if threads == 1 or cost.sum() < SERIAL_COST else threads * RUNS_PER_THREAD
     extra = [np.empty((parts, scratch), np.int64)] if scratch else []
     if parts == 1:
@@ -249,13 +239,8 @@ def run_pass(rows_fn, cost: np.ndarray, head: tuple, tail: tuple, scratch: int =
     runs = balanced_runs(cost, parts)
     todo = iter(range(parts))  # shared: each next() under the GIL hands a run to exactly one thread
 
-    def work():
+    def work(_part, _parts):
         for p in todo:
             rows_fn(*head, runs[p], runs[p + 1], *tail, *(e[p] for e in extra))
 
-    jobs = [_pool(threads - 1).submit(work) for _ in range(threads - 1)]  # this thread is the last worker
-    try:
-        work()
-    finally:
-        for job in jobs:
-            job.result()
+    run_parts(work, threads)

@@ -7,8 +7,9 @@ each finished before the next (a pixel read back). VR: an ``immersive-vr`` sessi
 emulator (both eyes side by side, the governor off), the median time to draw both eyes of a frame. Beside
 them: the ``gl`` device (``render(device="gl")``) on Mesa's llvmpipe, the other software renderer, for the
 desktop picture and for two eye-sized pictures: its whole frame (packing, upload, draw, float read-back) and
-its draw and read-back alone (``Image.stats`` timings, ``kernel``). Each page picture is checked against the
-CPU's (mean |RGBA diff|) so a fast wrong picture cannot pass unseen.
+its draw and read-back alone (``Image.stats`` timings, ``kernel``). Each page picture (its linear picture, before
+the display pass, which the timings include) is checked against the CPU's (mean |RGBA diff|) so a fast wrong
+picture cannot pass unseen.
 """
 
 from __future__ import annotations
@@ -88,8 +89,8 @@ def _page_case(b, scene, camera, size, frames):
     d = scene.to_dict()
     d["volume"] = ""
     b.evaluate(f"volumen.show({{scene: {json.dumps(d)}, camera: {camera.to_json()}, size: {list(size)}}})")
-    cap = b.evaluate("volumen.capture()")
-    got = np.frombuffer(base64.b64decode(cap["rgba"]), np.uint8).reshape(size[1], size[0], 4) / 255.0
+    cap = b.evaluate("volumen.capture({linear: true})")   # the picture before the display transform
+    got = np.frombuffer(base64.b64decode(cap["linear"]["rgba"]), np.float32).reshape(size[1], size[0], 4)
     diff = float(np.abs(got - render(scene, camera, size, device="cpu").rgba).mean())
     return b.evaluate(f"volumen.timeFrames({frames})"), diff
 

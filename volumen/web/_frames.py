@@ -75,6 +75,7 @@ def web_frame(volume, scene_dict: dict, camera_dict: dict, size) -> tuple[dict, 
     arrays = {name: np.ascontiguousarray(getattr(f.arrays, name)) for name in FRAME_ARRAYS}
     arrays["lvd"] = arrays["lvd"].astype(np.float32, copy=False).ravel()
     header = {"defines": variant(f), "uniforms": {k: _plain(v) for k, v in frame_uniforms(f).items()},
+              "display": scene.display.resolved(scene.shading.mode, scene.mode).to_dict(),
               "lights_built": int(f.light_volumes_built),
               "timings": {k: round(float(v), 6) for k, v in f.timings.items()}}
     return header, arrays

@@ -41,7 +41,7 @@ log = logging.getLogger("volumen.web")
 
 #: the page's files (package data under ``volumen/web/static``), served at ``/`` and ``/static/NAME``
 STATIC_FILES = ("index.html", "style.css", "main.js", "api.js", "gl.js", "program.js", "camera.js", "linalg.js",
-                "xr.js", "ui.js", "overlay.js", "slices.js", "viewer.js")
+                "xr.js", "ui.js", "overlay.js", "slices.js", "viewer.js", "display.js")
 _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
 #: route -> (method, handler name of :class:`_Handlers`)
 ROUTES = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
@@ -102,13 +102,14 @@ class _Handlers:
     async def info(self, request, path):
         served = self.served(_int(request, "max3d", DEFAULT_MAX_3D))
         from volumen.core import PRESETS, TransferFunction
+        from volumen.core._tonemap import shader_constants
         from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
 
         vr = served.volume.value_range()
         transfers = {name: TransferFunction.preset(name, value_range=vr).to_dict() for name in PRESETS}
         body = {"volume": served.info(), "scene": self.scene_dict(served), "camera": self.camera.to_dict(),
                 "presets": list(PRESETS), "transfers": transfers, "shift": self.shift,
-                "notices": list(served.notices),
+                "notices": list(served.notices), "display": shader_constants(),
                 "limits": {"max_lights": MAX_LIGHTS, "max_planes": MAX_PLANES, "budget_mb": self.budget_mb}}
         return json.dumps(body).encode(), "application/json"
 
@@ -120,7 +121,8 @@ class _Handlers:
     async def shaders(self, request, path):
         from volumen.render.raster._shaders import STAGES, stage_parts
 
-        body = {"raycast": {stage: list(stage_parts("raycast", stage, "es300")) for stage in STAGES}}
+        body = {name: {stage: list(stage_parts(name, stage, "es300")) for stage in STAGES}
+                for name in ("raycast", "display")}
         return json.dumps(body).encode(), "application/json"
 
     async def volume(self, request, path):

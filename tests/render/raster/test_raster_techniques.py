@@ -122,3 +122,48 @@ def test_shader_files_ship_and_import_stays_light():
     code = "import sys, volumen.render.raster; print([m for m in ('moderngl', 'numba') if m in sys.modules])"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "[]"
+
+
+@pytest.mark.parametrize("tonemap", ["aces", "linear"])
+def test_display_shader_equals_image_to_uint8(gl, tonemap):
+    """display.glsl, the browser viewer's display pass, compiled from the same file as desktop GLSL 3.30 with the
+    constants of core._tonemap.shader_constants(): a picture of premultiplied linear RGBA (radiance 0..8, every
+    alpha, empty and opaque pixels) shown at a given exposure equals ``Image.to_uint8`` over black of that
+    Display to 1/255 (8-bit rounding of float32 against float64 arithmetic)."""
+    from volumen.core import Display, Image
+    from volumen.core._tonemap import shader_constants
+    from volumen.render.raster import on_gl_thread
+    from volumen.render.raster._context import Target
+    from volumen.render.raster._shaders import program
+
+    n, ev = 32, 0.7
+    rng = np.random.default_rng(7)
+    a = rng.uniform(0.0, 1.0, (n, n, 1))
+    a[0, :4], a[1, :4] = 0.0, 1.0
+    rgba = np.concatenate([8.0 * rng.uniform(0.0, 1.0, (n, n, 3)) ** 3 * a, a], axis=-1).astype(np.float32)
+    k = shader_constants()
+
+    def draw():
+        prog = program(gl, "display")
+        tex = gl.texture((n, n), 4, rgba.tobytes(), dtype="f4")
+        vbo = gl.buffer(np.array([-1, -1, 3, -1, -1, 3], np.float32).tobytes())
+        vao = gl.vertex_array(prog, [(vbo, "2f", "in_pos")])
+        prog["u_linear"].value = 0
+        prog["u_viewport"].value = (0.0, 0.0, float(n), float(n))
+        prog["u_tonemap"].value = {"linear": 0, "aces": 1}[tonemap]
+        prog["u_gain"].value = 2.0 ** ev
+        prog["u_aces"].value = tuple(k["aces"])
+        prog["u_srgb"].value = tuple(k["srgb"])
+        with Target(gl, (n, n), [(4, "f4")]) as t:
+            t.use()
+            tex.use(0)
+            vao.render()
+            out = t.read()
+        for obj in (vao, vbo, tex):
+            obj.release()
+        return out[::-1]   # read() puts row 0 at the top; the texture's row 0 is at the bottom
+
+    got = np.rint(np.clip(on_gl_thread(draw)[..., :3], 0.0, 1.0) * 255).astype(int)
+    image = Image(rgba, np.zeros((n, n), np.float32))
+    ref = image.to_uint8(display=Display(tonemap=tonemap, exposure=ev)).astype(int)
+    assert np.abs(got - ref).max() <= 1 and np.mean(got != ref) < 0.02, np.abs(got - ref).max()

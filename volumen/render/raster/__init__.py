@@ -15,7 +15,15 @@ here). Shaders are the ``.glsl`` files in ``shaders/``. Nothing here imports
 OpenGL until a picture is drawn.
 """
 
-from ._context import PRECISIONS, RasterUnavailable, context_info, get_context, on_gl_thread
+from ._context import (
+    PRECISIONS,
+    RasterUnavailable,
+    context_info,
+    get_context,
+    gl_renderer,
+    is_software_renderer,
+    on_gl_thread,
+)
 from ._mesh import MeshOptions, clear_mesh_cache, isosurface_mesh, render_isosurface_mesh, render_mesh
 from ._planes import ADAPTIVE, slab_boundaries, slice_polygons
 from ._raycast import MAX_LIGHTS, MAX_PLANES, render_raycast_gl
@@ -23,6 +31,8 @@ from ._slicing import SlicingOptions, render_slicing
 from ._textures import clear_cache
 
 __all__ = [
+    "gl_renderer",
+    "is_software_renderer",
     "render_raycast_gl",
     "MAX_LIGHTS",
     "MAX_PLANES",

@@ -21,7 +21,8 @@ import threading
 
 import numpy as np
 
-__all__ = ["RasterUnavailable", "get_context", "context_info", "Target", "PRECISIONS", "on_gl_thread", "gl_thread"]
+__all__ = ["RasterUnavailable", "get_context", "context_info", "gl_renderer", "is_software_renderer",
+           "SOFTWARE_RENDERERS", "Target", "PRECISIONS", "on_gl_thread", "gl_thread"]
 
 #: blending precision -> moderngl texture dtype of the colour target
 PRECISIONS = {"uint8": "f1", "float16": "f2", "float32": "f4"}
@@ -104,6 +105,23 @@ def context_info() -> dict:
     """Renderer, version and vendor strings of the context (creates it)."""
     info = get_context().info
     return {k: info.get(k) for k in ("GL_RENDERER", "GL_VERSION", "GL_VENDOR")}
+
+
+#: renderer names of OpenGL implementations that rasterize on the CPU (Mesa's llvmpipe, softpipe and swrast,
+#: Google's SwiftShader, Windows' basic render driver): slower than the CPU ray caster
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "swiftshader", "software rasterizer", "basic render driver")
+
+
+def is_software_renderer(renderer: str) -> bool:
+    """Whether the ``GL_RENDERER`` string names a software rasterizer (:data:`SOFTWARE_RENDERERS`)."""
+    name = (renderer or "").lower()
+    return any(s in name for s in SOFTWARE_RENDERERS)
+
+
+def gl_renderer() -> tuple[str, bool]:
+    """``(GL_RENDERER, hardware)`` of this process's context; raises :class:`RasterUnavailable` without one."""
+    name = str(context_info().get("GL_RENDERER") or "unknown")
+    return name, not is_software_renderer(name)
 
 
 class Target:

@@ -16,8 +16,9 @@ the step). A hidden structure (opacity 0) fades out over one voxel instead of a 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
+from ...jit import run_parts
 from ._sample import _cell
 
 __all__ = ["classify", "classify_sample", "solid_rows", "label_table", "packed_labels", "label_blocks"]
@@ -119,15 +120,16 @@ def classify(a, x, y, z, idx, nearest):
         acc = _add(a, lab[k, j, i], wz * wy * wx, idx, acc)
     return acc
 
-@njit(parallel=True, cache=True)
-def _solid_blocks(lab, solid, block, out):
+@njit(cache=True, nogil=True)
+def _solid_blocks(part, parts, lab, solid, block, out):
     """``out[bk, bj, bi]`` = 1 where a voxel within one voxel of the block holds a value whose ``solid`` flag is
-    set (values past the table read its last row, as :func:`classify` does)."""
+    set (values past the table read its last row, as :func:`classify` does), for the block planes of part
+    ``part`` of ``parts`` (``volumen.jit.run_parts``)."""
     nz, ny, nx = lab.shape
     gz, gy, gx = out.shape
     mask = UNIFORM16 - 1 if lab.itemsize == 2 else UNIFORM8 - 1
     top = solid.shape[0] - 1
-    for bk in prange(gz):
+    for bk in range(part * gz // parts, (part + 1) * gz // parts):
         for bj in range(gy):
             for bi in range(gx):
                 hit = 0
@@ -157,7 +159,7 @@ def label_blocks(lab: np.ndarray, llut: np.ndarray, block: int) -> np.ndarray:
     out = np.zeros(shape, np.uint8)
     solid = solid_rows(llut)
     if solid.any():
-        _solid_blocks(lab, solid, int(block), out)
+        run_parts(_solid_blocks, shape[0], lab, solid, int(block), out)
     if len(cache) >= 4:
         cache.pop(next(iter(cache)))
     cache[key] = (lab, out)

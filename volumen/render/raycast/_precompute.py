@@ -19,7 +19,7 @@ kernels then only read arrays.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ...jit import run_parts
 from ._sample import world_grad
@@ -30,11 +30,12 @@ __all__ = ["NLUT", "normalize", "normal_params", "build_blocks"]
 NLUT = 4096
 
 
-@njit(parallel=True, cache=True)  # no fastmath: it must see NaN
-def _normalize_kernel(data, vmin, scale, out):
+@njit(cache=True, nogil=True)  # no fastmath: it must see NaN
+def _normalize_kernel(part, parts, data, vmin, scale, out):
+    """Planes of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``)."""
     nz, ny, nx = data.shape
     top = np.float32(NLUT - 1)
-    for k in prange(nz):
+    for k in range(part * nz // parts, (part + 1) * nz // parts):
         for j in range(ny):
             for i in range(nx):
                 v = (np.float64(data[k, j, i]) - vmin) * scale
@@ -49,15 +50,15 @@ def normalize(data: np.ndarray, vmin: float, vmax: float) -> np.ndarray:
     """float32 copy of ``data`` with ``[vmin, vmax]`` mapped onto ``[0, NLUT - 1]``."""
     out = np.empty(data.shape, np.float32)
     scale = (NLUT - 1) / (vmax - vmin) if vmax > vmin else 0.0
-    _normalize_kernel(data, float(vmin), float(scale), out)
+    run_parts(_normalize_kernel, data.shape[0], data, float(vmin), float(scale), out)
     return out
 
 
-@njit(parallel=True, cache=True, fastmath=True)
-def _max_gradient(u, m, sobel, slab_max):
-    """Largest |g| (u per mm) of each z slab into ``slab_max`` (nz,)."""
+@njit(cache=True, fastmath=True, nogil=True)
+def _max_gradient(part, parts, u, m, sobel, slab_max):
+    """Largest |g| (u per mm) of each z slab of part ``part`` of ``parts`` into ``slab_max`` (nz,)."""
     nz, ny, nx = u.shape
-    for k in prange(nz):
+    for k in range(part * nz // parts, (part + 1) * nz // parts):
         top = 0.0
         for j in range(ny):
             for i in range(nx):
@@ -93,7 +94,7 @@ def normal_params(u: np.ndarray, affine: np.ndarray, value_scale: float, sobel: 
     m = np.ascontiguousarray(np.linalg.inv(np.asarray(affine, float)[:3, :3]).T)
     slab_max = np.zeros(u.shape[0] if magnitude else 0, np.float32)
     if magnitude:
-        _max_gradient(u, m, bool(sobel), slab_max)
+        run_parts(_max_gradient, u.shape[0], u, m, bool(sobel), slab_max)
     gmax = float(slab_max.max()) if slab_max.size else 0.0
     nrm = np.zeros((4, 3), np.float64)
     nrm[:3] = m

@@ -99,32 +99,82 @@ export class Textures {
   }
 }
 
-// An offscreen RGBA8 picture (reduced resolution while dragging, and the frame governor's in VR), shown by a
-// linear blit onto the canvas or an XR view's viewport.
-export class Offscreen {
-  constructor(gl) { this.gl = gl; this.size = [0, 0]; }
+// The ray caster's picture before the display transform: premultiplied linear RGBA in an offscreen texture,
+// RGBA16F where the browser renders to float (EXT_color_buffer_float: every desktop WebGL2 and the headsets'
+// browsers), else RGBA8 (`float` false: linear values in 8 bits band in the dark after the curve). Its size is
+// the picture's (reduced while dragging and by the VR governor); display.js shows it, stretched, in a
+// viewport and meters its exposure on a read-back.
+export class LinearTarget {
+  constructor(gl) {
+    this.gl = gl;
+    this.size = [0, 0];
+    this.float = Boolean(gl.getExtension('EXT_color_buffer_float'));
+    this.format = this.float ? [gl.RGBA16F, gl.HALF_FLOAT] : [gl.RGBA8, gl.UNSIGNED_BYTE];
+    this.fbo = gl.createFramebuffer();
+    this.small = { fbo: gl.createFramebuffer(), tex: null, size: [0, 0] };
+  }
 
+  allocate(w, h) {
+    const gl = this.gl;
+    const t = make(gl, gl.TEXTURE_2D, gl.LINEAR);
+    gl.texImage2D(gl.TEXTURE_2D, 0, this.format[0], w, h, 0, gl.RGBA, this.format[1], null);
+    return t;
+  }
+
+  attach(fbo, tex) {
+    const gl = this.gl;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
+  }
+
+  // bind it as the framebuffer at `w` x `h` pixels (the viewport too), cleared to transparent
   use(w, h) {
     const gl = this.gl;
     if (this.size[0] !== w || this.size[1] !== h) {
-      if (this.fbo) { gl.deleteFramebuffer(this.fbo); gl.deleteTexture(this.tex); }
-      this.tex = texture2d(gl, w, h, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, null);
-      this.fbo = gl.createFramebuffer();
-      gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
-      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.tex, 0);
+      if (this.tex) gl.deleteTexture(this.tex);
+      this.tex = this.allocate(w, h);
+      this.attach(this.fbo, this.tex);
       this.size = [w, h];
     }
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
     gl.viewport(0, 0, w, h);
+    gl.clearColor(0, 0, 0, 0);
+    gl.clear(gl.COLOR_BUFFER_BIT);
   }
 
-  // blit onto `target` (null: the canvas) at viewport [x, y, w, h]
-  show(target, [x, y, w, h]) {
+  // its pixels as a Float32Array of RGBA (rows from the bottom): all of them when there are at most
+  // `maxPixels`, else a nearest-neighbour subsample of at most that many (a blit: every k-th pixel)
+  read(maxPixels = Infinity) {
     const gl = this.gl;
+    let [w, h] = this.size;
     gl.bindFramebuffer(gl.READ_FRAMEBUFFER, this.fbo);
-    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, target);
-    gl.blitFramebuffer(0, 0, this.size[0], this.size[1], x, y, x + w, y + h, gl.COLOR_BUFFER_BIT, gl.LINEAR);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, target);
+    if (w * h > maxPixels) {
+      const f = Math.sqrt(maxPixels / (w * h));
+      const [sw, sh] = [Math.max(1, Math.floor(w * f)), Math.max(1, Math.floor(h * f))];
+      const s = this.small;
+      if (s.size[0] !== sw || s.size[1] !== sh) {
+        if (s.tex) gl.deleteTexture(s.tex);
+        s.tex = this.allocate(sw, sh);
+        this.attach(s.fbo, s.tex);
+        s.size = [sw, sh];
+      }
+      gl.bindFramebuffer(gl.READ_FRAMEBUFFER, this.fbo);
+      gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, s.fbo);
+      gl.blitFramebuffer(0, 0, w, h, 0, 0, sw, sh, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+      gl.bindFramebuffer(gl.READ_FRAMEBUFFER, s.fbo);
+      [w, h] = [sw, sh];
+    }
+    let px;
+    if (this.float) {
+      px = new Float32Array(w * h * 4);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, px);
+    } else {
+      const b = new Uint8Array(w * h * 4);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, b);
+      px = Float32Array.from(b, (v) => v / 255);
+    }
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    return { rgba: px, size: [w, h] };
   }
 }
 

@@ -4,6 +4,7 @@
 
 import { getBinary, getJSON } from './api.js';
 import { attachGestures, aimLight, dragZoom, moveLight, orbit, pan, wheelZoom } from './camera.js';
+import { DisplayPass } from './display.js';
 import { createContext, limits, Textures } from './gl.js';
 import { drawOverlay, lightLength, pickLight } from './overlay.js';
 import { RaycastProgram } from './program.js';
@@ -39,7 +40,8 @@ async function boot() {
   const textures = new Textures(gl);
   textures.setVolume(volume.header, volume.arrays.vol.data);
   const program = new RaycastProgram(gl, sources.raycast);
-  const viewer = new Viewer({ gl, program, textures, info, max3d });
+  const display = new DisplayPass(gl, sources.display, info.display);
+  const viewer = new Viewer({ gl, program, display, textures, info, max3d });
   const xr = new XRView(viewer, { onPreset: (step) => panel.cyclePreset(step), onChange: () => panel.refresh('xr') });
   const slices = new SliceViews(document.getElementById('slices'), { info, max3d,
     onCrosshair: () => viewer.redraw() });
@@ -102,10 +104,18 @@ async function boot() {
       }
       return { error: viewer.error };
     },
-    // the canvas: RGBA8 (base64), rows from the top, with the scene and camera it shows
-    capture() {
-      return { width: canvas.width, height: canvas.height, rgba: base64(viewer.read()), camera: viewer.camera,
-        scene: viewer.scene, error: viewer.error };
+    // the canvas: RGBA8 (base64), rows from the top, with the scene and camera it shows and the display
+    // transform it was shown with ({tonemap, exposure}); `linear`: also the picture before that transform
+    // (float32 RGBA, base64, rows from the top)
+    capture({ linear = false } = {}) {
+      const out = { width: canvas.width, height: canvas.height, rgba: base64(viewer.read()), camera: viewer.camera,
+        scene: viewer.scene, shown: viewer.shown, error: viewer.error };
+      if (linear) {
+        const lin = viewer.readLinear();
+        out.linear = { width: lin.width, height: lin.height, rgba: base64(new Uint8Array(lin.rgba.buffer)),
+          float: viewer.linear.float };
+      }
+      return out;
     },
     async enterVR({ governor = true, placement = 'table-top' } = {}) {
       xr.governor = governor;

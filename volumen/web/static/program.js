@@ -1,13 +1,15 @@
-// The ray-casting program: the desktop shader files compiled as GLSL ES 3.00. The server sends each stage as
+// A program of the desktop shader files compiled as GLSL ES 3.00 (the ray caster, the display pass), drawn as
+// one full-screen triangle. The server sends each stage as
 // (head, body) (raster/_shaders.py stage_parts: the #version line and the stage's macro; the precision
 // preamble and the file with its includes); a variant is head + its #define lines + body, compiled once.
 // Uniforms are set generically from a {name: value} object by the type the linker reports, so the page sets
 // the values the server packed (raster/_rc_uniforms.py) without a table of its own.
 
 export class RaycastProgram {
-  constructor(gl, sources) {
+  constructor(gl, sources, file = 'raycast.glsl') {
     this.gl = gl;
     this.sources = sources;
+    this.file = file;
     this.cache = new Map();
     const buf = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, buf);
@@ -38,7 +40,7 @@ export class RaycastProgram {
     gl.shaderSource(sh, [head, ...lines, body].join('\n'));
     gl.compileShader(sh);
     if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) {
-      throw new Error(`raycast.glsl (${stage}) does not compile as GLSL ES 3.00: ${gl.getShaderInfoLog(sh)}`);
+      throw new Error(`${this.file} (${stage}) does not compile as GLSL ES 3.00: ${gl.getShaderInfoLog(sh)}`);
     }
     return sh;
   }
@@ -50,7 +52,7 @@ export class RaycastProgram {
     gl.attachShader(prog, this.compile('fragment', defines));
     gl.bindAttribLocation(prog, 0, 'in_pos');
     gl.linkProgram(prog);
-    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(`raycast.glsl: ${gl.getProgramInfoLog(prog)}`);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(`${this.file}: ${gl.getProgramInfoLog(prog)}`);
     const uniforms = {};
     const n = gl.getProgramParameter(prog, gl.ACTIVE_UNIFORMS);
     for (let i = 0; i < n; i++) {

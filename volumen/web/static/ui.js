@@ -1,11 +1,13 @@
-// The panel beside the 3-D view: preset (and its shift along the values), mode, shading, lights (add at the
-// camera, select, delete; dragged on the picture), crop box, slice window, VR, notices and frame times.
+// The panel beside the 3-D view: preset (and its shift along the values), mode, shading, display transform
+// (curve and exposure), lights (add at the camera, select, delete; dragged on the picture), crop box, slice
+// window, VR, notices and frame times.
 // Every control edits the scene (Scene.to_dict() JSON) through viewer.setScene.
 
 import { lightAtCamera } from './camera.js';
 
 const MODES = ['composite', 'mip', 'minip', 'average', 'isosurface'];
 const SHADINGS = ['none', 'headlight', 'phong', 'shadows', 'scattering'];   // path tracing: cpu and cuda only
+const TONEMAPS = ['auto', 'linear', 'aces'];   // core._tonemap.Display
 
 function el(tag, props = {}, ...children) {
   const e = Object.assign(document.createElement(tag), props);
@@ -65,6 +67,7 @@ export class Panel {
       labelled('iso value', this.iso),
       labelled('shading', select(SHADINGS, sc.shading.mode, (m) => this.edit({ shading: { ...viewer.scene.shading,
         mode: m } }))),
+      el('h3', { textContent: 'display' }), ...this.displayControls(),
       el('h3', { textContent: 'lights' }), this.lightList,
       el('div', { className: 'row' },
         el('button', { textContent: 'add at camera', onclick: () => this.addLight() }),
@@ -136,6 +139,20 @@ export class Panel {
     return el('div', { className: 'crop' }, labelled('crop', on), ...rows);
   }
 
+  // Display.tonemap, and Display.exposure: the slider sets it (stops), `metered` gives it back to the meter
+  displayControls() {
+    const d = () => this.viewer.scene.display;
+    const metered = el('input', { type: 'checkbox', checked: d().exposure === null });
+    const ev = slider(-4, 8, 0.1, d().exposure ?? 0, (v) => {
+      metered.checked = false;
+      this.edit({ display: { ...d(), exposure: v } });
+    });
+    metered.addEventListener('change', () => this.edit({ display: { ...d(), exposure: metered.checked ? null
+      : Number(ev.value) } }));
+    return [labelled('tone curve', select(TONEMAPS, d().tonemap, (t) => this.edit({ display: { ...d(), tonemap: t } }))),
+      labelled('exposure', ev), labelled('metered', metered)];
+  }
+
   vrControls(available) {
     const enter = el('button', { textContent: 'Enter VR', disabled: !available, onclick: () => this.xr.enter()
       .catch((e) => this.notice(`VR: ${e.message || e}`)) });
@@ -161,5 +178,6 @@ export class Panel {
     const xr = this.xr.session ? this.xr.stats() : null;
     this.timing.textContent = xr ? `VR ${xr.mean_ms.toFixed(1)} ms a frame (both eyes), step level ${xr.level}`
       : `${v.lastDraw.ms.toFixed(1)} ms a picture (${v.lastDraw.size.join(' x ')})`;
+    if (v.shown) this.timing.textContent += `; shown ${v.shown.tonemap}, ${v.shown.exposure.toFixed(2)} EV`;
   }
 }

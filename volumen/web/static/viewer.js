@@ -3,24 +3,27 @@
 // A changed scene asks the server for its frame (tables, grids, illumination volumes, uniforms); a moved
 // camera or light changes only the camera's and the lights' uniforms, drawn at once. A light moved away from
 // where its illumination volume was built is drawn without that volume's shadows until the new one arrives.
+// Every picture is ray cast linear into an offscreen target and shown through the display transform
+// (display.js: the frame's resolved Display, its exposure given or metered on that picture).
 
 import { postBinary } from './api.js';
 import { lightUniforms, packCamera } from './camera.js';
-import { Offscreen, readRGBA } from './gl.js';
+import { LinearTarget, readRGBA } from './gl.js';
 
 export const REDUCED_FRACTION = 0.5;   // picture scale while dragging (notebook/_loop.py)
 const LATTICE = 1;                     // raycast._params: an illumination volume's kind
 
 export class Viewer {
-  constructor({ gl, program, textures, info, max3d }) {
-    Object.assign(this, { gl, program, textures, info, max3d });
+  constructor({ gl, program, display, textures, info, max3d }) {
+    Object.assign(this, { gl, program, display, textures, info, max3d });
     this.scene = info.scene;
     this.camera = info.camera;
     this.frame = null;          // {defines, uniforms, ...} of the last frame received
     this.seq = 0;               // frames asked for
     this.pending = 0;           // frames asked for and not yet received
     this.interacting = false;
-    this.offscreen = new Offscreen(gl);
+    this.linear = new LinearTarget(gl);
+    this.shown = null;          // {tonemap, exposure} of the last picture drawn
     this.listeners = [];
     this.waiters = [];
     this.idleWaiters = [];
@@ -104,39 +107,25 @@ export class Viewer {
     return u;
   }
 
-  // draw the ray caster into framebuffer `target`'s region `viewport` = [x, y, w, h]; `scaleDown` < 1 draws a
-  // smaller picture offscreen and stretches it (reduced resolution); `shift` moves the picture's centre by
-  // that fraction of its size (an XR eye's off-axis projection); `opaque` leaves the target's alpha at 1 (an
-  // XR layer: the picture over black, as a headset shows it)
-  drawView(target, viewport, packedFor, camera, scaleDown = 1, shift = [0, 0], opaque = false) {
-    const gl = this.gl;
-    const [x, y, w, h] = viewport;
+  // draw the ray caster into framebuffer `target`'s region `viewport` = [x, y, w, h]: ray cast linear into the
+  // offscreen target at the viewport's size (`scaleDown` < 1: smaller, stretched when shown: reduced
+  // resolution), then shown through the display transform with `stops` of exposure (null: the frame's Display,
+  // given or metered on this picture). `shift` moves the picture's centre by that fraction of its size (an XR
+  // eye's off-axis projection); `opaque` leaves the target's alpha as it is (an XR layer, cleared opaque: the
+  // picture over black, as a headset shows it). Returns the exposure used (both XR eyes are shown with one).
+  drawView(target, viewport, packedFor, camera, scaleDown = 1, shift = [0, 0], opaque = false, stops = null) {
+    const [, , w, h] = viewport;
     const p = this.program.variant(this.frame.defines);
-    if (scaleDown < 1) {
-      const rw = Math.max(1, Math.round(w * scaleDown)), rh = Math.max(1, Math.round(h * scaleDown));
-      this.offscreen.use(rw, rh);
-      gl.clearColor(0, 0, 0, 0);
-      gl.clear(gl.COLOR_BUFFER_BIT);
-      this.program.set(p, this.uniforms(packedFor(rw, rh), camera, [shift[0] * rw, shift[1] * rh]));
-      this.program.draw();
-      this.offscreen.show(target, viewport);
-    } else {
-      gl.bindFramebuffer(gl.FRAMEBUFFER, target);
-      gl.viewport(x, y, w, h);
-      if (opaque) gl.colorMask(true, true, true, false);
-      this.program.set(p, this.uniforms(packedFor(w, h), camera, [x + shift[0] * w, y + shift[1] * h]));
-      this.program.draw();
-      gl.colorMask(true, true, true, true);
-    }
-    if (opaque && scaleDown < 1) {   // the blit copied the picture's alpha: back to 1
-      gl.enable(gl.SCISSOR_TEST);
-      gl.scissor(x, y, w, h);
-      gl.colorMask(false, false, false, true);
-      gl.clearColor(0, 0, 0, 1);
-      gl.clear(gl.COLOR_BUFFER_BIT);
-      gl.colorMask(true, true, true, true);
-      gl.disable(gl.SCISSOR_TEST);
-    }
+    const s = Math.min(scaleDown, 1);
+    const rw = Math.max(1, Math.round(w * s)), rh = Math.max(1, Math.round(h * s));
+    this.linear.use(rw, rh);
+    this.program.set(p, this.uniforms(packedFor(rw, rh), camera, [shift[0] * rw, shift[1] * rh]));
+    this.program.draw();
+    const display = this.frame.display;
+    const ev = stops ?? this.display.stops(display, this.linear);
+    this.display.draw(this.linear, target, viewport, display.tonemap, ev, opaque);
+    this.shown = { tonemap: display.tonemap, exposure: ev };
+    return ev;
   }
 
   drawCanvas() {
@@ -164,6 +153,14 @@ export class Viewer {
     const gl = this.gl;
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     return readRGBA(gl, [0, 0, gl.canvas.width, gl.canvas.height]);
+  }
+
+  // the last picture before the display transform: premultiplied linear RGBA (Float32Array), rows from the top
+  readLinear() {
+    const { rgba, size: [w, h] } = this.linear.read();
+    const out = new Float32Array(rgba.length);
+    for (let r = 0; r < h; r++) out.set(rgba.subarray((h - 1 - r) * w * 4, (h - r) * w * 4), r * w * 4);
+    return { rgba: out, width: w, height: h };
   }
 
   // milliseconds per picture: the median of `n` pictures drawn back to back, each finished (a pixel read

@@ -92,14 +92,15 @@ export class XRView {
     gl.clearColor(0, 0, 0, 1);
     gl.clear(gl.COLOR_BUFFER_BIT);
     const eyes = [];
+    let stops = null;   // the exposure: metered on the first eye (when it is metered), both eyes shown with it
     for (const view of pose.views) {
       const vp = layer.getViewport(view);
       if (!vp || vp.width === 0 || vp.height === 0) continue;
       const { packed, camera, shift } = this.eye(view, vp);
       const s = this.governor ? GOVERNOR_LEVELS[this.level][1] : 1;
-      viewer.drawView(layer.framebuffer, [vp.x, vp.y, vp.width, vp.height], (w, h) => ({ ...packed, u_wh: [w, h] }),
-        camera, s, shift, true);
-      eyes.push({ eye: view.eye, viewport: [vp.x, vp.y, vp.width, vp.height], camera });
+      stops = viewer.drawView(layer.framebuffer, [vp.x, vp.y, vp.width, vp.height],
+        (w, h) => ({ ...packed, u_wh: [w, h] }), camera, s, shift, true, stops);
+      eyes.push({ eye: view.eye, viewport: [vp.x, vp.y, vp.width, vp.height], camera, shown: viewer.shown });
     }
     const waiting = this.captures.splice(0);
     if (waiting.length) {

@@ -4,7 +4,8 @@
   0..2570 = HU + 1000), resampled with ``scipy.ndimage.zoom`` (linear) to the asked size as int16: a cropped angiogram,
   little soft tissue in view;
 * ``abdomen``, ``chest``: :func:`volumen.data.phantom`'s whole-region CTs (HU), soft tissue in most rays;
-* ``mri``: the MRI template of :func:`volumen.data.sample` (``mni-brain``) where installed;
+* ``mri``: the MRI template of :func:`volumen.data.sample` (``mni-brain``, 301x370x316 uint8 at 0.5 mm) where
+  installed, as it is or resampled;
 * ``head``, ``torso``: the older phantoms.
 
 :func:`ray_shares` says what share of a picture's rays cross the body and soft tissue: the quantity that
@@ -18,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["aorta_path", "upsampled_aorta", "load_dataset", "ray_shares", "CT_KINDS", "SOFT_TISSUE_HU"]
+__all__ = ["aorta_path", "resampled", "upsampled_aorta", "load_dataset", "ray_shares", "CT_KINDS", "SOFT_TISSUE_HU"]
 
 #: the data set kinds that are CTs (their ratios are the bars), as opposed to the MRI and the old phantoms
 CT_KINDS = ("aorta", "abdomen", "chest")
@@ -35,28 +36,36 @@ def aorta_path() -> Path | None:
     return shared_data("vmtk-aorta", "aorta.mha")
 
 
-def upsampled_aorta(size_xyz):
-    """The aorta scan resampled (linear) to ``size_xyz`` voxels (x, y, z), rounded to int16: a Volume (units
-    HU + 1000)."""
+def resampled(src, size_xyz, dtype=None, **labels):
+    """``src`` (a Volume) resampled (linear, ``scipy.ndimage.zoom``) to ``size_xyz`` voxels (x, y, z) over the same
+    field of view, rounded to ``dtype`` (default: the source's): a Volume with the source's modality, units and
+    name unless ``labels`` (``modality=``, ``units=``, ``name=``) say otherwise."""
     from scipy import ndimage
 
     from volumen.core import Volume
-    from volumen.io import load
 
-    src = load(aorta_path())
     shape = tuple(int(n) for n in size_xyz[::-1])
     factors = [m / n for m, n in zip(shape, src.shape, strict=True)]
     data = ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1, output=np.float32)
-    data = np.rint(data).astype(np.int16)
+    data = np.rint(data).astype(dtype or src.data.dtype)
     ratio = [n / m for n, m in zip(src.shape, data.shape, strict=True)]  # z, y, x
     spacing = tuple(s * r for s, r in zip(src.spacing, ratio, strict=True))
     affine = np.asarray(src.affine, float) @ np.diag(ratio[::-1] + [1.0])
-    return Volume(data, spacing=spacing, affine=affine, modality="CT", units="HU+1000")
+    labels = {"modality": src.modality, "units": src.units, "name": src.name, **labels}
+    return Volume(data, spacing=spacing, affine=affine, **labels)
+
+
+def upsampled_aorta(size_xyz):
+    """The aorta scan resampled (linear) to ``size_xyz`` voxels (x, y, z), rounded to int16: a Volume (units
+    HU + 1000)."""
+    from volumen.io import load
+
+    return resampled(load(aorta_path()), size_xyz, np.int16, modality="CT", units="HU+1000")
 
 
 def load_dataset(kind: str, shape):
     """``(Volume, HU offset)`` of a data set (offset None where the values are not HU-based); None where its
-    source is missing. ``shape``: (nx, ny, nz) voxels (None for the MRI template)."""
+    source is missing. ``shape``: (nx, ny, nz) voxels (None: the MRI template as installed)."""
     from volumen.data import phantom
 
     if kind in ("head", "torso", "abdomen", "chest"):
@@ -65,9 +74,11 @@ def load_dataset(kind: str, shape):
         from volumen.data import sample
 
         try:
-            return sample("mni-brain"), None
+            mri = sample("mni-brain")
         except Exception:  # noqa: BLE001 - the optional system package is missing: skip the data set
             return None
+        same = shape is None or tuple(shape) == mri.shape[::-1]
+        return (mri if same else resampled(mri, shape)), None
     if kind != "aorta":
         raise ValueError(f"unknown data set kind {kind!r}")
     if aorta_path() is None:

@@ -3,8 +3,9 @@
 Data sets (:mod:`._datasets`), each CT at two sizes, 244x202x224 and 366x303x336 int16: the VMTK aorta
 CTA (a cropped angiogram; its transfer functions are the CT presets shifted by +1000, the scan's offset
 from Hounsfield units), and the whole-abdomen and whole-chest CTs built for the purpose (soft tissue in
-most rays); the MRI template from ``volumen.data.sample`` where installed. Per data set the table gives
-the share of the picture's rays that cross the body and soft tissue (:func:`._datasets.ray_shares`).
+most rays); the MRI template from ``volumen.data.sample`` where installed, as it is (301x370x316 uint8) and
+at half its size. Per CT the notes give the share of the picture's rays that cross the body and soft
+tissue (:func:`._datasets.ray_shares`).
 Cases: composite ct-bone headlight, composite ct-skin-bone headlight (translucent), composite ct-bone
 unshaded, plus mip and isosurface.
 
@@ -49,7 +50,8 @@ CASES = [
 #: data set name -> (kind, (nx, ny, nz) or None)
 DATASETS = {f"{kind}-{s}": (kind, tuple(int(n) for n in s.split("x")))
             for kind in CT_KINDS for s in ("244x202x224", "366x303x336")}
-DATASETS["mri-template"] = ("mri", None)
+#: the MRI template (301x370x316 uint8 at 0.5 mm) as installed and at half the size
+DATASETS.update({"mri-template-151x185x158": ("mri", (151, 185, 158)), "mri-template-301x370x316": ("mri", None)})
 #: measured for peak memory only (issue 13's case: a 700x512x512 int16 CT, 0.37 GB, where the fixed baseline of
 #: imports and compiled kernels does not dominate), besides the aorta sizes timed
 MEMORY_DATASETS = {"aorta-512x512x700": ("aorta", (512, 512, 700))}

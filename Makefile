@@ -35,8 +35,10 @@ system-data:
 	  echo "mricron-data could not be installed; tests using it will skip"; \
 	else echo "not root: mricron-data not installed; tests using it will skip"; fi
 
-# Optional library: Debian's libfreeimage3 lets imageio read HDR environment maps (.hdr, .exr; volumen.io.read_environment).
-# Installing it needs root and apt; without it the environment-map tests skip with the reason printed.
+# Optional libraries: Debian's libfreeimage3 lets imageio read HDR environment maps (.hdr, .exr;
+# volumen.io.read_environment); libxcb-cursor0 is what Qt 6.5+ needs to open a window on X11 (`volumen view`;
+# without it the command says so in one line, and `volumen view --screenshot` draws offscreen anyway).
+# Installing them needs root and apt; without libfreeimage3 the environment-map tests skip with the reason printed.
 system-libs:
 	@if ls /usr/lib/*/libfreeimage.so.3 >/dev/null 2>&1; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
@@ -45,6 +47,13 @@ system-libs:
 	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq libfreeimage3 >/dev/null 2>&1)) || \
 	  echo "libfreeimage3 could not be installed; environment-map tests will skip"; \
 	else echo "not root: libfreeimage3 not installed; environment-map tests will skip"; fi
+	@if ls /usr/lib/*/libxcb-cursor.so.0 >/dev/null 2>&1; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing Debian package libxcb-cursor0 (Qt's X11 windows)"; \
+	  (apt-get install -y -qq libxcb-cursor0 >/dev/null 2>&1 || \
+	   (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq libxcb-cursor0 >/dev/null 2>&1)) || \
+	  echo "libxcb-cursor0 could not be installed; volumen view will say so (--screenshot works offscreen)"; \
+	else echo "not root: libxcb-cursor0 not installed; volumen view will say so (--screenshot works offscreen)"; fi
 
 # Optional browser: Debian's chromium opens the notebook viewer's page (tests/notebook/test_browser.py) and the
 # browser viewer (tests/web) headless. Installing it needs root and apt; without it those tests skip with the

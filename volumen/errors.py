@@ -34,6 +34,7 @@ __all__ = [
     "ArchiveRefusedError",
     "ArchiveNotFoundError",
     "RetrieveCancelled",
+    "NoDisplayError",
 ]
 
 
@@ -186,3 +187,9 @@ class ArchiveNotFoundError(ArchiveError, LookupError):
 
 class RetrieveCancelled(ArchiveError):
     """The user cancelled a retrieve; what was fetched is kept (under a temporary name) for a later rerun."""
+
+
+class NoDisplayError(VolumenError, RuntimeError):
+    """The desktop application cannot open a window here: no display, or Qt's system libraries are missing. The
+    message says which and what to do (``volumen view --screenshot`` needs no display)."""
+

@@ -11,6 +11,7 @@ its own, and that ``run_parts`` and ``run_claiming`` visit every item once on ev
 from __future__ import annotations
 
 import contextlib
+import re
 from pathlib import Path
 
 import numba
@@ -115,6 +116,16 @@ def test_the_numba_internals_the_patches_replace_still_have_the_shape_they_expec
                           f"{NUMBA_TESTED}): fix the patch or lower pyproject.toml's numba ceiling and NUMBA_TESTED "
                           "below this release.\n  " + "\n  ".join(problems))
 
+
+def test_each_patch_names_the_upstream_report_it_works_around_and_what_lets_it_go():
+    from volumen.jit import _stamp
+    from volumen.render.raycast import _inlining
+
+    patches = _inlining.__doc__.split("\n* ")[1:]
+    assert len(patches) == 3
+    for text in patches:
+        assert re.search(r"Upstream: [\w-]+/[\w-]+#\d+", text) and "goes when" in text, text
+    assert re.search(r"upstream: numba/numba#\d+", _stamp.__doc__)
 
 def test_a_reshaped_internal_is_named_in_the_failure(monkeypatch):
     from numba.core import dispatcher

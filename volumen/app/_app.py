@@ -71,8 +71,10 @@ def run(path: str | None = None, *, screenshot: str | None = None, session: str 
     timeout : float, s
         Longest wait for the picture in screenshot mode.
     """
+    from ._platform import prepare_platform
     from ._screenshot import save_widget
 
+    prepare_platform(screenshot=screenshot is not None)  # before Qt: a one-line error instead of Qt's abort
     app = _application()
     if screenshot is None:
         win = create_window(path, session=session, size=size)

@@ -85,6 +85,7 @@ def test_slices_writes_montage_with_radiological_orientation(tmp_path):
     (["info", "/no/such/file.nii"], "no such file"),
     (["info", "__FILE__.xyz"], "unknown volume format"),
     (["convert", "__FILE__.xyz", "out.nii"], "unknown volume format"),
+    (["bench", "render", "--data", "liver", "--no-vtk"], "names no data set of aorta-244x202x224"),
 ])
 def test_errors_are_one_line_without_traceback(tmp_path, capsys, argv, needle):
     bad = tmp_path / "thing.xyz"

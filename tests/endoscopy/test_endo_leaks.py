@@ -72,10 +72,14 @@ def test_tagged_fluid_is_part_of_the_colon(unseen):
     assert np.sum(lumen & fluid) >= 0.95 * fluid.sum() and dice(lumen, truth) >= 0.9
 
 
-def test_washout_keeps_the_dim_end(unseen):
+@pytest.mark.parametrize("seed", [0, 1])
+def test_washout_keeps_the_dim_end(unseen, seed):
     """The artery's last 40 mm read 30 % below its first (the phantom's washout), and the lumen grown from the
-    bright end keeps >= 90 % of the dim end's true voxels."""
-    vol = unseen("washout")
+    bright end keeps >= 90 % of the dim end's true voxels. On the draw of seed 1 (another texture of uneven
+    mixing) a threshold step lengthens the artery by more voxels than its outer shell holds, which explosion
+    control alone took for a leak and refused: the step is grown on past (it adds nothing wider than the artery),
+    and the lumen holds (Dice >= 0.9)."""
+    vol = unseen("washout", seed=seed)
     tube, marks = vol.meta["truth"]["artery"], vol.meta["truth"]["landmarks"]
     cl = tube.centerline
     idx = np.rint(vol.world_to_index(cl)[:, ::-1]).astype(int)
@@ -86,9 +90,10 @@ def test_washout_keeps_the_dim_end(unseen):
     dim = tube.mask.copy()
     dim[int(np.ceil(vol.world_to_index([0.0, 0.0, z_end])[2])):] = False  # below z_end: the dim end (z is axis 0)
     kept = np.sum(lumen & dim) / dim.sum()
-    print(f"contrast {top:.0f} -> {bottom:.0f} HU ({bottom / top:.2f}); dim end kept {kept:.3f}")
+    print(f"contrast {top:.0f} -> {bottom:.0f} HU ({bottom / top:.2f}); dim end kept {kept:.3f}; Dice "
+          f"{dice(lumen, tube.mask):.3f}")
     assert 0.6 < bottom / top < 0.8
-    assert kept >= 0.9
+    assert kept >= 0.9 and dice(lumen, tube.mask) >= 0.9
 
 
 def test_a_pocket_beside_the_trachea_is_cut_off_or_refused(unseen):

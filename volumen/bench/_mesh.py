@@ -30,6 +30,7 @@ import time
 
 import numpy as np
 
+from ._datasets import aorta_path, upsampled_aorta
 from ._table import Table
 
 __all__ = ["bench_mesh", "AORTA_SIZES", "AORTA_LEVELS"]
@@ -40,30 +41,6 @@ AORTA_SIZES = {"aorta-244x202x224": (244, 202, 224), "aorta-366x303x336": (366, 
 AORTA_LEVELS = {"vessels (bone-like fragments)": 800.0, "lumen wall": 1100.0}
 PHANTOMS = {"head-phantom-256": "head", "torso-phantom-256": "torso"}
 QUICK_AORTA = {"aorta-61x50x56": (61, 50, 56)}
-
-
-def aorta_path():
-    """The VMTK aorta (found by :func:`volumen.data.shared_data`), or None."""
-    from volumen.data import shared_data
-
-    return shared_data("vmtk-aorta", "aorta.mha")
-
-
-def upsampled_aorta(size_xyz):
-    """The aorta scan resampled (linear) to ``size_xyz`` voxels (x, y, z), rounded to int16: a Volume."""
-    from scipy import ndimage
-
-    from volumen.core import Volume
-    from volumen.io import load
-
-    src = load(aorta_path())
-    shape = tuple(size_xyz[::-1])
-    factors = [m / n for m, n in zip(shape, src.shape, strict=True)]
-    data = np.rint(ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1)).astype(np.int16)
-    ratio = [n / m for n, m in zip(src.shape, shape, strict=True)]  # z, y, x
-    spacing = tuple(s * r for s, r in zip(src.spacing, ratio, strict=True))
-    affine = np.asarray(src.affine, float) @ np.diag(ratio[::-1] + [1.0])
-    return Volume(data, spacing=spacing, affine=affine, modality="CT", units="scanner")
 
 
 def _cases(quick: bool, progress):

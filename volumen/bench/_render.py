@@ -1,22 +1,24 @@
-"""``volumen bench render``: ray casting on real scans and the phantoms, against VTK in the same process.
+"""``volumen bench render``: ray casting on real scans and whole-region CTs, against VTK in the same process.
 
-Data sets: the VMTK aorta CTA (``../shared/data/vmtk-aorta/aorta.mha``,
-scanner units 0..2570) resampled with ``scipy.ndimage.zoom`` to about
-244x202x224 and 366x303x336 voxels as int16, like a contrast abdominal CT
-(its transfer functions: the CT presets shifted by +1000, the scan's offset
-from Hounsfield units); an MRI template from ``volumen.data.sample`` where
-installed; the head and torso phantoms. Cases (issue 13's targets):
-composite ct-bone headlight, composite ct-skin-bone headlight (translucent),
-composite ct-bone unshaded, plus mip and isosurface.
+Data sets (:mod:`._datasets`), each CT at two sizes, 244x202x224 and 366x303x336 int16: the VMTK aorta
+CTA (a cropped angiogram; its transfer functions are the CT presets shifted by +1000, the scan's offset
+from Hounsfield units), and the whole-abdomen and whole-chest CTs built for the purpose (soft tissue in
+most rays); the MRI template from ``volumen.data.sample`` where installed, as it is (301x370x316 uint8) and
+at half its size. Per CT the notes give the share of the picture's rays that cross the body and soft
+tissue (:func:`._datasets.ray_shares`).
+Cases: composite ct-bone headlight, composite ct-skin-bone headlight (translucent), composite ct-bone
+unshaded, plus mip and isosurface.
 
 Timing: VTK's ``vtkFixedPointVolumeRayCastMapper`` renders the same scene
 (volume, camera, transfer-function points, sample distance, image size) with
 the same number of threads as Numba, in alternating rounds (ours, VTK, ours,
-VTK, ...), so both see the same machine load; the table gives each median and
-the ratio ours / VTK, and the mean |RGB diff| of the two pictures. The peak
+VTK, ...), so both see the same machine load; the table gives each median,
+the ratio of the medians ours / VTK and the spread of the rounds' own ratios
+(lowest and highest), and the mean |RGB diff| of the two pictures; a summary
+gives each case's ratio over the CTs (lowest, median, highest). The peak
 memory of a shaded render is measured in a fresh subprocess (its peak RSS,
-``VmHWM``, before loading the scan and after one shaded frame) and printed against the
-volume's own bytes.
+``VmHWM``, before loading the scan and after one shaded frame) and printed
+against the volume's own bytes.
 """
 
 from __future__ import annotations
@@ -30,10 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ._datasets import AORTA_OFFSET, CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
 from ._table import Table, resolve_device
 from ._vtk import VtkScene, vtk_available
 
-__all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "peak_memory"]
+__all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "AORTA_OFFSET", "aorta_path", "load_dataset", "peak_memory"]
 
 IMAGES = {"512x512": (512, 512)}
 #: (mode, shading, preset)
@@ -45,55 +48,15 @@ CASES = [
     ("isosurface", "headlight", None),
 ]
 #: data set name -> (kind, (nx, ny, nz) or None)
-DATASETS = {"aorta-244x202x224": ("aorta", (244, 202, 224)), "aorta-366x303x336": ("aorta", (366, 303, 336)),
-            "mri-template": ("mri", None), "head-phantom-256": ("head", (256, 256, 256)),
-            "torso-phantom-256": ("torso", (256, 256, 256))}
+DATASETS = {f"{kind}-{s}": (kind, tuple(int(n) for n in s.split("x")))
+            for kind in CT_KINDS for s in ("244x202x224", "366x303x336")}
+#: the MRI template (301x370x316 uint8 at 0.5 mm) as installed and at half the size
+DATASETS.update({"mri-template-151x185x158": ("mri", (151, 185, 158)), "mri-template-301x370x316": ("mri", None)})
 #: measured for peak memory only (issue 13's case: a 700x512x512 int16 CT, 0.37 GB, where the fixed baseline of
 #: imports and compiled kernels does not dominate), besides the aorta sizes timed
 MEMORY_DATASETS = {"aorta-512x512x700": ("aorta", (512, 512, 700))}
-QUICK = {"datasets": {"aorta-96x80x88": ("aorta", (96, 80, 88)), "head-phantom-64": ("head", (64, 64, 64))},
+QUICK = {"datasets": {"aorta-96x80x88": ("aorta", (96, 80, 88)), "abdomen-61x51x56": ("abdomen", (61, 51, 56))},
          "images": {"128x128": (128, 128)}, "memory_datasets": {}}
-#: CT presets are in HU; the VMTK scan is HU + 1000 (air 0, soft tissue ~1200, contrast lumen 1600-2200)
-AORTA_OFFSET = 1000.0
-
-
-def aorta_path() -> Path | None:
-    """The VMTK aorta (found by :func:`volumen.data.shared_data`), or None."""
-    from volumen.data import shared_data
-
-    return shared_data("vmtk-aorta", "aorta.mha")
-
-
-def load_dataset(kind: str, shape):
-    """``(Volume, HU offset)`` of a data set; None where its source is missing."""
-    from volumen.core import Volume
-    from volumen.data import phantom
-
-    if kind in ("head", "torso"):
-        return phantom(kind, size=tuple(shape[::-1])), 0.0
-    if kind == "mri":
-        from volumen.data import sample
-
-        try:
-            return sample("mni-brain"), None
-        except Exception:  # noqa: BLE001 - the optional system package is missing: skip the data set
-            return None
-    path = aorta_path()
-    if path is None:
-        return None
-    from scipy import ndimage
-
-    from volumen.io import load
-
-    src = load(path)
-    nz, ny, nx = src.shape
-    factors = (shape[2] / nz, shape[1] / ny, shape[0] / nx)
-    data = ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1, output=np.float32)
-    data = np.rint(data).astype(np.int16)
-    aff = np.array(src.affine, float)
-    aff[:3, :3] = aff[:3, :3] * (np.array(src.shape[::-1], float) / np.array(data.shape[::-1], float))
-    spacing = tuple(s * n / m for s, n, m in zip(src.spacing, src.shape, data.shape, strict=True))
-    return Volume(data, spacing=spacing, affine=aff, modality="CT", units="HU+1000"), AORTA_OFFSET
 
 
 def _scene(volume, mode, shading, preset, offset, spv):
@@ -111,6 +74,12 @@ def _scene(volume, mode, shading, preset, offset, spv):
 
 def _alternate(ours, theirs, rounds: int) -> tuple[float, float]:
     """Median seconds of ``ours()`` and ``theirs()`` timed in alternating rounds."""
+    a, b = _rounds(ours, theirs, rounds)
+    return float(np.median(a)), (float(np.median(b)) if b else float("nan"))
+
+
+def _rounds(ours, theirs, rounds: int) -> tuple[list, list]:
+    """Seconds of ``ours()`` and ``theirs()`` (None: not timed) in ``rounds`` alternating rounds."""
     a, b = [], []
     for _ in range(rounds):
         t = time.perf_counter()
@@ -120,7 +89,7 @@ def _alternate(ours, theirs, rounds: int) -> tuple[float, float]:
             t = time.perf_counter()
             theirs()
             b.append(time.perf_counter() - t)
-    return float(np.median(a)), (float(np.median(b)) if b else float("nan"))
+    return a, b
 
 
 def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -> dict:
@@ -183,13 +152,31 @@ def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
             table.notes.append(f"{label['data']}: no VTK peer ({exc})")
         else:
             theirs = peer.render()
-    ours_s, vtk_s = _alternate(lambda: render(scene, camera, size, device=backend),
-                               None if peer is None else peer.render_only, rounds)
+    a, b = _rounds(lambda: render(scene, camera, size, device=backend),
+                   None if peer is None else peer.render_only, rounds)
+    ours_s = float(np.median(a))
     row = table.add(**label, ms=ours_s * 1e3, msamples_s=float(image.stats.get("samples", 0)) / ours_s * 1e-6)
     if peer is not None:
-        row.update(vtk_ms=vtk_s * 1e3, ratio_vtk=ours_s / vtk_s,
+        each = np.divide(a, b)  # the rounds' own ratios: their spread is the noise of the machine
+        row.update(vtk_ms=float(np.median(b)) * 1e3, ratio_vtk=ours_s / float(np.median(b)),
+                   ratio_lo=float(each.min()), ratio_hi=float(each.max()),
                    diff_vtk=float(np.mean(np.abs(np.clip(image.rgba[..., :3], 0, 1) - theirs))))
     return row
+
+
+def _summary(table) -> None:
+    """Notes: each case's ratio to VTK over the CT data sets (lowest, median, highest)."""
+    by_case: dict = {}
+    for r in table.rows:
+        if "ratio_vtk" in r and r.get("kind") in CT_KINDS:
+            key = (r["image"], r["mode"], r["shading"], r["preset"])
+            by_case.setdefault(key, []).append((r["ratio_vtk"], r["data"]))
+    for (image, mode, shading, preset), got in by_case.items():
+        ratios = sorted(got)
+        median = float(np.median([x for x, _ in ratios]))
+        table.notes.append(f"{image} {mode} {shading} {preset}: ours/VTK over {len(ratios)} CTs lowest "
+                           f"{ratios[0][0]:.2f} ({ratios[0][1]}), median {median:.2f}, highest {ratios[-1][0]:.2f} "
+                           f"({ratios[-1][1]})")
 
 
 def _memory_notes(table, datasets, progress) -> None:
@@ -233,7 +220,8 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
     table = Table(f"volumen bench render ({device} ray casting vs VTK fixed-point, {threads} threads each)", [
         ("data", "data", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
         ("preset", "preset", "s"), ("ms", "ms/frame", ".1f"), ("msamples_s", "Msamples/s", ".0f"),
-        ("vtk_ms", "VTK ms", ".1f"), ("ratio_vtk", "ours/VTK", ".2f"), ("diff_vtk", "mean |diff| vs VTK", ".4f"),
+        ("vtk_ms", "VTK ms", ".1f"), ("ratio_vtk", "ours/VTK", ".2f"), ("ratio_lo", "rounds' lowest", ".2f"),
+        ("ratio_hi", "highest", ".2f"), ("diff_vtk", "mean |diff| vs VTK", ".4f"),
     ])
     table.notes.append(f"samples per voxel {spv}; medians of {rounds} alternating rounds (ours, VTK) after a "
                        f"warm-up; load average at start {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
@@ -248,13 +236,21 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
         progress(f"[{dname}] {vol.shape[::-1]} (x, y, z) {vol.data.dtype}, {vol.data.nbytes / 2**20:.0f} MiB")
         camera = Camera.orbit(vol, view="anterior")
         for iname, size in images.items():
+            shares = ray_shares(vol, offset, camera, size)
+            if shares:
+                table.notes.append(f"{dname} at {iname}: {100 * shares['body']:.0f}% of the rays cross the body, "
+                                   f"{100 * shares['soft']:.0f}% soft tissue ({SOFT_TISSUE_HU[0]:.0f}.."
+                                   f"{SOFT_TISSUE_HU[1]:.0f} HU)")
+                progress("  " + table.notes[-1])
             for mode, shading, preset in cases:
                 scene = _scene(vol, mode, shading, preset, offset, spv)
                 shown = (preset if offset is not None else "data default") if preset else "-"
                 label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=shown)
                 row = _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label)
+                row.update(kind=kind, **{f"rays_{k}": v for k, v in shares.items()})
                 progress(f"  {iname} {mode}/{shading}/{shown}: {row['ms']:.1f} ms"
                          + (f", VTK {row['vtk_ms']:.1f} ms, ratio {row['ratio_vtk']:.2f}" if "vtk_ms" in row else ""))
+    _summary(table)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     table.notes.append(f"this process's peak RSS: {rss:.0f} MiB")
     if memory:

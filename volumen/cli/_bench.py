@@ -28,6 +28,8 @@ def register(sub):
     p.add_argument("--no-vtk", action="store_true", help="skip the VTK peer even when installed")
     p.add_argument("--repeat", type=int, default=3, help="timed frames per case (median reported)")
     p.add_argument("--spv", type=float, default=1.0, help="samples per voxel")
+    p.add_argument("--data", default=None, help="render: only the data sets whose names contain one of these "
+                   "comma-separated words (e.g. abdomen,366)")
     from volumen.render import TECHNIQUES
 
     devices = (*TECHNIQUES["raycast"].devices, "auto")
@@ -80,6 +82,14 @@ def run(args):
         from volumen.bench._render import QUICK, bench_render
 
         kw = dict(QUICK) if args.quick else {}
+        if args.data:
+            from volumen.bench._render import DATASETS
+
+            words = [w for w in args.data.split(",") if w]
+            known = kw.get("datasets", DATASETS)
+            kw["datasets"] = {n: d for n, d in known.items() if any(w in n for w in words)}
+            if not kw["datasets"]:
+                raise ValueError(f"--data {args.data!r} names no data set of {', '.join(known)}")
         table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, backend=args.device, **kw)
     print()
     print(table.render())

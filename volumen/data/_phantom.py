@@ -13,11 +13,13 @@ import inspect
 from collections.abc import Callable
 
 from ..core import Volume
+from ._abdomen import abdomen
 from ._airways import airways
 from ._chest import arch
 from ._head import head
 from ._shapes import ellipsoid, slab, sphere
 from ._tagged import tagged_colon
+from ._thorax import chest
 from ._torso import torso
 from ._washout import washout
 
@@ -26,6 +28,8 @@ __all__ = ["PHANTOMS", "phantom"]
 _BUILDERS: dict[str, Callable[..., Volume]] = {
     "head": head,
     "torso": torso,
+    "abdomen": abdomen,
+    "chest": chest,
     "sphere": sphere,
     "ellipsoid": ellipsoid,
     "slab": slab,
@@ -57,6 +61,13 @@ def phantom(name: str, size=None, **params) -> Volume:
             and a colon with haustral folds and one polyp (default 160 voxels along z,
             2.5 mm isotropic, 360 x 260 x 400 mm). Params: ``noise``, ``seed``, ``blur``,
             ``fold_depth`` (fraction of the radius, <= 0.5), ``polyp_radius`` (mm).
+        ``"abdomen"``, ``"chest"``
+            Whole-region CTs built for speed measurements on scans like the ones people look at:
+            soft tissue in most rays, organs with texture, gas in the bowel or lungs, bone, the table,
+            partial-volume edges and correlated scanner noise (default (224, 202, 244) voxels, 1.64 mm,
+            400 x 331 x 367 mm; abdomen: portal-venous phase from the lung bases to the iliac crests;
+            chest: contrast in the vessels, shoulders to the upper abdomen). Params: ``noise`` (HU,
+            default 12), ``seed``, ``blur`` (default 0.6).
         ``"sphere"``, ``"ellipsoid"``, ``"slab"``
             Analytic objects (default 64 voxels per axis at ``spacing`` 1 mm). Params:
             ``radius`` / ``semi_axes`` / ``thickness`` and ``axis`` (mm), ``center``

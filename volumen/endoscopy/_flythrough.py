@@ -107,6 +107,13 @@ class Endoscope:
         in addition to ``lights``.
     flashlight : float
         Spot exponent of the flashlight (0: a point light at the eye).
+    falloff : float, mm
+        The flashlight's reach: what a pixel shows at depth ``d`` beyond it is dimmed by
+        ``(falloff / d) ** 2`` (a lamp's inverse-square fall-off, not applied nearer than
+        ``falloff``; the renderers' lights themselves do not fall off). It is the picture's depth
+        cue: the near wall bright, the lumen ahead dark, so a bifurcation (the carina) reads as a
+        ridge between two dark openings. 0 (the default): no fall-off; :func:`make_flight` sets
+        three times the lumen's median radius.
     lights : tuple of Light
         World lights (used with ``phong``).
     fov : float, degrees
@@ -123,8 +130,8 @@ class Endoscope:
         refined hits show no rings).
     display : Display
         How the frames' radiance becomes display values. Default: linear, no exposure: the
-        flashlight's fall-off with distance is the picture's depth cue (near wall bright, far
-        lumen dark), which a metered exposure would lift away (a milky, flat picture).
+        flashlight's ``falloff`` is the picture's depth cue (near wall bright, far lumen dark),
+        which a metered exposure would lift away (a milky, flat picture).
     """
 
     volume: object = field(repr=False)
@@ -134,6 +141,7 @@ class Endoscope:
     color: tuple[float, float, float] = (0.93, 0.6, 0.52)
     shading: str = "phong"
     flashlight: float = 2.0
+    falloff: float = 0.0
     lights: tuple[Light, ...] = ()
     fov: float = 100.0
     near: float = 0.5
@@ -152,6 +160,8 @@ class Endoscope:
             raise ValueError(f"fov must be within [30, 140] degrees for endoscopy, got {self.fov}")
         if not (np.isfinite(self.near) and self.near >= 0):
             raise ValueError(f"near must be >= 0 mm, got {self.near}")
+        if not (np.isfinite(self.falloff) and self.falloff >= 0):
+            raise ValueError(f"falloff must be >= 0 mm, got {self.falloff}")
         if self.transfer is None:
             object.__setattr__(self, "transfer", endoscopy_transfer("endo-air"))
         object.__setattr__(self, "lights", tuple(self.lights))
@@ -168,7 +178,8 @@ class Endoscope:
         """Every setting but the volume, JSON-ready (the transfer function and lights as their dicts)."""
         return {"mode": self.mode, "threshold": self.threshold, "transfer": self.transfer.to_dict(),
                 "color": list(self.color), "shading": self.shading, "flashlight": self.flashlight,
-                "lights": [light.to_dict() for light in self.lights], "fov": self.fov, "near": self.near,
+                "falloff": self.falloff, "lights": [light.to_dict() for light in self.lights], "fov": self.fov,
+                "near": self.near,
                 "samples_per_voxel": self.samples_per_voxel, "jitter": self.jitter, "display": self.display.to_dict()}
 
     @classmethod
@@ -206,7 +217,11 @@ class Endoscope:
         """One frame: :class:`~volumen.core.Image` of ``size = (width, height)`` seen from ``pose``."""
         from ..render import render
 
-        return render(self.scene(pose), self.camera(pose), size)
+        img = render(self.scene(pose), self.camera(pose), size)
+        if self.falloff > 0 and self.shading != "none":
+            d = np.where(np.isfinite(img.depth), img.depth, np.inf)
+            img.rgba[..., :3] *= np.minimum(1.0, (self.falloff / np.maximum(d, 1e-6)) ** 2)[..., None]
+        return img
 
     def frames(self, poses, size: tuple[int, int] = (256, 256), *, log: FrameLog | None = None,
                progress: bool = False, desc: str = "frames"):

@@ -20,6 +20,12 @@ leak of virtual bronchoscopy). :func:`grow` grows in two stages:
    fades along its length (bolus washout) keeps its own half-way boundary. Two voxels
    cannot carry a leak past a wall: at most a voxel of what lies behind a wall thinner
    than a voxel is taken.
+
+A lumen whose contrast fades along it (bolus washout) lengthens by a stretch of tube at
+each step, which can outnumber its outer shell: :func:`continues` tells such a step (at
+most doubling the volume, nothing added wider than the region before it) from a break
+into a larger region, and :func:`~volumen.endoscopy.find_lumen` grows on past it
+(``above``) while the end point is not reached.
 """
 
 from __future__ import annotations
@@ -28,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Growth", "grow", "BAND", "EXPLOSION"]
+__all__ = ["Growth", "grow", "continues", "BAND", "EXPLOSION"]
 
 #: a threshold step that multiplies the grown volume by more than this is an explosion
 EXPLOSION = 2.0
@@ -53,6 +59,8 @@ class Growth:
         A voxel ``(z, y, x)`` of the region the growth would have broken into (None when none).
     leak_voxels : int
         How many voxels that next step had taken when it was stopped (at least).
+    step : float, data units
+        Between the thresholds checked (the lumen's noise).
     """
 
     mask: np.ndarray
@@ -61,6 +69,7 @@ class Growth:
     fills: bool
     leak: tuple[int, int, int] | None = None
     leak_voxels: int = 0
+    step: float = 0.0
 
 
 def _bbox(mask: np.ndarray, pad: int) -> tuple[slice, ...]:
@@ -90,7 +99,39 @@ def _band(volume, mask: np.ndarray, est) -> np.ndarray:
     return full
 
 
-def grow(volume, seed, est, *, lumen=None, max_fraction: float = 0.8) -> Growth:
+def _region(volume, seed, est, threshold: float) -> np.ndarray:
+    """The 6-connected region from voxel ``seed`` of the values on the lumen's side of ``threshold``."""
+    from ..segment import region_grow
+
+    lo, hi = est.value_range
+    rng = (lo, threshold) if est.sign > 0 else (threshold, hi)
+    return region_grow(volume, np.asarray([seed[::-1]], float), lo=rng[0], hi=rng[1], connectivity=6,
+                       space="voxel").data.astype(bool)
+
+
+def continues(volume, seed, est, growth: Growth) -> float | None:
+    """The threshold one step past an explosion (data units) when that step only lengthens the lumen, else None.
+
+    The step continues the lumen when it at most doubles the region (:data:`EXPLOSION`) and nothing it adds
+    lies deeper inside the grown region than the region before it reaches (the largest distance to the
+    region's boundary, mm): the next stretch of a tube whose contrast fades, not a break into a wider
+    region (the lung behind a bronchus's wall, a pocket through its neck: many times the volume).
+    """
+    from scipy import ndimage
+
+    if not growth.exploded or growth.step <= 0:
+        return None
+    nxt = growth.threshold + est.sign * growth.step
+    before, after = _region(volume, seed, est, growth.threshold), _region(volume, seed, est, nxt)
+    if after.sum() > EXPLOSION * before.sum():
+        return None
+    box = _bbox(after, 1)
+    depth = ndimage.distance_transform_edt(after[box], sampling=tuple(float(s) for s in volume.spacing))
+    added = after[box] & ~before[box]
+    return nxt if not added.any() or depth[added].max() <= depth[before[box]].max() else None
+
+
+def grow(volume, seed, est, *, lumen=None, max_fraction: float = 0.8, above: float | None = None) -> Growth:
     """Grow the lumen of estimate ``est`` from voxel ``seed`` (``(z, y, x)``), see the module docstring.
 
     ``lumen`` (``(m, 3)`` int ``(z, y, x)``): voxels known to be lumen (those the rays from the
@@ -98,15 +139,17 @@ def grow(volume, seed, est, *, lumen=None, max_fraction: float = 0.8) -> Growth:
     all, so a lumen whose values vary more than its noise (uneven contrast) is whole before
     its volume is watched. The growth never passes the estimate's value range (its wall-side
     end); ``max_fraction`` of the scan's voxels at the lumen's own values already means the
-    seed is in no lumen (``fills``).
+    seed is in no lumen (``fills``). ``above`` (data units): explosion control watches only the
+    thresholds past this one (a step found to continue the lumen, :func:`continues`).
     """
-    from ..segment import region_grow
     from ._grow_kernel import Flood, flood_levels
 
     sign = est.sign
     lo, hi = est.value_range
     u_max = hi if sign > 0 else -lo
     u0 = min(sign * est.lumen + 3.0 * est.noise, u_max)
+    if above is not None:
+        u0 = min(max(u0, sign * float(above)), u_max)
     step = max(est.noise, 1e-6 * max(abs(u_max - u0), 1.0))
     visited = np.zeros(volume.shape, np.uint8)
     out = np.zeros(5)
@@ -122,10 +165,8 @@ def grow(volume, seed, est, *, lumen=None, max_fraction: float = 0.8) -> Growth:
     del visited
     u_grow, reason = float(out[0]), int(out[2])
     t = sign * u_grow
-    rng = (lo, t) if sign > 0 else (t, hi)
-    mask = region_grow(volume, np.asarray([seed[::-1]], float), lo=rng[0], hi=rng[1], connectivity=6,
-                       space="voxel").data.astype(bool)
+    mask = _region(volume, seed, est, t)
     if reason != 2:
         mask = _band(volume, mask, est)
     leak = None if out[3] < 0 else tuple(int(v) for v in np.unravel_index(int(out[3]), volume.shape))
-    return Growth(mask, t, reason == 1, reason == 2, leak, int(out[4]))
+    return Growth(mask, t, reason == 1, reason == 2, leak, int(out[4]), float(step))

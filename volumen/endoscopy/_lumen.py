@@ -34,6 +34,8 @@ __all__ = ["lumen_mask", "as_lumen", "find_lumen", "lumen_voxel", "AIR_RANGE", "
            "FLAGS"]
 
 #: what to try when a lumen leaks or is not found: the end of every such error message
+#: steps past an explosion that only lengthen the lumen (:func:`~volumen.endoscopy._grow.continues`) grown on, at most
+MAX_STEPS = 64
 FLAGS = "pass --range LO,HI or --threshold T to set the lumen's values, or --lumen-mask FILE to give the lumen"
 
 #: CT values (HU) of an air-filled lumen (colon, airway) and of a contrast-filled one (vessels)
@@ -183,7 +185,7 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
     """
     from ..segment import cut_bridges
     from ._fluid import add_tagged_fluid
-    from ._grow import grow
+    from ._grow import continues, grow
 
     points = {"start": start} if end is None else {"start": start, "end": end}
     voxels = {name: lumen_voxel(volume, p, name) for name, p in points.items()}
@@ -195,7 +197,15 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
         est = est.with_threshold(threshold)
     if value_range is not None:
         est = est.with_range(value_range)
-    growth = grow(volume, _seed(volume, start, est), est, lumen=rays.inside, max_fraction=max_fraction)
+    seed = _seed(volume, start, est)
+    growth = grow(volume, seed, est, lumen=rays.inside, max_fraction=max_fraction)
+    for _ in range(MAX_STEPS):  # a lumen whose contrast fades grows on past steps that only lengthen it
+        if end is None or not growth.exploded or _reaches(volume, growth.mask, end):
+            break
+        above = continues(volume, seed, est, growth)
+        if above is None:
+            break
+        growth = grow(volume, seed, est, lumen=rays.inside, max_fraction=max_fraction, above=above)
     lo, hi = est.value_range
     if growth.fills:
         raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over {lo:.6g}..{hi:.6g} from it "

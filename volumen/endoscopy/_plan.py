@@ -8,7 +8,8 @@ What ``volumen fly`` and the application's endoscopy panel do alike:
   ``--threshold`` override either;
 * :func:`make_flight` -- the :class:`~volumen.endoscopy.Flight` along a centerline: keyframes
   every ``every`` mm aimed down the lumen (:func:`~volumen.endoscopy.aim_keyframes`), the
-  wall drawn as an isosurface of the lumen's field at the estimate's threshold;
+  wall drawn as an isosurface of the lumen's field at the estimate's threshold, lit by a
+  flashlight that falls off beyond :data:`FALLOFF` times the lumen's median radius;
 * :func:`checked_centerline` -- the centerline between the points
   (:func:`~volumen.endoscopy.compute_centerline`), refused as a leak when it is both
   more than twice as long as the straight line between its ends and runs through a
@@ -29,6 +30,9 @@ __all__ = ["lumen_wall", "checked_centerline", "make_flight", "DETOUR", "WIDENIN
 DETOUR = 2.0
 #: ... and, through a region wider than this times the lumen at either end, a leak
 WIDENING = 2.0
+#: the flythrough's flashlight reaches this times the lumen's median radius before it falls off
+#: (:attr:`~volumen.endoscopy.Endoscope.falloff`): the lumen ahead dark, the near wall bright
+FALLOFF = 3.0
 
 
 def lumen_wall(volume, start, end=None, *, kind: str = "auto", value_range=None, threshold=None, mask=None):
@@ -86,8 +90,9 @@ def make_flight(volume, wall, centerline, *, every: float = 10.0, speed: float =
     """The :class:`~volumen.endoscopy.Flight` along ``centerline`` through the lumen of ``wall`` (a
     :class:`~volumen.endoscopy.LumenWall`) on ``volume``: keyframes every ``every`` mm, played at ``speed``
     mm/s, each aimed at the farthest centerline point it sees; the endoscope draws ``wall``'s field
-    (isosurface at the estimate's threshold, its transfer function for composite mode), ``endoscope``
-    overriding its settings (``mode``, ``shading``, ``fov``...)."""
+    (isosurface at the estimate's threshold, its transfer function for composite mode, the flashlight's
+    ``falloff`` three times the centerline's median radius), ``endoscope`` overriding its settings
+    (``mode``, ``shading``, ``fov``...)."""
     from ._aim import aim_keyframes
     from ._flight import Flight
     from ._flythrough import Endoscope
@@ -96,5 +101,6 @@ def make_flight(volume, wall, centerline, *, every: float = 10.0, speed: float =
     path = aim_keyframes(KeyframePath.from_centerline(centerline, every=every, speed=speed), centerline, volume,
                          wall.mask)
     est = wall.estimate
-    settings = {"mode": "isosurface", "threshold": est.threshold, "transfer": est.transfer(), **endoscope}
+    settings = {"mode": "isosurface", "threshold": est.threshold, "transfer": est.transfer(),
+                "falloff": FALLOFF * float(np.median(centerline.radius)), **endoscope}
     return Flight(path, Endoscope(volume=wall.volume(volume), **settings), centerline, wall)

@@ -1,0 +1,108 @@
+"""The benchmarks' data sets: real scans where the machine has them, and the whole-region CTs built for speed.
+
+* ``aorta``: the VMTK aorta CTA (``vmtk-aorta/aorta.mha`` in :func:`volumen.data.shared_data`, scanner units
+  0..2570 = HU + 1000), resampled with ``scipy.ndimage.zoom`` (linear) to the asked size as int16: a cropped angiogram,
+  little soft tissue in view;
+* ``abdomen``, ``chest``: :func:`volumen.data.phantom`'s whole-region CTs (HU), soft tissue in most rays;
+* ``mri``: the MRI template of :func:`volumen.data.sample` (``mni-brain``, 301x370x316 uint8 at 0.5 mm) where
+  installed, as it is or resampled;
+* ``head``, ``torso``: the older phantoms.
+
+:func:`ray_shares` says what share of a picture's rays cross the body and soft tissue: the quantity that
+decides how much of a translucent preset's work is shaded samples (issue 27: a whole-abdomen CT has soft
+tissue in 35-43 % of the picture, the aorta in a few per cent).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["aorta_path", "resampled", "upsampled_aorta", "load_dataset", "ray_shares", "CT_KINDS", "SOFT_TISSUE_HU"]
+
+#: the data set kinds that are CTs (their ratios are the bars), as opposed to the MRI and the old phantoms
+CT_KINDS = ("aorta", "abdomen", "chest")
+#: Hounsfield range of soft tissue (fat, muscle, organs, blood): low but non-zero opacity in translucent presets
+SOFT_TISSUE_HU = (-200.0, 200.0)
+#: the aorta scan's units are HU + this
+AORTA_OFFSET = 1000.0
+
+
+def aorta_path() -> Path | None:
+    """The VMTK aorta (found by :func:`volumen.data.shared_data`), or None."""
+    from volumen.data import shared_data
+
+    return shared_data("vmtk-aorta", "aorta.mha")
+
+
+def resampled(src, size_xyz, dtype=None, **labels):
+    """``src`` (a Volume) resampled (linear, ``scipy.ndimage.zoom``) to ``size_xyz`` voxels (x, y, z) over the same
+    field of view, rounded to ``dtype`` (default: the source's): a Volume with the source's modality, units and
+    name unless ``labels`` (``modality=``, ``units=``, ``name=``) say otherwise."""
+    from scipy import ndimage
+
+    from volumen.core import Volume
+
+    shape = tuple(int(n) for n in size_xyz[::-1])
+    factors = [m / n for m, n in zip(shape, src.shape, strict=True)]
+    data = ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1, output=np.float32)
+    data = np.rint(data).astype(dtype or src.data.dtype)
+    ratio = [n / m for n, m in zip(src.shape, data.shape, strict=True)]  # z, y, x
+    spacing = tuple(s * r for s, r in zip(src.spacing, ratio, strict=True))
+    affine = np.asarray(src.affine, float) @ np.diag(ratio[::-1] + [1.0])
+    labels = {"modality": src.modality, "units": src.units, "name": src.name, **labels}
+    return Volume(data, spacing=spacing, affine=affine, **labels)
+
+
+def upsampled_aorta(size_xyz):
+    """The aorta scan resampled (linear) to ``size_xyz`` voxels (x, y, z), rounded to int16: a Volume (units
+    HU + 1000)."""
+    from volumen.io import load
+
+    return resampled(load(aorta_path()), size_xyz, np.int16, modality="CT", units="HU+1000")
+
+
+def load_dataset(kind: str, shape):
+    """``(Volume, HU offset)`` of a data set (offset None where the values are not HU-based); None where its
+    source is missing. ``shape``: (nx, ny, nz) voxels (None: the MRI template as installed)."""
+    from volumen.data import phantom
+
+    if kind in ("head", "torso", "abdomen", "chest"):
+        return phantom(kind, size=tuple(shape[::-1])), 0.0
+    if kind == "mri":
+        from volumen.data import sample
+
+        try:
+            mri = sample("mni-brain")
+        except Exception:  # noqa: BLE001 - the optional system package is missing: skip the data set
+            return None
+        same = shape is None or tuple(shape) == mri.shape[::-1]
+        return (mri if same else resampled(mri, shape)), None
+    if kind != "aorta":
+        raise ValueError(f"unknown data set kind {kind!r}")
+    if aorta_path() is None:
+        return None
+    return upsampled_aorta(shape), AORTA_OFFSET
+
+
+def ray_shares(volume, offset, camera, size) -> dict:
+    """``{"body", "soft"}``: the share of the picture's rays (``camera``, ``size``) that cross the body (a sample
+    above -500 HU) and soft tissue (:data:`SOFT_TISSUE_HU`); empty for data not in HU (``offset`` None).
+
+    Each is the fraction of pixels whose maximum intensity projection of the tissue's mask (0 / 1, trilinear)
+    reaches one half: ray casting, the same rays as the picture's.
+    """
+    if offset is None:
+        return {}
+    from volumen.core import Scene, TransferFunction, Volume
+    from volumen.render import render
+
+    hu = volume.data.astype(np.float32) - np.float32(offset)
+    out = {}
+    for name, mask in (("body", hu > -500.0), ("soft", (hu >= SOFT_TISSUE_HU[0]) & (hu <= SOFT_TISSUE_HU[1]))):
+        m = Volume(mask.astype(np.int16), spacing=volume.spacing, affine=volume.affine)
+        scene = Scene(volume=m, transfer=TransferFunction.window_level(1.0, 0.5), mode="mip")
+        value = render(scene, camera, size).value
+        out[name] = float(np.mean(np.nan_to_num(value, nan=0.0) >= 0.5))
+    return out

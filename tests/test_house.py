@@ -1,4 +1,5 @@
-"""Checks anyone can run on the house itself (issue 26): no path of one machine, short parameter lists."""
+"""Checks anyone can run on the house itself (issue 26): no path of one machine, short parameter lists, the design
+document cited as it is, cached kernels stamped, one thread driver, unique test names, ruff clean."""
 
 from __future__ import annotations
 
@@ -165,3 +166,13 @@ def test_every_test_module_has_a_name_of_its_own():
             clashes.append(f"{seen[p.name].relative_to(ROOT)} and {p.relative_to(ROOT)}")
         seen.setdefault(p.name, p)
     assert not clashes, clashes
+
+
+def test_ruff_is_clean():
+    """``ruff check volumen tests`` (the pinned ruff of the test extra; the rules in pyproject.toml)."""
+    import sys
+
+    exe = Path(sys.executable).with_name("ruff")
+    assert exe.exists(), "ruff is not installed (it is in the 'test' extra: pip install -e '.[test]')"
+    out = subprocess.run([str(exe), "check", "volumen", "tests"], cwd=ROOT, capture_output=True, text=True)
+    assert out.returncode == 0, out.stdout + out.stderr

@@ -22,6 +22,8 @@ def register(sub):
     p.add_argument("--largest", action="store_true", help="keep only the largest connected piece")
     p.add_argument("--step", type=int, default=1, help="marching-cubes step in voxels (default 1)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--check", action="store_true", help="print whether the mesh is closed: open and "
+                   "non-manifold edges, pieces and genus (equal positions welded, as an STL reader does)")
     add_load_options(p)
     add_label_options(p)
     return p
@@ -47,6 +49,8 @@ def run(args):
     from volumen.surface import MESH_FORMATS, extract_mesh, write_mesh
 
     if args.labels:
+        if args.check:
+            raise ValueError("--check checks one surface (--iso or --mask), not a --labels scene")
         return _label_scene(args, load_from_args(args), Path(args.out))
     if args.iso is None and args.mask is None:
         raise ValueError("give --iso LEVEL (data units) or --mask MASK (or both)")
@@ -72,4 +76,8 @@ def run(args):
     path = write_mesh(mesh, out)
     print(f"{path}: {mesh.n_vertices} vertices, {mesh.n_faces} triangles, "
           f"area {mesh.area():.1f} mm^2 (level {mesh.meta.get('level', args.iso)})")
+    if args.check:
+        from volumen.surface import check_mesh
+
+        print(check_mesh(mesh).line())
     return 0

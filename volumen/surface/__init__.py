@@ -5,6 +5,7 @@ triangles wound counter-clockwise seen from outside, unit outward vertex normals
 Nothing heavy is imported here: Numba, SciPy and trimesh load on first use.
 """
 
+from ._check import MeshCheck, check_mesh
 from ._components import largest_component, mesh_components, submesh
 from ._decimate import decimate
 from ._extract import extract_mesh
@@ -23,6 +24,8 @@ __all__ = [
     "vertex_normals",
     "surface_area",
     "enclosed_volume",
+    "check_mesh",
+    "MeshCheck",
     "mesh_components",
     "largest_component",
     "submesh",

@@ -48,11 +48,12 @@ def _acquire(path: Path):
 
 def _log(key: str, waited: float, took: float) -> None:
     """One line per locked compilation to ``$VOLUMEN_COMPILE_LOCK_LOG`` when set: worker, seconds waited for the
-    other worker, seconds in ``compile`` (a cache load after a wait is quick), the kernel."""
+    other worker, seconds in ``compile`` (a cache load after a wait is quick), the test, the kernel."""
     path = os.environ.get("VOLUMEN_COMPILE_LOCK_LOG")
     if path:
         with open(path, "a") as f:
-            f.write(f"{os.environ.get('PYTEST_XDIST_WORKER', '-')}\t{waited:.2f}\t{took:.2f}\t{key}\n")
+            test = os.environ.get("PYTEST_CURRENT_TEST", "-").split(" ")[0]
+            f.write(f"{os.environ.get('PYTEST_XDIST_WORKER', '-')}\t{waited:.2f}\t{took:.2f}\t{test}\t{key}\n")
 
 
 def _locked(original, lock_dir: Path, global_compiler_lock):

@@ -26,13 +26,18 @@ def axis_camera(volume: Volume, view: str = "superior") -> tuple[Camera, tuple[i
 
 
 def sphere_volume(n: int = 40, radius: float = 12.0, inside: float = 1000.0, outside: float = -1000.0,
-                  smooth: float = 1.0) -> Volume:
-    """A ball of value ``inside`` in ``outside``, edges smoothed over ``smooth`` voxels (tanh), unit spacing."""
+                  smooth: float = 1.0, dtype=np.int16) -> Volume:
+    """A ball of value ``inside`` in ``outside``, edges smoothed over ``smooth`` voxels (tanh), unit spacing.
+
+    int16 (rounded HU) by default, as CT is stored: the ray caster compiles one kernel per (mode, shading and
+    sample type), and the phantoms' int16 kernels are then the ones these tests run (float32 ones would double
+    the suite's cold compilation)."""
     z, y, x = np.mgrid[:n, :n, :n].astype(np.float64)
     c = (n - 1) / 2
     r = np.sqrt((x - c) ** 2 + (y - c) ** 2 + (z - c) ** 2)
     w = 0.5 * (1 - np.tanh((r - radius) / smooth))
-    data = (outside + (inside - outside) * w).astype(np.float32)
+    data = outside + (inside - outside) * w
+    data = np.rint(data).astype(dtype) if np.issubdtype(np.dtype(dtype), np.integer) else data.astype(dtype)
     return Volume(data, spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
 
 

@@ -7,9 +7,10 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
-# two workers on the two cores, a test file to one worker (its tests share kernel variants: on a cold checkout
-# two workers given neighbouring tests compiled the same kernels side by side); Numba caches them beside the sources
-PYTEST_ARGS ?= -n 2 --dist loadfile
+# two workers on the two cores, each given one contiguous half of the tests, then stealing from the other's end
+# (neighbouring tests share kernel variants: on a cold checkout round-robin made both workers compile the same
+# kernels side by side; whole files per worker left one long file running alone); Numba caches them beside the sources
+PYTEST_ARGS ?= -n 2 --dist worksteal
 
 .PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps clean
 

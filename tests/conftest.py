@@ -12,8 +12,8 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 ROOT = Path(__file__).resolve().parents[1]
 
 
-#: the files that take longest (README commands, browser, archive, memory, CUDA simulator): started first, so with
-#: ``--dist loadfile`` (Makefile) the two workers do not end with one long file running alone
+#: the files that take longest (README commands, browser, archive, memory, CUDA simulator): started first, so the two
+#: workers (``--dist worksteal``, Makefile) do not end with one long test running alone
 LONG_FIRST = ("tests/test_readme.py", "tests/web/", "tests/pacs/", "tests/scale/test_memory.py",
               "tests/render/test_cuda_sim.py", "tests/notebook/test_docs_notebook.py")
 

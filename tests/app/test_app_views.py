@@ -324,13 +324,13 @@ def test_3d_view_ray_casts_on_gl_with_a_reduced_drag(make_window, qtbot):
         print(f"skipped: no OpenGL here ({reason})")
         pytest.skip(f"no OpenGL context: {reason}")
     win.state.set_display(device="gl")
+    assert win.wait_for_final(120)  # the first gl picture (its shaders compiled on llvmpipe) before the drag
     frames = []
     win.worker.frame_ready.connect(frames.append)
     v = win.view3d
     qtbot.mousePress(v, Qt.LeftButton, pos=QPoint(80, 80))
     qtbot.mouseMove(v, QPoint(95, 85))
-    # the first gl frame compiles its shaders on llvmpipe (10 s timed out in a cold run beside compiling kernels)
-    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=60000)
+    qtbot.waitUntil(lambda: any(not f.final for f in frames), timeout=10000)
     qtbot.mouseRelease(v, Qt.LeftButton, pos=QPoint(95, 85))
     assert win.wait_for_final(60)
     reduced = [f for f in frames if not f.final]

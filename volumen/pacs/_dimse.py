@@ -52,6 +52,10 @@ def _identifier(level: str, keys: Iterable[str], filters: dict[str, str]):
     return ds
 
 
+#: associations requested when a reachable archive answers with an abort (a rejection it hung up on at once is
+#: seen as one under load: twice was not always enough in a loaded test run)
+_ASSOCIATE_ATTEMPTS = 3
+
 class DimseArchive:
     """One DIMSE application entity (``server.ae_title`` at ``server.host:server.port``)."""
 
@@ -63,6 +67,7 @@ class DimseArchive:
         pass
 
     # -- associations ---------------------------------------------------------
+    # (an abort from a reachable archive is asked again up to _ASSOCIATE_ATTEMPTS times in all)
     def _ae(self):
         pn = _pynetdicom()
         ae = pn.AE(ae_title=self.server.calling_ae_title)
@@ -84,11 +89,12 @@ class DimseArchive:
                 for ts in _GET_SYNTAXES[: max(1, (127 - len(contexts)) // len(storage))]:
                     ae.add_requested_context(sop_class, [ts])
             roles = [pn.build_role(uid, scp_role=True) for uid in storage]
-        for attempt in range(2):
+        for attempt in range(_ASSOCIATE_ATTEMPTS):
             assoc = ae.associate(self.server.host, self.server.port, ae_title=self.server.ae_title, ext_neg=roles,
                                  evt_handlers=handlers)
-            if assoc.is_established or assoc.is_rejected or attempt or self._reachable() is not None:
-                break  # else ask once more: an archive that rejects and hangs up at once is seen, under load, to abort
+            if (assoc.is_established or assoc.is_rejected or attempt == _ASSOCIATE_ATTEMPTS - 1
+                    or self._reachable() is not None):
+                break  # else ask again: an archive that rejects and hangs up at once is seen, under load, to abort
         if assoc.is_established:
             return assoc
         if assoc.is_rejected:

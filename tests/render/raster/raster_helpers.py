@@ -16,12 +16,13 @@ def blob_volume(n: int = 40) -> Volume:
     w = 0.5 * (1 - np.tanh((r - 0.32 * n) / 1.5))
     rb = np.sqrt((x - c - 0.3 * n) ** 2 + (y - c) ** 2 + (z - c - 0.25 * n) ** 2)
     w = np.maximum(w, 1.6 * 0.5 * (1 - np.tanh((rb - 0.1 * n) / 1.0)))
-    return Volume((-1000 + 2000 * w).astype(np.float32), spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
+    # int16 (rounded HU) as CT is stored: the CPU pictures compared with run the phantoms' int16 kernels
+    return Volume(np.rint(-1000 + 2000 * w).astype(np.int16), spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
 
 
 def homogeneous_volume(n: int = 48) -> Volume:
-    """A constant volume (100 HU everywhere), unit spacing: a homogeneous slab filling its box."""
-    return Volume(np.full((n, n, n), 100.0, np.float32), spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
+    """A constant volume (100 HU everywhere, int16), unit spacing: a homogeneous slab filling its box."""
+    return Volume(np.full((n, n, n), 100, np.int16), spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
 
 
 def save_row(path, images, scale: float = 1.0) -> None:

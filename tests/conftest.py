@@ -12,20 +12,6 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 ROOT = Path(__file__).resolve().parents[1]
 
 
-#: the files that take longest (README commands, browser, archive, memory, CUDA simulator): started first, so the two
-#: workers (``--dist worksteal``, Makefile) do not end with one long test running alone
-LONG_FIRST = ("tests/test_readme.py", "tests/web/", "tests/pacs/", "tests/scale/test_memory.py",
-              "tests/render/test_cuda_sim.py", "tests/notebook/test_docs_notebook.py")
-
-
-def pytest_collection_modifyitems(config, items):
-    """Long files first (a stable sort: each file's tests keep their order)."""
-    def rank(item) -> int:
-        return next((i for i, p in enumerate(LONG_FIRST) if item.nodeid.startswith(p)), len(LONG_FIRST))
-
-    items.sort(key=rank)
-
-
 def pytest_configure(config):
     """Workers compile each cached Numba kernel once between them (tests/compile_lock.py)."""
     if os.environ.get("VOLUMEN_COMPILE_LOCK", "1") != "0":

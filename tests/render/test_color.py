@@ -21,10 +21,11 @@ GREY_TF = TransferFunction(color=((0, 0, 0, 0), (255, 1, 1, 1)), opacity=((0, 0)
 
 @pytest.fixture(scope="module")
 def grey():
-    """``(colour volume, scalar volume of its luminance)`` of a soft-edged ball, uint8 grey 0..250."""
+    """``(colour volume, scalar volume of its luminance)`` of a soft-edged ball, uint8 grey 0..250 (the scalar
+    is int16, as the renderer samples 8-bit colour volumes' luminance: fixed point, the same kernels)."""
     v = np.rint(sphere_volume(n=32, radius=10, inside=250, outside=0).data).astype(np.uint8)
     col = Volume(np.repeat(v[..., None], 3, axis=-1), spacing=(1, 1, 1))
-    return col, Volume(col.luminance(), spacing=(1, 1, 1))
+    return col, Volume(v.astype(np.int16), spacing=(1, 1, 1))
 
 
 @pytest.mark.parametrize("shading", ["none", "headlight", "shadows", "scattering", "pathtrace"])

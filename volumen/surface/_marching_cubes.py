@@ -69,7 +69,10 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
         orientation from the affine), pointing outward; ``voxel_vertices`` (N, 3)
         float32 fractional voxel indices ``(i, j, k)`` (None unless ``voxel_coordinates``).
         One vertex per crossed grid edge, plus one inside the few cubes whose contour is
-        a loop that cannot be triangulated without an edge on a cube face.
+        a loop that cannot be triangulated without an edge on a cube face. No two vertices
+        share a position: a crossing is kept a thousandth of a voxel off the grid points
+        (samples equal to the level are outside; see ``_mc_kernel.T_MIN``), so a file
+        format that joins corners by position (STL) gets the same closed mesh.
 
     Notes
     -----

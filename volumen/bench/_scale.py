@@ -1,8 +1,13 @@
 """``volumen bench scale``: out-of-core (bricked, from OME-Zarr) vs in-memory ray casting of the same volume,
 and batch throughput (studies a minute) on a Dask LocalCluster.
 
-The volume is a synthetic noisy blob (int16) written to a temporary OME-Zarr;
-both renders use the same scene (default sampling: jitter, early termination
+Warm frames: the abdomen CT phantom written as OME-Zarr, loaded once and drawn
+while the camera orbits with a cache its bricks fit, each frame timed after the
+in-memory render of the same camera (alternating): what an interactive view
+does; the first frame reads the chunks and prepares the bricks, the warm ones
+find them in the cache. Then the volume opened each frame (cold, a cache
+smaller than the volume): a synthetic noisy blob (int16) written to a temporary
+OME-Zarr; both renders use the same scene (default sampling: jitter, early termination
 at 0.99), so the pictures agree within 1e-5: the table prints the largest
 difference. Peak memory of the out-of-core render is the peak RSS of a fresh
 process (:mod:`._scale_memory`), set beside its baseline (the same process
@@ -24,6 +29,9 @@ __all__ = ["bench_scale", "bench_scale_huge"]
 
 FULL = dict(edge=256, chunk=64, memory=8 << 20, size=(384, 384), studies=40, study_edge=64)
 QUICK = dict(edge=64, chunk=16, memory=64 << 10, size=(64, 64), studies=6, study_edge=32)
+#: warm frames: the abdomen CT phantom (nz, ny, nx; None: its own 224 x 202 x 244), a cache its bricks fit
+WARM = dict(shape=None, chunk=64, memory=256 << 20, size=(512, 512), frames=4)
+WARM_QUICK = dict(shape=(28, 25, 30), chunk=8, memory=4 << 20, size=(64, 64), frames=2)
 
 
 def _blob(n: int) -> np.ndarray:
@@ -53,15 +61,69 @@ def _render_rows(table, tmp: Path, edge, chunk, memory, size, repeat):
     cam = Camera.orbit(v, azimuth=30, elevation=20)
     for mode in ("composite", "mip"):
         scene = _scene(v, mode)
-        t_mem = median_time(lambda s=scene: render(s, cam, size), repeat)
-        t_ooc = median_time(lambda s=scene: render_bricked(path, s, cam, size, memory=memory), repeat)
-        out = render_bricked(path, scene, cam, size, memory=memory)
+        ref, out = render(scene, cam, size), render_bricked(path, scene, cam, size, memory=memory)  # warm-ups
+        t_mem = median_time(lambda s=scene: render(s, cam, size), repeat, warmup=0)
+        t_ooc = median_time(lambda s=scene: render_bricked(path, s, cam, size, memory=memory), repeat, warmup=0)
         peak = out_of_core_peak(path, scene.with_(volume=None), cam, size, memory)
-        diff = float(np.abs(out.rgba - render(scene, cam, size).rgba).max())
-        table.add(case=f"{mode} {edge}^3 int16 -> {size[0]}x{size[1]}", in_memory_s=t_mem, out_of_core_s=t_ooc,
+        diff = float(np.abs(out.rgba - ref.rgba).max())
+        table.add(case=f"{mode} {edge}^3 int16 -> {size[0]}x{size[1]}, opened each frame", in_memory_s=t_mem,
+                  out_of_core_s=t_ooc,
                   ratio=t_ooc / t_mem, bricks=f"{out.stats['bricks_drawn']}/{out.stats['bricks']}",
                   peak_mib=peak["peak"] / 2**20, growth_mib=(peak["peak"] - peak["baseline"]) / 2**20,
                   cache_mib=memory / 2**20, volume_mib=v.data.nbytes / 2**20, max_diff=diff)
+
+
+def _timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - t0
+
+
+def _warm_row(table, tmp: Path, shape, chunk, memory, size, frames, peak=True):
+    """ct-bone headlight on the abdomen phantom as OME-Zarr, loaded once and drawn while the camera orbits
+    (the first frame reads the chunks and prepares the bricks; the warm ones find them in the cache),
+    alternating with the in-memory render of the same frame; with ``peak``, the peak RSS of a fresh process
+    drawing it warm."""
+    from ..core import Camera, Scene, TransferFunction
+    from ..data import phantom
+    from ..io import load, save
+    from ..render import render
+    from ..render.bricked import default_brick
+    from ._scale_memory import memory_bound, out_of_core_peak
+
+    v = phantom("abdomen", size=shape)
+    path = tmp / "abdomen.ome.zarr"
+    save(v, path, chunks=chunk)
+    scene = Scene(volume=v, transfer=TransferFunction.preset("ct-bone"), mode="composite")
+    chunked = scene.with_(volume=load(path))
+    cams = [Camera.orbit(v, azimuth=30 + 10 * k, elevation=20) for k in range(frames + 1)]
+    render(scene, cams[0], size)
+    first, t_cold = _timed(lambda: render(chunked, cams[0], size, memory=memory))
+    t_mem, t_ooc = [], []
+    for cam in cams[1:]:
+        ref, t = _timed(lambda c=cam: render(scene, c, size))
+        t_mem.append(t)
+        out, t = _timed(lambda c=cam: render(chunked, c, size, memory=memory))
+        t_ooc.append(t)
+    mem = {}
+    if peak:
+        r = out_of_core_peak(path, scene.with_(volume=None), cams[0], size, memory, frames=2)
+        bound = memory_bound(r["baseline"], memory, size, (default_brick(chunk) + 3) ** 3, chunk ** 3 * 2)
+        mem = dict(peak_mib=r["peak"] / 2**20, growth_mib=(r["peak"] - r["baseline"]) / 2**20, bound_mib=bound / 2**20)
+    nz, ny, nx = v.shape
+    tm, to = float(np.median(t_mem)), float(np.median(t_ooc))
+    table.add(case=f"warm: ct-bone headlight {nx}x{ny}x{nz} int16 -> {size[0]}x{size[1]}, orbiting",
+              in_memory_s=tm, out_of_core_s=to, ratio=to / tm,
+              bricks=f"{out.stats['bricks_drawn']}/{out.stats['bricks']}", **mem, cache_mib=memory / 2**20,
+              volume_mib=v.data.nbytes / 2**20, max_diff=float(np.abs(out.rgba - ref.rgba).max()))
+    fs, ls = first.stats, out.stats
+    table.notes.append(f"warm: the chunked volume loaded once; first frame {t_cold:.2f} s ({fs['chunk_reads']} chunk "
+                       f"reads, {fs['normals_encoded']} bricks' normals encoded), then {frames} frames orbiting, each "
+                       f"after the in-memory render of the same camera (medians); the last read {ls['chunk_reads']} "
+                       f"chunks and encoded {ls['normals_encoded']} bricks' normals, "
+                       f"{ls['cache_bytes'] / 2**20:.1f} MiB held in the cache"
+                       + (". bound: baseline + cache + picture buffers + one brick + margin "
+                          "(volumen/bench/_scale_memory.py), the child drawing twice" if peak else ""))
 
 
 def _batch_row(table, tmp: Path, studies, edge, workers):
@@ -94,11 +156,12 @@ def bench_scale(*, quick: bool = False, repeat: int = 3, workers: int = 2) -> Ta
     table = Table("Out-of-core and distributed rendering", [
         ("case", "case", "s"), ("in_memory_s", "in memory s", ".3f"), ("out_of_core_s", "out of core / batch s", ".3f"),
         ("ratio", "ratio", ".2f"), ("bricks", "bricks drawn", "s"), ("peak_mib", "peak RSS MiB", ".1f"),
-        ("growth_mib", "RSS growth MiB", ".1f"),
+        ("growth_mib", "RSS growth MiB", ".1f"), ("bound_mib", "bound MiB", ".1f"),
         ("cache_mib", "cache MiB", ".1f"), ("volume_mib", "volume MiB", ".1f"), ("max_diff", "max |diff|", ".1e"),
         ("studies_per_min", "studies/min", ".1f")])
     with tempfile.TemporaryDirectory(prefix="volumen-bench-scale-") as d:
         tmp = Path(d)
+        _warm_row(table, tmp, **(WARM_QUICK if quick else WARM), peak=not quick)  # quick: no third child
         _render_rows(table, tmp, cfg["edge"], cfg["chunk"], cfg["memory"], cfg["size"], repeat)
         _batch_row(table, tmp, cfg["studies"], cfg["study_edge"], workers)
     table.notes.append("ratio: out-of-core time / in-memory time, the same scene (default sampling, early "

@@ -4,8 +4,9 @@
 imports volumen, draws a tiny OME-Zarr out of core (``volumen.render.render``
 on the chunked volume ``volumen.load`` gives) with the same scene (the kernels
 compile, Zarr and its codecs load), notes its peak RSS so far -- the
-*baseline*, measured, not assumed -- then draws the big one and notes its peak
-RSS again. :func:`memory_bound` states what the big render may add on top of
+*baseline*, measured, not assumed -- then draws the big one (``frames`` times,
+loaded once: the chunk cache then also holds what the bricks derived) and
+notes its peak RSS again. :func:`memory_bound` states what the big render may add on top of
 the baseline: the chunk cache, the picture buffers, one brick's working set,
 and a fixed margin. ``volumen bench scale --huge`` runs it on a 2048 x 2048 x
 1024 int16 volume (8 GiB); ``tests/scale/test_memory.py`` on 512 x 512 x 256.
@@ -60,28 +61,31 @@ def _child(spec_path: str) -> None:
     spec = json.loads(Path(spec_path).read_text())
     scene = Scene.from_dict(spec["scene"])
 
-    def draw(path, camera, size, **how):  # volumen.render on the chunked volume: out of core
-        return render(scene.with_(volume=load(path)), Camera.from_dict(camera), size, memory=spec["memory"],
-                      **how)
+    def draw(volume, camera, size, **how):  # volumen.render on the chunked volume: out of core
+        return render(scene.with_(volume=volume), Camera.from_dict(camera), size, memory=spec["memory"], **how)
 
-    draw(spec["tiny"], spec["tiny_camera"], (8, 8))
+    draw(load(spec["tiny"]), spec["tiny_camera"], (8, 8))
     base = _hwm()
-    t0 = time.perf_counter()
-    out = draw(spec["path"], spec["camera"], tuple(spec["size"]), brick=spec["brick"])
-    dt = time.perf_counter() - t0
+    big, seconds = load(spec["path"]), []
+    for _ in range(spec["frames"]):  # the same loaded volume: the later frames are warm
+        t0 = time.perf_counter()
+        out = draw(big, spec["camera"], tuple(spec["size"]), brick=spec["brick"])
+        seconds.append(time.perf_counter() - t0)
     peak = _hwm()
     st = out.stats
     keys = ("chunk_reads", "bricks", "bricks_drawn", "cache_peak_bytes")
-    print("MEM " + json.dumps({"baseline": base, "peak": peak, "seconds": dt, **{k: st[k] for k in keys},
-                               "alpha_mean": float(out.rgba[..., 3].mean())}))
+    print("MEM " + json.dumps({"baseline": base, "peak": peak, "seconds": seconds[0], "warm_seconds": seconds[-1],
+                               **{k: st[k] for k in keys}, "alpha_mean": float(out.rgba[..., 3].mean())}))
 
 
-def out_of_core_peak(path, scene, camera, size, memory: int, *, brick: int | None = None,
+def out_of_core_peak(path, scene, camera, size, memory: int, *, brick: int | None = None, frames: int = 1,
                      timeout: float = 3600) -> dict:
-    """Peak RSS of a fresh process drawing the OME-Zarr at ``path`` out of core (see the module docstring).
+    """Peak RSS of a fresh process drawing the OME-Zarr at ``path`` out of core ``frames`` times, the volume
+    loaded once (the later frames warm: see the module docstring).
 
-    Returns the child's numbers: ``baseline`` and ``peak`` (bytes), ``seconds`` of the big render,
-    ``chunk_reads``, ``bricks``, ``bricks_drawn``, ``cache_peak_bytes``, ``alpha_mean``.
+    Returns the child's numbers: ``baseline`` and ``peak`` (bytes), ``seconds`` of the first big render and
+    ``warm_seconds`` of the last, and of the last: ``chunk_reads``, ``bricks``, ``bricks_drawn``,
+    ``cache_peak_bytes``, ``alpha_mean``.
     """
     from ..core import Camera
     from ..scale import write_synthetic
@@ -89,7 +93,8 @@ def out_of_core_peak(path, scene, camera, size, memory: int, *, brick: int | Non
     with tempfile.TemporaryDirectory(prefix="volumen-peak-") as tmp:
         tiny = write_synthetic(Path(tmp) / "tiny.ome.zarr", (16, 16, 16), chunks=8)
         spec = {"scene": scene.with_(volume=None).to_dict(), "camera": camera.to_dict(), "size": list(size),
-                "memory": int(memory), "brick": brick, "path": str(path), "tiny": str(Path(tmp) / "tiny.ome.zarr"),
+                "memory": int(memory), "brick": brick, "frames": int(frames), "path": str(path),
+                "tiny": str(Path(tmp) / "tiny.ome.zarr"),
                 "tiny_camera": Camera.orbit(tiny).to_dict()}
         (Path(tmp) / "spec.json").write_text(json.dumps(spec))
         code = "import sys; from volumen.bench._scale_memory import _child; _child(sys.argv[1])"

@@ -18,8 +18,10 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 
+# --no-compile: no byte-compilation of every installed module at install time (about half the install's
+# time); Python compiles and caches the modules it actually imports on first use
 $(STAMP): pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet -e ".[test,video]"
+	$(PY) -m pip install --quiet --no-compile -e ".[test,video]"
 	touch $(STAMP)
 
 install: $(STAMP)

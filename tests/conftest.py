@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 import pytest
@@ -18,6 +19,18 @@ def pytest_configure(config):
         from compile_lock import install
 
         install()
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With ``VOLUMEN_TEST_TIMELINE=FILE``: one line per test, ``worker start end nodeid`` (epoch seconds), to
+    see where a run's time goes (idle workers at the end, long tests, compiles)."""
+    path = os.environ.get("VOLUMEN_TEST_TIMELINE")
+    t0 = time.time()
+    yield
+    if path:
+        with open(path, "a", encoding="utf-8") as f:
+            f.write(f"{os.environ.get('PYTEST_XDIST_WORKER', 'main')}\t{t0:.2f}\t{time.time():.2f}\t{item.nodeid}\n")
 
 
 @pytest.fixture(scope="session")

@@ -72,12 +72,15 @@ def test_not_zarr_is_a_typed_error(tmp_path):
         volumen.load(p)
 
 
-def test_in_memory_renderer_refuses_a_chunked_volume(tmp_path):
+def test_a_chunked_volume_is_ray_cast_on_the_cpu_only(tmp_path):
+    """``volumen.render`` draws a chunked volume out of core (tests/scale/test_outofcore.py); the techniques and
+    devices that need the whole volume in memory are a one-line error, before any chunk is read."""
     from volumen.core import Camera, Scene
     from volumen.render import render
 
     volumen.save(_volume(), tmp_path / "t.ome.zarr", chunks=16)
     w = volumen.load(tmp_path / "t.ome.zarr")
-    with pytest.raises(ValueError, match="render_bricked"):
-        render(Scene(volume=w), Camera.orbit(w), (8, 8))
+    for how in ({"technique": "slicing"}, {"technique": "mesh"}, {"device": "gl"}):
+        with pytest.raises(ValueError, match="ray cast out of core on the cpu"):
+            render(Scene(volume=w), Camera.orbit(w), (8, 8), **how)
     assert w.data.stats["chunk_reads"] == 0

@@ -21,10 +21,11 @@ GREY_TF = TransferFunction(color=((0, 0, 0, 0), (255, 1, 1, 1)), opacity=((0, 0)
 
 @pytest.fixture(scope="module")
 def grey():
-    """``(colour volume, scalar volume of its luminance)`` of a soft-edged ball, uint8 grey 0..250."""
+    """``(colour volume, scalar volume of its luminance)`` of a soft-edged ball, uint8 grey 0..250 (the scalar
+    is int16, as the renderer samples 8-bit colour volumes' luminance: fixed point, the same kernels)."""
     v = np.rint(sphere_volume(n=32, radius=10, inside=250, outside=0).data).astype(np.uint8)
     col = Volume(np.repeat(v[..., None], 3, axis=-1), spacing=(1, 1, 1))
-    return col, Volume(col.luminance(), spacing=(1, 1, 1))
+    return col, Volume(v.astype(np.int16), spacing=(1, 1, 1))
 
 
 @pytest.mark.parametrize("shading", ["none", "headlight", "shadows", "scattering", "pathtrace"])
@@ -74,3 +75,17 @@ def test_red_sphere_and_blue_cube_render_in_their_colours(shading, render_dir):
     if shading == "none":
         assert max(red[1], red[2], blue[0], blue[1]) < 1e-6
     assert im.rgba[39 - 5, 5, 3] == 0.0  # black background: luminance 0, transparent
+
+
+def test_8_bit_luminance_is_sampled_as_int16_fixed_point():
+    """8-bit colour: int16 samples at LUMA_STEPS per unit, within half a step of the exact luma; others float32."""
+    from volumen.render.raycast._color import LUMA_STEPS, luminance_samples
+
+    rgb = np.random.default_rng(3).integers(0, 256, size=(6, 7, 8, 3), dtype=np.uint8)
+    rgb[0, 0, 0] = 255
+    u, steps = luminance_samples(Volume(rgb))
+    assert u.dtype == np.int16 and steps == LUMA_STEPS and u.max() == 255 * LUMA_STEPS
+    exact = rgb.astype(np.float64) @ np.array([0.299, 0.587, 0.114])
+    assert np.abs(u / steps - exact).max() <= 0.5 / LUMA_STEPS + 1e-4
+    f, one = luminance_samples(Volume(rgb.astype(np.float32)))
+    assert f.dtype == np.float32 and one == 1

@@ -18,7 +18,7 @@ from volumen.render import render
 @pytest.fixture(scope="module")
 def noise():
     rng = np.random.default_rng(3)
-    return Volume(rng.uniform(-500, 1500, size=(20, 24, 16)).astype(np.float32))
+    return Volume(np.rint(rng.uniform(-500, 1500, size=(20, 24, 16))).astype(np.int16))  # HU, as CT is stored
 
 
 def _scene(vol, mode, **kw):

@@ -1,4 +1,7 @@
-"""Out-of-core (bricked) ray casting equals the in-memory render; empty bricks skipped (peak memory: test_memory)."""
+"""Out-of-core (bricked) ray casting equals the in-memory render; empty bricks skipped (peak memory: test_memory).
+
+A chunked volume (``volumen.load`` of an OME-Zarr image) goes through ``volumen.render`` itself; a path or a Volume
+in memory through ``volumen.scale.render_bricked``."""
 
 from dataclasses import replace
 
@@ -47,8 +50,12 @@ def test_bricked_equals_in_memory(zarr_blob, mode, projection):
     scene = _scene(v, mode)
     cam = Camera.orbit(v, azimuth=30, elevation=20).with_(projection=projection)
     ref = render(scene, cam, (80, 72))
-    out = render_bricked(p, scene, cam, (80, 72), memory="64KB", brick=16)
+    chunked = volumen.load(p)
+    out = render(scene.with_(volume=chunked), cam, (80, 72), memory="64KB", brick=16)
     assert out.stats["bricks_drawn"] == out.stats["bricks"] == 36
+    assert 0 < out.stats["cache_peak_bytes"] <= 64 << 10  # 8 chunks of 16^3 int16 at most
+    assert out.stats["renderer"] == {"device": "cpu", "technique": "raycast"}
+    assert chunked.data.stats["chunk_reads"] == 0  # the volume's own view read nothing: the bricks read the cache
     assert ref.rgba[..., 3].max() > 0.5  # something is drawn
     if mode == "composite":
         full = render(scene.with_(sampling=replace(scene.sampling, early_termination=1.0)), cam, (80, 72))
@@ -80,7 +87,8 @@ def test_empty_bricks_skipped_without_reading(tmp_path):
     volumen.save(v, p, chunks=16)
     scene = _scene(v, "composite").with_(shading=Shading(mode="none"))  # unlit: bricks read no extra voxel
     cam = Camera.orbit(v, azimuth=20, elevation=10)
-    out = render_bricked(p, scene, cam, (64, 64), brick=16)
+    # the stored per-chunk ranges travel with the chunked volume's data: skipped bricks are not read
+    out = render(scene.with_(volume=volumen.load(p)), cam, (64, 64), brick=16)
     np.testing.assert_allclose(out.rgba, render(scene, cam, (64, 64)).rgba, atol=TOL)
     # a brick reads its chunk and the first voxel of the next (the shared face): along each axis the blob's
     # chunks (z 0-1, y 2-3, x 1-2 of 16) are read by bricks z 0-1, y 1-3, x 0-2 -> 2 * 3 * 3 = 18 of 64

@@ -1,8 +1,9 @@
 """Peak memory of an out-of-core render, read as the peak RSS (``VmHWM``) of a fresh child process.
 
 :func:`out_of_core_peak` starts ``python -c`` running :func:`_child`, which
-imports volumen, draws a tiny OME-Zarr out of core with the same scene (the
-kernels compile, Zarr and its codecs load), notes its peak RSS so far -- the
+imports volumen, draws a tiny OME-Zarr out of core (``volumen.render.render``
+on the chunked volume ``volumen.load`` gives) with the same scene (the kernels
+compile, Zarr and its codecs load), notes its peak RSS so far -- the
 *baseline*, measured, not assumed -- then draws the big one and notes its peak
 RSS again. :func:`memory_bound` states what the big render may add on top of
 the baseline: the chunk cache, the picture buffers, one brick's working set,
@@ -53,15 +54,20 @@ def _child(spec_path: str) -> None:
     import time
 
     from volumen.core import Camera, Scene
-    from volumen.scale import render_bricked
+    from volumen.io import load
+    from volumen.render import render
 
     spec = json.loads(Path(spec_path).read_text())
     scene = Scene.from_dict(spec["scene"])
-    render_bricked(spec["tiny"], scene, Camera.from_dict(spec["tiny_camera"]), (8, 8), memory=spec["memory"])
+
+    def draw(path, camera, size, **how):  # volumen.render on the chunked volume: out of core
+        return render(scene.with_(volume=load(path)), Camera.from_dict(camera), size, memory=spec["memory"],
+                      **how)
+
+    draw(spec["tiny"], spec["tiny_camera"], (8, 8))
     base = _hwm()
     t0 = time.perf_counter()
-    out = render_bricked(spec["path"], scene, Camera.from_dict(spec["camera"]), tuple(spec["size"]),
-                         memory=spec["memory"], brick=spec["brick"])
+    out = draw(spec["path"], spec["camera"], tuple(spec["size"]), brick=spec["brick"])
     dt = time.perf_counter() - t0
     peak = _hwm()
     st = out.stats

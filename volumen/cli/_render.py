@@ -313,6 +313,8 @@ def _volume_ref(args, base) -> str:
 
 
 def run(args):
+    import volumen
+    from volumen.core import is_chunked
     from volumen.render import render
 
     base = None
@@ -342,11 +344,11 @@ def run(args):
     out_dir = Path(args.out).resolve().parent
     if not out_dir.is_dir():
         raise ValueError(f"{args.out}: folder {out_dir} does not exist")
-    if volume.meta.get("format") == "zarr":
-        from volumen.scale import render_bricked
-
-        image = render_bricked(volume.meta["source"], scene, camera, size, memory=args.memory, level=args.level,
-                               device=device)
+    if is_chunked(volume.data):  # out of core, at the pyramid level asked for
+        if args.level:
+            scene = scene.with_(volume=volumen.load(volume.meta["source"], format="zarr", level=args.level))
+        image = render(scene, camera, size, device="auto" if args.device == "auto" else device, technique=technique,
+                       memory=args.memory)
     elif _progressive(scene, device, technique):
         image = _path_trace(scene, camera, size, device, args.out, background)
     else:

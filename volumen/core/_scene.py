@@ -63,7 +63,7 @@ class Sampling(JsonData):
         entry <= t < exit), each sample standing for a full step, instead of
         from the ray's entry: the samples fall at the same points whatever box
         is drawn, so bricks of a volume drawn one by one and composited equal
-        the whole volume drawn at once (:mod:`volumen.scale`).
+        the whole volume drawn at once (:mod:`volumen.render.bricked`).
     """
 
     samples_per_voxel: float = 1.0

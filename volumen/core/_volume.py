@@ -61,7 +61,9 @@ def _default_affine(spacing) -> np.ndarray:
 
 def is_chunked(data) -> bool:
     """Whether ``data`` is a lazy chunked array (``volumen.io``'s ``ChunkedArray``): kept as it is by a Volume,
-    read chunk by chunk (NumPy-style indexing returns arrays, basic slices and transposes lazy views)."""
+    read chunk by chunk (NumPy-style indexing returns arrays, basic slices and transposes lazy views); it also
+    answers ``chunks``, ``chunk_ranges`` (stored per-chunk minima and maxima, or None) and ``cached(max_bytes)``
+    (a view read through a bounded chunk cache, and the cache): what ``volumen.render`` draws it out of core with."""
     return bool(getattr(type(data), "__volumen_chunked__", False))
 
 

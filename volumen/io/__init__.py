@@ -7,6 +7,7 @@ structured points are parsed here, every header value checked first (``_limits``
 """
 
 from ._api import READ_FORMATS, WRITE_FORMATS, detect_format, load, save
+from ._chunk_cache import ChunkCache
 from ._chunked import ChunkedArray
 from ._dicom_listing import SeriesSummary, list_series
 from ._environment import read_environment
@@ -16,4 +17,4 @@ from ._zarr import Level, open_levels
 
 __all__ = ["load", "save", "load_labels", "labels_on_grid", "resample_labels", "read_names_table",
            "MASK_SUFFIXES", "detect_format", "list_series", "SeriesSummary", "READ_FORMATS", "WRITE_FORMATS",
-           "ChunkedArray", "open_levels", "Level", "read_environment"]
+           "ChunkedArray", "ChunkCache", "open_levels", "Level", "read_environment"]

@@ -5,6 +5,10 @@
 give new lazy views (no reading); an integer index, ``np.asarray`` or
 :meth:`ChunkedArray.read` read the chunks the result needs, one by one, and
 count them in ``stats["chunk_reads"]`` (shared by every view of one source).
+A view of the whole source also answers the source's per-chunk value ranges
+(:attr:`ChunkedArray.chunk_ranges`, stored by the OME-Zarr writer), and
+:meth:`ChunkedArray.cached` reads it through a bounded :class:`~._chunk_cache.ChunkCache`:
+what the out-of-core renderer (``volumen.render.bricked``) asks of a chunked volume.
 """
 
 from __future__ import annotations
@@ -12,6 +16,8 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+
+from ._chunk_cache import ChunkCache
 
 __all__ = ["ChunkedArray"]
 
@@ -25,11 +31,15 @@ class ChunkedArray:
     source : zarr.Array or similar
     perm, start, step, shape : per view axis, optional
         View axis ``a`` reads source axis ``perm[a]`` at ``start[a] + step[a] * n``, ``n < shape[a]``.
+    stats : dict, optional
+        Counters shared by the views of one source (``chunk_reads``).
+    ranges : (cmin, cmax), optional
+        The source's per-chunk minima and maxima (arrays over its chunk grid, source axis order).
     """
 
     __volumen_chunked__ = True
 
-    def __init__(self, source, perm=None, start=None, step=None, shape=None, stats=None):
+    def __init__(self, source, perm=None, start=None, step=None, shape=None, stats=None, ranges=None):
         nd = len(source.shape)
         self.source = source
         self.perm = tuple(range(nd)) if perm is None else tuple(perm)
@@ -37,6 +47,7 @@ class ChunkedArray:
         self.step = (1,) * nd if step is None else tuple(int(s) for s in step)
         self.shape = tuple(int(n) for n in source.shape) if shape is None else tuple(int(n) for n in shape)
         self.stats = {"chunk_reads": 0} if stats is None else stats
+        self.ranges = ranges
 
     # -- array protocol ---------------------------------------------------------
     @property
@@ -60,6 +71,20 @@ class ChunkedArray:
         """The source's chunk shape (source axis order)."""
         return tuple(int(c) for c in self.source.chunks)
 
+    @property
+    def chunk_ranges(self):
+        """``(cmin, cmax)``: per chunk of the source (arrays over its chunk grid) the least and greatest value,
+        when stored and this view is the whole source in its own order; else None."""
+        whole = (self.perm == tuple(range(self.ndim)) and not any(self.start) and set(self.step) == {1}
+                 and self.shape == tuple(int(n) for n in self.source.shape))
+        return self.ranges if whole else None
+
+    def cached(self, max_bytes: int) -> tuple[ChunkedArray, ChunkCache]:
+        """This view read through a new :class:`~._chunk_cache.ChunkCache` of at most ``max_bytes`` (one chunk at
+        least), and the cache (its ``misses``: chunks read from the store; ``peak``: bytes held at most)."""
+        cache = ChunkCache(self.source, max_bytes)
+        return ChunkedArray(cache, self.perm, self.start, self.step, self.shape, ranges=self.ranges), cache
+
     def __len__(self) -> int:
         return self.shape[0]
 
@@ -75,7 +100,7 @@ class ChunkedArray:
         if not axes:
             axes = tuple(reversed(range(self.ndim)))
         return ChunkedArray(self.source, [self.perm[a] for a in axes], [self.start[a] for a in axes],
-                            [self.step[a] for a in axes], [self.shape[a] for a in axes], self.stats)
+                            [self.step[a] for a in axes], [self.shape[a] for a in axes], self.stats, self.ranges)
 
     def __getitem__(self, key):
         key = key if isinstance(key, tuple) else (key,)
@@ -98,7 +123,7 @@ class ChunkedArray:
                 drop.append(a)
             else:
                 raise TypeError(f"ChunkedArray takes ints and slices, got {type(k).__name__}")
-        view = ChunkedArray(self.source, self.perm, start, step, shape, self.stats)
+        view = ChunkedArray(self.source, self.perm, start, step, shape, self.stats, self.ranges)
         if not drop:
             return view
         return view.read().squeeze(axis=tuple(drop))

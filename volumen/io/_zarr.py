@@ -117,7 +117,8 @@ def open_levels(path) -> tuple[list[Level], dict]:
             f0 = np.linalg.norm(_ome_affine(ms["datasets"][0])[:3, :3], axis=0)
             aff = _level_affine(base, np.linalg.norm(aff[:3, :3], axis=0) / f0)
         r = ranges[n] if n < len(ranges) else None
-        levels.append(Level(ChunkedArray(arr), aff, *((np.asarray(r["min"]), np.asarray(r["max"])) if r else ())))
+        cr = (np.asarray(r["min"]), np.asarray(r["max"])) if r else None
+        levels.append(Level(ChunkedArray(arr, ranges=cr), aff, *(cr or ())))
     return levels, extra
 
 

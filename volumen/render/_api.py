@@ -42,7 +42,8 @@ def _choose(device, technique, options, backend) -> tuple[str, Technique]:
 
 
 def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, device: str | None = None,
-           technique: str | Technique = "raycast", backend: str | None = None, **options) -> Image:
+           technique: str | Technique = "raycast", backend: str | None = None, memory: int | str = "4GB",
+           brick: int | None = None, **options) -> Image:
     """Render a scene.
 
     Parameters
@@ -52,7 +53,12 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         volume (``volume.is_color``) is classified by its luminance (opacity,
         normals, shadows; MIP / MinIP / average project the luminance) and the
         ray caster's composite samples emit the voxels' own RGB instead of the
-        table's colour; slicing and mesh draw the luminance.
+        table's colour; slicing and mesh draw the luminance. A chunked volume
+        (``volumen.load`` of an OME-Zarr image: read lazily) is ray cast out of
+        core on the CPU (:func:`volumen.render.bricked.render_bricked`): brick by
+        brick through a chunk cache of at most ``memory`` bytes, equal to the
+        whole volume drawn at once; modes composite, mip and minip, shading none,
+        headlight or phong.
     camera : Camera
     size : (width, height), pixels
     device : one of :data:`~volumen.render.DEVICES`, or None
@@ -70,6 +76,11 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     backend : str, deprecated
         A backend name of volumen 0.1 (``"cpu"``, ``"slicing-uint8"``...);
         warns and stands for its device and technique.
+    memory : bytes or str (``"4GB"``)
+        A chunked volume: bound of its chunk cache.
+    brick : int, optional
+        A chunked volume: cells per brick side (default: the whole number of
+        chunks closest to 128 voxels).
 
     Returns
     -------
@@ -91,8 +102,13 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         and reports ``spp``; its depth is the mean distance of the first
         scattering event. ``stats["renderer"]``: the ``device`` and ``technique`` that drew it.
         ``display``: the scene's :class:`~volumen.core.Display` resolved for its shading (``auto``: the filmic
-        curve for the lit models), which ``Image.to_uint8`` / ``Image.save`` apply.
+        curve for the lit models), which ``Image.to_uint8`` / ``Image.save`` apply. A chunked volume's
+        ``stats`` also hold ``bricks``, ``bricks_drawn``, ``chunk_reads`` (from the store) and
+        ``cache_peak_bytes``.
     """
+    chunked = isinstance(scene, Scene) and scene.volume is not None and is_chunked(scene.volume.data)
+    if chunked and device in (None, "auto") and getattr(technique, "name", technique) == "raycast":
+        device = "cpu"  # the bricks are ray cast on the CPU
     device, technique = _choose(device, technique, options, backend)
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
@@ -101,21 +117,32 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     if scene.volume is None:
         raise ValueError("scene.volume is None: attach the Volume (Scene(volume=...) or "
                          "Scene.from_dict(d, volume=...))")
-    if is_chunked(scene.volume.data):
-        raise ValueError("scene.volume is chunked (OME-Zarr, read lazily): draw it out of core with "
-                         "volumen.scale.render_bricked, or read it into memory first (volume.data[...])")
     try:
         w, h = (int(s) for s in size)
     except (TypeError, ValueError):
         raise ValueError(f"size must be (width, height) in pixels, got {size!r}") from None
     if not (1 <= w <= 16384 and 1 <= h <= 16384):
         raise ValueError(f"size must be (width, height) with 1..16384 pixels each, got {size!r}")
-    if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
-        scene = scene.with_(volume=_luminance_volume(scene.volume))
-    image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
+    if chunked:
+        image = _out_of_core(scene, camera, (w, h), device, technique, memory, brick)
+    else:
+        if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
+            scene = scene.with_(volume=_luminance_volume(scene.volume))
+        image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
     image.stats["renderer"] = {"device": device, "technique": technique.name}
     image.display = scene.display.resolved(scene.shading.mode, scene.mode)
     return image
+
+
+def _out_of_core(scene, camera, size, device, technique, memory, brick) -> Image:
+    """A chunked volume ray cast brick by brick on the CPU (:mod:`volumen.render.bricked`)."""
+    if technique.name != "raycast" or device != "cpu":
+        raise ValueError(f"a chunked volume (OME-Zarr, read lazily) is ray cast out of core on the cpu, not drawn "
+                         f"by {technique.name} on {device}: use technique='raycast', device='cpu', or read it into "
+                         "memory first (volume.with_data(volume.data[...]))")
+    from .bricked import render_bricked  # Numba loads here, not at import
+
+    return render_bricked(scene, camera, size, memory=memory, brick=brick)
 
 
 _LUMINANCE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

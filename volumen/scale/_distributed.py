@@ -5,7 +5,7 @@ stored per-chunk ranges) and submits one task per brick; each worker opens
 the OME-Zarr itself and reads only its brick's chunks. Neighbouring partials
 are then combined pairwise, level by level, on the workers: the operators are
 associative, so any grouping that keeps the order gives the single-process
-picture (:func:`~._outofcore.render_bricked`) -- without early ray
+picture (``volumen.render.bricked.render_bricked``) -- without early ray
 termination (``Sampling.early_termination = 1``): bricks drawn at once cannot
 carry the opacity in front of them, so each ray runs through every brick.
 """
@@ -19,15 +19,23 @@ from pathlib import Path
 import numpy as np
 
 from ..core import Image
-from ._bricks import brick_visible
-from ._composite import combine, empty_partial
-from ._outofcore import _chunk_range, draw_brick, open_source, plan, whole_geometry
+from ..render.bricked import (
+    brick_visible,
+    chunk_range,
+    combine,
+    draw_brick,
+    empty_partial,
+    plan,
+    source_of,
+    whole_geometry,
+)
+from ._outofcore import open_volume
 
 __all__ = ["render_distributed"]
 
 
 def _draw_on_worker(path, level, b, scene, camera, size, vr):
-    src = open_source(path, level)
+    src = source_of(open_volume(path, level))
     w, h = size
     return draw_brick(src, src.data, b, scene, camera, size, vr, whole_geometry(src, scene),
                       np.zeros((h, w), np.float32))
@@ -50,9 +58,9 @@ def render_distributed(client, source, scene, camera, size=(512, 512), *, level:
     """
     t0 = time.perf_counter()
     path = str(Path(source))
-    src, vr, bricks = plan(path, scene, camera, level=level, brick=brick, value_range=value_range)
+    src, vr, bricks = plan(open_volume(path, level), scene, camera, brick=brick, value_range=value_range)
     light = replace(scene, volume=None)  # the workers read the bricks themselves
-    todo = [b for b in bricks if (r := _chunk_range(src, b)) is None or brick_visible(scene, *r, vr)]
+    todo = [b for b in bricks if (r := chunk_range(src, b)) is None or brick_visible(scene, *r, vr)]
     futs = [client.submit(_draw_on_worker, path, level, b, light, camera, tuple(size), vr, pure=False) for b in todo]
     ntask = len(futs)
     while len(futs) > 1:

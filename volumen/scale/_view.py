@@ -3,7 +3,7 @@ idle -- the reduced-viewport idea (``volumen.render.render_reduced``) extended t
 
 :func:`render_view` is what the desktop application's 3-D view and the notebook widget call for every frame:
 a volume in memory goes to ``render_reduced`` as before; a chunked (OME-Zarr) volume is drawn out of core
-(:func:`~._outofcore.render_bricked`) at the rendered viewport, from the level :func:`~._outofcore.pick_level`
+(``volumen.render.bricked``) at the rendered viewport, from the level :func:`~._outofcore.pick_level`
 chooses for it (about one voxel per pixel) while ``interacting``, and from the volume's own level when idle.
 """
 

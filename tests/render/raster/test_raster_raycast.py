@@ -198,8 +198,8 @@ def test_every_frame_field_reaches_the_shader():
                  "bounces": "path tracing (not on gl)", "iso_r": "u_iso_rgb", "iso_g": "u_iso_rgb",
                  "iso_b": "u_iso_rgb", "nlab": "label maps (not on gl: DeviceLimitError)",
                  "lsolid": "label maps (not on gl)",
-                 "lattice": "bricked out-of-core rendering (volumen.scale, cpu only)",
-                 "part": "bricked out-of-core rendering (volumen.scale, cpu only)",
+                 "lattice": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
+                 "part": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "env_power": "path tracing (not on gl)", "mblock": "path tracing (not on gl)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm",

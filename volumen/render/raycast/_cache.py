@@ -13,7 +13,7 @@ import weakref
 
 import numpy as np
 
-from ._color import NO_RGB, rgb8
+from ._color import NO_RGB, luminance_samples, rgb8
 from ._normals import encode_normals
 from ._precompute import NLUT, build_blocks, normal_params, normalize
 
@@ -36,9 +36,10 @@ class Prepared:
     scale : float
         Data units per normalized unit.
     is_color, rgb
-        A colour volume (``Volume.is_color``) is classified by its luminance: ``u`` and the value range are
-        those of ``Volume.luminance()``, and ``rgb`` holds its colours (``_color.rgb8``); a scalar volume has
-        ``is_color = False`` and the placeholder ``_color.NO_RGB``.
+        A colour volume (``Volume.is_color``) is classified by its luminance: ``u`` holds
+        ``_color.luminance_samples`` (8-bit channels: int16 fixed point, ``u0`` and ``ufac`` scaled to match),
+        the value range is the luminance's in data units, and ``rgb`` holds its colours (``_color.rgb8``);
+        a scalar volume has ``is_color = False`` and the placeholder ``_color.NO_RGB``.
     timings : dict
         Seconds spent building each part (only the parts built by the last call).
     """
@@ -48,8 +49,8 @@ class Prepared:
         t = time.perf_counter()
         self.is_color = bool(volume.is_color)
         self.rgb = rgb8(volume.data) if self.is_color else NO_RGB
-        data = volume.luminance() if self.is_color else volume.data
-        lo, hi = (float(np.nanmin(data)), float(np.nanmax(data))) if self.is_color else volume.value_range()
+        data, steps = luminance_samples(volume) if self.is_color else (volume.data, 1)
+        lo, hi = (np.nanmin(data) / steps, np.nanmax(data) / steps) if self.is_color else volume.value_range()
         if not np.isfinite(lo):
             lo, hi = 0.0, 1.0
         if not hi > lo:
@@ -59,7 +60,7 @@ class Prepared:
         # signed integers are sampled in place (no copy of the volume); unsigned ones would wrap around in the
         # kernels' differences of neighbouring samples, so they get the normalized copy as floats do
         if data.dtype.kind == "i" and data.flags.c_contiguous:
-            self.u, self.u0, self.ufac = data, self.vmin, 1.0 / self.scale
+            self.u, self.u0, self.ufac = data, self.vmin * steps, 1.0 / (self.scale * steps)
         else:  # floats (NaN to clear) and strided views: one normalized float32 copy
             self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0
         self.affine = np.array(volume.affine, dtype=float)

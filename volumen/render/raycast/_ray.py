@@ -1,7 +1,7 @@
 """One view ray in world and voxel-index space, its drawn interval and sample grid (see ``_march``).
 
 A *part* (``Settings.part``: one brick of a volume drawn out of core,
-:mod:`volumen.scale`) samples the grid of the whole region (``Arrays.whole``:
+:mod:`volumen.render.bricked`) samples the grid of the whole region (``Arrays.whole``:
 interval, jitter, count, so ``t`` and the first and last samples' segments are
 those of the whole ray) and takes of it the samples ``k0 <= k < k1`` that fall
 in its own region (``Arrays.geo``), starting at the opacity ``a0`` the parts

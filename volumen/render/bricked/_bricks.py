@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..core import Clipping, Volume
+from ...core import Clipping, Volume
 
 __all__ = ["Brick", "BrickVolume", "brick_grid", "visibility_order", "brick_scene", "needs_gradients",
            "screen_tiles"]

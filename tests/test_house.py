@@ -16,7 +16,7 @@ _MACHINE_ROOTS = ("work", "home", "Users", "root", "mnt", "media", "opt", "srv",
 _MACHINE_PATH = re.compile(r"(?<![\w.~/-])/(?:" + "|".join(_MACHINE_ROOTS) + r")/[\w.-]+|\b[A-Z]:\\Users\\")
 #: packages whose functions take at most this many parameters (more: a record, as ``render/raycast/_frame.py``)
 MAX_PARAMETERS = 8
-_RECORD_PACKAGES = ("volumen/endoscopy",)
+_RECORD_PACKAGES = ("volumen/endoscopy", "volumen/surface")
 
 
 def _repository_files() -> list[Path]:

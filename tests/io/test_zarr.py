@@ -84,3 +84,27 @@ def test_a_chunked_volume_is_ray_cast_on_the_cpu_only(tmp_path):
         with pytest.raises(ValueError, match="ray cast out of core on the cpu"):
             render(Scene(volume=w), Camera.orbit(w), (8, 8), **how)
     assert w.data.stats["chunk_reads"] == 0
+
+
+def test_chunk_cache_keeps_derived_entries_under_its_bound():
+    """Chunks and derived entries share one least-recently-used byte budget; a derived entry is refused rather
+    than drop what the current frame used (or when it is larger than the bound)."""
+    from volumen.io import ChunkCache
+
+    class Source:  # 8 chunks of 8 int16 (16 bytes)
+        shape, dtype, chunks = (64,), np.dtype(np.int16), (8,)
+
+        def __getitem__(self, key):
+            return np.arange(64, dtype=np.int16)[key]
+
+    cache = ChunkCache(Source(), 64)
+    cache.new_frame()
+    assert cache[(slice(1, 3),)].tolist() == [1, 2] and cache[(slice(8, 16),)][0] == 8
+    assert cache.keep(("d",), "derived", 32) and cache.bytes == 64 and cache.derived(("d",)) == "derived"
+    assert not cache.keep(("big",), "too big", 65)
+    cache.new_frame()
+    cache[(slice(16, 17),)]  # a chunk always finds room: the oldest entry (chunk 0) goes
+    assert cache.misses == 3 and cache.bytes == 64
+    assert not cache.keep(("e",), "refused", 64)  # would drop chunk 2 too, used this frame
+    assert cache.keep(("e",), "kept", 32) and cache.derived(("d",)) is None  # drops chunk 1 and d (last frame's)
+    assert cache.peak == 64 and cache.derived_hits == 1

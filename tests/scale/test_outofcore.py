@@ -115,3 +115,20 @@ def test_coarse_level_while_interacting(zarr_blob):
     cam = Camera.orbit(v, azimuth=30, elevation=20)
     out = render_bricked(p, scene, cam, (48, 48), level=1, brick=8)
     np.testing.assert_allclose(out.rgba, render(scene, cam, (48, 48)).rgba, atol=TOL)
+
+
+def test_moved_camera_reuses_the_bricks(zarr_blob):
+    """The second frame of one chunked volume, the camera moved, reads and decodes no chunk and prepares no
+    brick again (samples, normal codes, skip blocks come from the chunk cache), within the cache's bound; its
+    picture equals the in-memory one."""
+    v, p = zarr_blob
+    scene = _scene(v, "composite")
+    chunked = scene.with_(volume=volumen.load(p))
+    first = render(chunked, Camera.orbit(v, azimuth=30, elevation=20), (80, 72), memory="1MB", brick=16)
+    assert first.stats["chunk_reads"] > 0 and first.stats["normals_encoded"] == first.stats["bricks_drawn"] == 36
+    cam = Camera.orbit(v, azimuth=60, elevation=5)
+    out = render(chunked, cam, (80, 72), memory="1MB", brick=16)
+    built = {k: out.stats[k] for k in ("chunk_reads", "bricks_prepared", "normals_encoded", "skip_blocks_built")}
+    assert out.stats["bricks_drawn"] == 36 and built == dict.fromkeys(built, 0), out.stats
+    assert out.stats["cache_bytes"] <= out.stats["cache_peak_bytes"] <= 1 << 20
+    np.testing.assert_allclose(out.rgba, render(scene, cam, (80, 72)).rgba, atol=TOL)

@@ -43,10 +43,10 @@ def ellipsoid_area(a: float, b: float, c: float) -> float:
 
 
 def edge_counts(faces: np.ndarray) -> np.ndarray:
-    """How many triangles share each undirected edge."""
-    e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    _, counts = np.unique(e, axis=0, return_counts=True)
-    return counts
+    """How many triangles share each undirected edge (one int64 key per edge: a sort of keys, not of rows)."""
+    from volumen.surface._check import edge_keys
+
+    return np.unique(edge_keys(faces, int(faces.max(initial=0)) + 1), return_counts=True)[1]
 
 
 def directed_edges_unique(faces: np.ndarray) -> bool:
@@ -54,3 +54,34 @@ def directed_edges_unique(faces: np.ndarray) -> bool:
     d = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]).astype(np.int64)
     key = d[:, 0] * (d.max() + 1) + d[:, 1]
     return len(np.unique(key)) == len(key)
+
+
+def welded_inner_edges(mesh, shape) -> tuple[np.ndarray, int]:
+    """``(counts, collapsed)``: with corners joined by position as an STL reader does (triangles with two corners
+    on one point dropped, ``collapsed`` of them), the triangles of each edge away from the border of a volume of
+    ``shape`` [z, y, x] (not both ends on its boundary)."""
+    from volumen.surface._check import edge_keys, welded
+
+    label, first = welded(mesh.vertices)
+    f = label[mesh.faces.astype(np.int64)]
+    ok = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])
+    top = np.array(shape[::-1]) - 1  # (i, j, k) of the last sample
+    ijk = mesh.voxel_vertices[first]
+    on_border = ((ijk < 1e-4) | (ijk > top - 1e-4)).any(axis=1)
+    key, counts = np.unique(edge_keys(f[ok], len(first)), return_counts=True)
+    inner = ~(on_border[key // len(first)] & on_border[key % len(first)])
+    return counts[inner], int((~ok).sum())
+
+
+def crossing_distances(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """Edge crossings of two extractors (voxel coordinates, same axis order): the largest distance from a crossing
+    of either to the nearest of the other, ``(elsewhere, near a grid point)``. Ours keep ``T_MIN`` voxel off grid
+    points (``_mc_kernel.T_MIN``) where scikit-image may put a crossing on one, so crossings within that of a grid
+    point are the second maximum."""
+    from scipy.spatial import cKDTree
+
+    from volumen.surface._mc_kernel import T_MIN
+
+    d = np.concatenate([cKDTree(b).query(a)[0], cKDTree(a).query(b)[0]])
+    near = np.concatenate([np.abs(v - np.round(v)).max(axis=1) <= T_MIN + 1e-5 for v in (a, b)])
+    return float(d[~near].max(initial=0.0)), float(d[near].max(initial=0.0))

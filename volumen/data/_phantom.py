@@ -19,6 +19,7 @@ from ._chest import arch
 from ._head import head
 from ._shapes import ellipsoid, slab, sphere
 from ._tagged import tagged_colon
+from ._terraces import terraces
 from ._thorax import chest
 from ._torso import torso
 from ._washout import washout
@@ -37,6 +38,7 @@ _BUILDERS: dict[str, Callable[..., Volume]] = {
     "airways": airways,
     "tagged_colon": tagged_colon,
     "washout": washout,
+    "terraces": terraces,
 }
 
 PHANTOMS: tuple[str, ...] = tuple(_BUILDERS)
@@ -73,6 +75,11 @@ def phantom(name: str, size=None, **params) -> Volume:
             ``radius`` / ``semi_axes`` / ``thickness`` and ``axis`` (mm), ``center``
             (xyz mm), ``inside``, ``outside`` (HU), ``spacing`` (mm, scalar or (dz, dy, dx)),
             ``antialias`` (partial-volume blending; default sharp sampling at voxel centres).
+        ``"terraces"``
+            Whole-HU steps of ``step`` HU (default 100) around ``level`` (default 300) from a smooth
+            random field (``sigma`` voxels, ``seed``): a fifth of the samples exactly at the level, the
+            failure class of meshes of integer CT at an integer level (default 24 voxels per axis at
+            ``spacing`` 1 mm).
     size : int or (nz, ny, nx), optional
         Voxel count along the longest axis (isotropic voxels over the phantom's field of
         view), or the three counts (the spacing then follows per axis). For the analytic

@@ -7,7 +7,7 @@ give new lazy views (no reading); an integer index, ``np.asarray`` or
 count them in ``stats["chunk_reads"]`` (shared by every view of one source).
 A view of the whole source also answers the source's per-chunk value ranges
 (:attr:`ChunkedArray.chunk_ranges`, stored by the OME-Zarr writer), and
-:meth:`ChunkedArray.cached` reads it through a bounded :class:`~._chunk_cache.ChunkCache`:
+:meth:`ChunkedArray.cached` reads it through the source's bounded :class:`~._chunk_cache.ChunkCache`:
 what the out-of-core renderer (``volumen.render.bricked``) asks of a chunked volume.
 """
 
@@ -80,9 +80,14 @@ class ChunkedArray:
         return self.ranges if whole else None
 
     def cached(self, max_bytes: int) -> tuple[ChunkedArray, ChunkCache]:
-        """This view read through a new :class:`~._chunk_cache.ChunkCache` of at most ``max_bytes`` (one chunk at
-        least), and the cache (its ``misses``: chunks read from the store; ``peak``: bytes held at most)."""
-        cache = ChunkCache(self.source, max_bytes)
+        """This view read through the source's :class:`~._chunk_cache.ChunkCache` of at most ``max_bytes`` (one
+        chunk at least), and the cache (its ``misses``: chunks read from the store; ``peak``: bytes held at most).
+
+        The cache is kept with the views of one source (one ``volumen.load``), so the next frames find the
+        chunks decoded and what the renderer derived from them; another ``max_bytes`` starts a new one."""
+        cache = self.stats.get("cache")
+        if cache is None or cache.max_bytes != int(max_bytes):
+            self.stats["cache"] = cache = ChunkCache(self.source, max_bytes)
         return ChunkedArray(cache, self.perm, self.start, self.step, self.shape, ranges=self.ranges), cache
 
     def __len__(self) -> int:

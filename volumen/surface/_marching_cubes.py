@@ -69,7 +69,10 @@ def marching_cubes(volume, level: float | None = None, *, spacing=None, mask=Non
         orientation from the affine), pointing outward; ``voxel_vertices`` (N, 3)
         float32 fractional voxel indices ``(i, j, k)`` (None unless ``voxel_coordinates``).
         One vertex per crossed grid edge, plus one inside the few cubes whose contour is
-        a loop that cannot be triangulated without an edge on a cube face.
+        a loop that cannot be triangulated without an edge on a cube face. No two vertices
+        share a position: a crossing is kept a thousandth of a voxel off the grid points
+        (samples equal to the level are outside; see ``_mc_kernel.T_MIN``), so a file
+        format that joins corners by position (STL) gets the same closed mesh.
 
     Notes
     -----
@@ -141,6 +144,7 @@ def _mask_array(mask, volume, step: int) -> np.ndarray:
 
 def _sign_pass(vol: np.ndarray, level: float) -> dict:
     """Pass 1 (see ``_mc_rows``): the flag rows and per-row counts; ValueError on NaN or a level out of range."""
+    from ._mc_records import Sign, SignOut
     from ._mc_rows import run_pass, sign_rows, threshold
 
     nz, ny, nx = vol.shape
@@ -155,8 +159,8 @@ def _sign_pass(vol: np.ndarray, level: float) -> dict:
     ninside = np.empty(nrows, np.int64)
     nbad = np.empty(nrows, np.int64)
     bits = vol.view(np.uint32) if vol.dtype == np.float32 else np.empty((0, 0, 0), np.uint32)
-    run_pass(sign_rows, np.full(nrows, nx), (vol, thr, sgn, rows["words"], bits),
-             (rows["nxc"], rows["trim"], ninside, nbad))
+    run_pass(sign_rows, np.full(nrows, nx), (Sign(vol, thr, sgn, rows["words"], bits),),
+             (SignOut(rows["nxc"], rows["trim"], ninside, nbad),))
     if nbad.any():
         raise ValueError("marching_cubes: the volume holds NaN or infinite values")
     if ninside.sum() in (0, vol.size):  # no sample above the level, or none at or below: is it in range?
@@ -173,6 +177,7 @@ def _check_range(vol: np.ndarray, level: float) -> None:
 def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     """Passes 2 and 3 (counts, prefix sums, vertices and triangles): ``(xyz, nrm, ijk, faces)``."""
     from . import _mc_kernel as K
+    from ._mc_records import Counts, Emit, Grid, Out
     from ._mc_rows import count_costs, emit_costs, run_pass, running_sums
 
     nz, ny, nx = vol.shape
@@ -180,9 +185,9 @@ def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     nyc, nzc = np.empty_like(nxc), np.empty_like(nxc)
     ntri = np.empty((nz - 1) * (ny - 1), np.int64)  # pass 2 writes every cube row's
     ncen = np.empty_like(ntri)
-    use_mask = m.size > 1
+    grid = Grid(vol, lvl, words, trim, m, m.size > 1)
     span, cost = count_costs(trim, nxc)
-    run_pass(K.count_rows, cost, (vol, lvl, words, trim), (nyc, nzc, ntri, ncen, m, use_mask))
+    run_pass(K.count_rows, cost, (grid,), (Counts(nyc, nzc, ntri, ncen),))
     per_row, cost = emit_costs(span, nxc, nyc, nzc, ntri, nz, ny)
     vbase = running_sums(per_row, 0)  # each with the total appended
     cbase = running_sums(ncen, vbase[-1])  # centre vertices numbered after the edge vertices
@@ -193,8 +198,8 @@ def _mesh_passes(vol, lvl, rows, m, aff, flip: bool, voxel_coordinates: bool):
     nrm = np.empty((n_vert, 3), np.float32)
     faces = np.empty((n_tri, 3), np.int32)
     nmat = np.linalg.inv(aff[:3, :3]).T.copy()
-    run_pass(K.emit_rows, cost, (vol, lvl, words, trim),
-             (nxc, nyc, vbase[:-1], tbase[:-1], cbase[:-1], m, use_mask, aff, nmat, flip, ijk, xyz, nrm, faces),
+    run_pass(K.emit_rows, cost, (grid,),
+             (Emit(nxc, nyc, vbase[:-1], tbase[:-1], cbase[:-1], aff, nmat, flip), Out(ijk, xyz, nrm, faces)),
              scratch=13)
     return xyz, nrm, ijk, faces
 

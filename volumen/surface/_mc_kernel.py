@@ -1,6 +1,7 @@
 """Compiled marching-cubes kernel: an edge-based (flying-edges style) pass structure.
 
-Only arrays and scalars go in and out; ``_marching_cubes.py`` validates and allocates.
+The kernels take the records of ``_mc_records.py`` (arrays and scalars by name); ``_marching_cubes.py``
+validates and allocates.
 Arrays are indexed ``[z, y, x]``; a *grid row* ``r = z * ny + y`` is the line of samples
 along x. Every grid row owns the crossed grid edges that start on it: along x (to
 ``x + 1``), along y (to row ``y + 1``) and along z (to slice ``z + 1``). The passes are
@@ -47,6 +48,17 @@ VAR_NCENTRE = T.VAR_NCENTRE.astype(np.int64)
 VAR_CENTRE_EDGES = T.VAR_CENTRE_EDGES[:, 0].astype(np.int64)
 
 U2, U3, U4, U5, U6, U7 = (np.uint64(i) for i in range(2, 8))
+
+#: nearest a vertex comes to a grid point, in voxels along its edge. A sample equal to the level is outside (not
+#: above it) and the crossing on each crossed edge of it would be the sample's own point: integer CT at an integer
+#: level puts up to six vertices there, which a reader joining corners at equal positions (STL) welds into
+#: collapsed triangles and, where inside voxels pinch it from two sides, edges of four triangles. Kept this far off,
+#: every vertex has a position of its own, so the mesh welded by position is the mesh by index, closed wherever
+#: the tables make it closed (the limit of the level raised by an infinitesimal: simulation of simplicity). A
+#: thousandth of a voxel moves no vertex visibly, keeps float32 world positions distinct (ulp 6e-5 mm at 1 m) and
+#: changes the area by far less than the 0.5 % the tests allow.
+T_MIN = np.float32(1e-3)
+T_MAX = np.float32(1.0) - T_MIN
 
 #: the kernels allocate nothing, so they run without Numba's reference counting (it would count every array
 #: handed to an inlined helper, per vertex: 2.7 times the work of the edge vertices) and release the GIL
@@ -133,45 +145,51 @@ def _pair_count(words, a, b, lo, hi):
 
 
 @row_kernel
-def count_rows(vol, level, words, trim, r0, r1, nyc, nzc, ntri, ncen, mask, use_mask):
-    """Pass 2 on grid rows [r0, r1): crossed y/z edges per grid row; triangles and centre vertices per cube row."""
-    nz, ny, nx = vol.shape
-    nw = words.shape[1]
+def count_rows(g, r0, r1, c):
+    """Pass 2 on grid rows [r0, r1) of :class:`Grid` ``g``: per grid row the crossed y/z edges, per cube row the
+    triangles and centre vertices (:class:`Counts` ``c``)."""
+    nz, ny, nx = g.vol.shape
+    nw = g.words.shape[1]
+    trim = g.trim
     for r in range(r0, r1):
         z = r // ny
         y = r - z * ny
-        nyc[r] = 0
-        nzc[r] = 0
+        c.nyc[r] = 0
+        c.nzc[r] = 0
         if y < ny - 1:
             lo, hi = words2(trim, r, r + 1, nw)
-            nyc[r] = _pair_count(words, trim[r, 3], trim[r + 1, 3], lo, hi)
+            c.nyc[r] = _pair_count(g.words, trim[r, 3], trim[r + 1, 3], lo, hi)
         if z < nz - 1:
             lo, hi = words2(trim, r, r + ny, nw)
-            nzc[r] = _pair_count(words, trim[r, 3], trim[r + ny, 3], lo, hi)
+            c.nzc[r] = _pair_count(g.words, trim[r, 3], trim[r + ny, 3], lo, hi)
         if y == ny - 1 or z == nz - 1:
             continue
         t = 0
-        c = 0
+        n = 0
         lo, hi = words4(trim, r, r + 1, r + ny, r + ny + 1, nw)
         ra, rb, rc, rd = trim[r, 3], trim[r + 1, 3], trim[r + ny, 3], trim[r + ny + 1, 3]
         for w in range(lo, hi):
-            busy, cases = _cube_words(words, ra, rb, rc, rd, w, nw, nx)
+            busy, cases = _cube_words(g.words, ra, rb, rc, rd, w, nw, nx)
             while busy:
                 k = low_byte(busy)
                 x = 8 * w + k
                 busy &= busy - U1
-                if use_mask and not mask[z, y, x]:
+                if g.use_mask and not g.mask[z, y, x]:
                     continue
-                var = _cube_variant(vol, level, z, y, x, _case_at(cases, k))
+                var = _cube_variant(g.vol, g.level, z, y, x, _case_at(cases, k))
                 t += VAR_NTRI[var]
-                c += VAR_NCENTRE[var]
-        ntri[z * (ny - 1) + y] = t
-        ncen[z * (ny - 1) + y] = c
+                n += VAR_NCENTRE[var]
+        c.ntri[z * (ny - 1) + y] = t
+        c.ncen[z * (ny - 1) + y] = n
 
 
 @njit(inline="always")
-def _diff(vol, z, y, x, dz, dy, dx, i, n):
-    """Derivative per voxel step along (dz, dy, dx) at index i of n: central, one-sided at the ends."""
+def _diff(vol, z, y, x, axis):
+    """Derivative per voxel step along axis (0 = x, 1 = y, 2 = z) at a grid point: central, one-sided at the
+    ends (``axis`` is a constant where it is inlined, so the choices below fold away)."""
+    dz, dy, dx = axis == 2, axis == 1, axis == 0
+    i = x if axis == 0 else (y if axis == 1 else z)
+    n = vol.shape[2] if axis == 0 else (vol.shape[1] if axis == 1 else vol.shape[0])
     if i > 0 and i < n - 1:
         return 0.5 * (_f(vol, z + dz, y + dy, x + dx) - _f(vol, z - dz, y - dy, x - dx))
     if i == 0:
@@ -182,121 +200,126 @@ def _diff(vol, z, y, x, dz, dy, dx, i, n):
 @njit(inline="always")
 def _grad(vol, z, y, x):
     """Gradient (d/dx, d/dy, d/dz) per voxel step at a grid point."""
-    nz, ny, nx = vol.shape
-    return (_diff(vol, z, y, x, 0, 0, 1, x, nx), _diff(vol, z, y, x, 0, 1, 0, y, ny),
-            _diff(vol, z, y, x, 1, 0, 0, z, nz))
+    return (_diff(vol, z, y, x, 0), _diff(vol, z, y, x, 1), _diff(vol, z, y, x, 2))
 
 
 @njit(inline="always")
 def _edge_point(vol, level, z, y, x, axis):
-    """Crossing on the grid edge from (z, y, x) along axis (0 = x, 1 = y, 2 = z): index position and gradient."""
+    """Crossing on the grid edge from (z, y, x) along axis (0 = x, 1 = y, 2 = z): index position ``(x, y, z)``
+    and gradient ``(d/dx, d/dy, d/dz)``, at least :data:`T_MIN` from either end (see there)."""
     z1 = z + (axis == 2)
     y1 = y + (axis == 1)
     x1 = x + (axis == 0)
     f0 = _f(vol, z, y, x) - level
     f1 = _f(vol, z1, y1, x1) - level
-    t = f0 / (f0 - f1)
+    t = min(max(f0 / (f0 - f1), T_MIN), T_MAX)
     ax, ay, az = _grad(vol, z, y, x)
     bx, by, bz = _grad(vol, z1, y1, x1)
-    return (x + t * (axis == 0), y + t * (axis == 1), z + t * (axis == 2),
-            ax + t * (bx - ax), ay + t * (by - ay), az + t * (bz - az))
+    return ((x + t * (axis == 0), y + t * (axis == 1), z + t * (axis == 2)),
+            (ax + t * (bx - ax), ay + t * (by - ay), az + t * (bz - az)))
 
 
 @njit(inline="always")
-def _store(n, px, py, pz, gx, gy, gz, aff, nmat, ijk, xyz, nrm):
-    """Write vertex n: world mm, the outward (descending) unit normal and, when ``ijk`` has
-    a row per vertex, the index coordinates (i, j, k)."""
-    if ijk.shape[0] > n:
-        ijk[n, 0] = px
-        ijk[n, 1] = py
-        ijk[n, 2] = pz
+def _store(e, out, n, p, grad):
+    """Write vertex n at index position ``p = (x, y, z)`` with gradient ``grad``: world mm (:class:`Emit` ``e``'s
+    affine), the outward (descending) unit normal and, when ``out.ijk`` has a row per vertex, ``p``."""
+    px, py, pz = p
+    gx, gy, gz = grad
+    aff, nmat = e.aff, e.nmat
+    if out.ijk.shape[0] > n:
+        out.ijk[n, 0] = px
+        out.ijk[n, 1] = py
+        out.ijk[n, 2] = pz
     for a in range(3):
-        xyz[n, a] = aff[a, 0] * px + aff[a, 1] * py + aff[a, 2] * pz + aff[a, 3]
+        out.xyz[n, a] = aff[a, 0] * px + aff[a, 1] * py + aff[a, 2] * pz + aff[a, 3]
     wx = -(nmat[0, 0] * gx + nmat[0, 1] * gy + nmat[0, 2] * gz)
     wy = -(nmat[1, 0] * gx + nmat[1, 1] * gy + nmat[1, 2] * gz)
     wz = -(nmat[2, 0] * gx + nmat[2, 1] * gy + nmat[2, 2] * gz)
     norm = np.sqrt(wx * wx + wy * wy + wz * wz)
     inv = 1.0 / norm if norm > 0.0 else 0.0
-    nrm[n, 0] = wx * inv
-    nrm[n, 1] = wy * inv
-    nrm[n, 2] = wz * inv
+    out.nrm[n, 0] = wx * inv
+    out.nrm[n, 1] = wy * inv
+    out.nrm[n, 2] = wz * inv
 
 
 @njit(inline="always")
-def _emit_edges(vol, level, words, z, y, r, other, axis, lo, hi, n, aff, nmat, ijk, xyz, nrm):
-    """Vertices of grid row (z, y)'s crossed edges along axis in words [lo, hi), numbered from n in increasing
-    x (r, other: the flag rows of the row and of the row the edges lead to); returns the next free number."""
-    nx = vol.shape[2]
-    nw = words.shape[1]
-    for w in range(lo, hi):
-        d = x_cross(words, r, w, nw, nx) if axis == 0 else words[r, w] ^ words[other, w]
+def _emit_edges(g, e, out, zy, flags, axis, span, n):
+    """Vertices of grid row ``zy = (z, y)``'s crossed edges along axis in words ``span = [lo, hi)``, numbered
+    from n in increasing x (``flags = (r, other)``: the flag rows of the row and of the row the edges lead to);
+    returns the next free number."""
+    z, y = zy
+    r, other = flags
+    nx = g.vol.shape[2]
+    nw = g.words.shape[1]
+    for w in range(span[0], span[1]):
+        d = x_cross(g.words, r, w, nw, nx) if axis == 0 else g.words[r, w] ^ g.words[other, w]
         while d:
-            px, py, pz, gx, gy, gz = _edge_point(vol, level, z, y, 8 * w + low_byte(d), axis)
-            _store(n, px, py, pz, gx, gy, gz, aff, nmat, ijk, xyz, nrm)
+            p, grad = _edge_point(g.vol, g.level, z, y, 8 * w + low_byte(d), axis)
+            _store(e, out, n, p, grad)
             d &= d - U1
             n += 1
     return n
 
 
 @row_kernel
-def emit_rows(vol, level, words, trim, r0, r1, nxc, nyc, vbase, tbase, cbase, mask, use_mask, aff, nmat, flip,
-              ijk, xyz, nrm, faces, eid):
+def emit_rows(g, r0, r1, e, out, eid):
     """Pass 3 on grid rows [r0, r1): the vertices of each grid row's crossed edges and the triangles of each
-    cube row; ``eid`` (13,) int64 is scratch space."""
-    nz, ny, nx = vol.shape
-    nw = words.shape[1]
+    cube row (:class:`Grid` ``g``, :class:`Emit` ``e``, into :class:`Out` ``out``); ``eid`` (13,) int64 is
+    scratch space."""
+    nz, ny, nx = g.vol.shape
+    nw = g.words.shape[1]
+    trim = g.trim
     for r in range(r0, r1):
         z = r // ny
         y = r - z * ny
-        n = vbase[r]
+        n = e.vbase[r]
         for axis in range(3):  # x edges, then y edges, then z edges: the order count() assumed
             if (axis == 1 and y == ny - 1) or (axis == 2 and z == nz - 1):
                 continue
             other = r + 1 if axis == 1 else r + ny
             lo, hi = (trim[r, 0], trim[r, 1]) if axis == 0 else words2(trim, r, other, nw)
             if lo < hi:
-                n = _emit_edges(vol, level, words, z, y, trim[r, 3], trim[other, 3], axis, lo, hi, n,
-                                aff, nmat, ijk, xyz, nrm)
+                n = _emit_edges(g, e, out, (z, y), (trim[r, 3], trim[other, 3]), axis, (lo, hi), n)
         if y == ny - 1 or z == nz - 1:
             continue
         lo, hi = words4(trim, r, r + 1, r + ny, r + ny + 1, nw)
         if lo < hi:
-            _cube_row(vol, level, words, trim, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
-                      aff, nmat, flip, ijk, xyz, nrm, faces, eid)
+            _cube_row(g, e, out, eid, z, y, lo, hi)
 
 
 @row_kernel
-def _centre(vol, level, z, y, x, edges, n, aff, nmat, ijk, xyz, nrm):
-    """Write vertex n at the mean of the crossings on the cube edges in bit set ``edges``."""
+def _centre(g, e, out, z, y, x, edges, n):
+    """Write vertex n at the mean of the crossings on the edges of cube (z, y, x) in bit set ``edges``."""
     px = py = pz = gx = gy = gz = 0.0
     m = 0
-    for e in range(12):
-        if (edges >> e) & 1:
-            a = EDGE_CORNERS[e, 0]
-            axis = 0 if e < 4 else (1 if e < 8 else 2)
-            qx, qy, qz, hx, hy, hz = _edge_point(vol, level, z + (a >> 2), y + ((a >> 1) & 1), x + (a & 1), axis)
-            px += qx
-            py += qy
-            pz += qz
-            gx += hx
-            gy += hy
-            gz += hz
+    for k in range(12):
+        if (edges >> k) & 1:
+            a = EDGE_CORNERS[k, 0]
+            axis = 0 if k < 4 else (1 if k < 8 else 2)
+            q, h = _edge_point(g.vol, g.level, z + (a >> 2), y + ((a >> 1) & 1), x + (a & 1), axis)
+            px += q[0]
+            py += q[1]
+            pz += q[2]
+            gx += h[0]
+            gy += h[1]
+            gz += h[2]
             m += 1
-    _store(n, px / m, py / m, pz / m, gx / m, gy / m, gz / m, aff, nmat, ijk, xyz, nrm)
+    _store(e, out, n, (px / m, py / m, pz / m), (gx / m, gy / m, gz / m))
 
 
 @row_kernel
-def _cube_row(vol, level, words, trim, lo, hi, z, y, r, nxc, nyc, vbase, tbase, cbase, mask, use_mask,
-              aff, nmat, flip, ijk, xyz, nrm, faces, eid):
-    """Triangles of cube row (z, y); r is its grid row; [lo, hi) the words of its four rows' trim.
+def _cube_row(g, e, out, eid, z, y, lo, hi):
+    """Triangles of cube row (z, y); [lo, hi) the words of its four grid rows' trim; ``eid`` (13,) scratch.
 
     Cubes with a crossed edge are visited in increasing x; the others change no counter.
     """
-    nz, ny, nx = vol.shape
-    nw = words.shape[1]
+    nz, ny, nx = g.vol.shape
+    nw = g.words.shape[1]
+    trim, vbase, nxc, nyc = g.trim, e.vbase, e.nxc, e.nyc
+    r = z * ny + y
     rc_ = z * (ny - 1) + y
-    t = tbase[rc_]
-    cen = cbase[rc_]
+    t = e.tbase[rc_]
+    cen = e.cbase[rc_]
     # vertex of the next crossed edge: x edges of rows (dy, dz) = (k & 1, k >> 1); y edges of rows dz = 0, 1;
     # z edges of rows dy = 0, 1 (each row's vertices: x edges, then y edges, then z edges)
     cx0, cx1, cx2, cx3 = vbase[r], vbase[r + 1], vbase[r + ny], vbase[r + ny + 1]
@@ -304,15 +327,15 @@ def _cube_row(vol, level, words, trim, lo, hi, z, y, r, nxc, nyc, vbase, tbase, 
     cz0, cz1 = cy0 + nyc[r], cx1 + nxc[r + 1] + nyc[r + 1]
     ra, rb, rc, rd = trim[r, 3], trim[r + 1, 3], trim[r + ny, 3], trim[r + ny + 1, 3]
     for w in range(lo, hi):
-        busy, cases = _cube_words(words, ra, rb, rc, rd, w, nw, nx)
+        busy, cases = _cube_words(g.words, ra, rb, rc, rd, w, nw, nx)
         while busy:
             k = low_byte(busy)
             x = 8 * w + k
             busy &= busy - U1
             case = _case_at(cases, k)
             em = EDGE_MASK[case]
-            if not (use_mask and not mask[z, y, x]):
-                var = _cube_variant(vol, level, z, y, x, case)
+            if not (g.use_mask and not g.mask[z, y, x]):
+                var = _cube_variant(g.vol, g.level, z, y, x, case)
                 eid[0] = cx0
                 eid[1] = cx1
                 eid[2] = cx2
@@ -326,16 +349,16 @@ def _cube_row(vol, level, words, trim, lo, hi, z, y, r, nxc, nyc, vbase, tbase, 
                 eid[10] = cz1
                 eid[11] = cz1 + ((em >> 10) & 1)
                 if VAR_NCENTRE[var] > 0:
-                    _centre(vol, level, z, y, x, VAR_CENTRE_EDGES[var], cen, aff, nmat, ijk, xyz, nrm)
+                    _centre(g, e, out, z, y, x, VAR_CENTRE_EDGES[var], cen)
                     eid[12] = cen
                     cen += 1
                 for j in range(VAR_NTRI[var]):
                     a = eid[VAR_TRIS[var, 3 * j]]
                     b = eid[VAR_TRIS[var, 3 * j + 1]]
                     c = eid[VAR_TRIS[var, 3 * j + 2]]
-                    faces[t, 0] = a
-                    faces[t, 1] = c if flip else b
-                    faces[t, 2] = b if flip else c
+                    out.faces[t, 0] = a
+                    out.faces[t, 1] = c if e.flip else b
+                    out.faces[t, 2] = b if e.flip else c
                     t += 1
             cx0 += em & 1
             cx1 += (em >> 1) & 1

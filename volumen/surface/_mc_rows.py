@@ -110,11 +110,12 @@ def _row_crossings(words, r, nw, nx):
 
 
 @njit(cache=True, _nrt=False, nogil=True)
-def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
-    """Pass 1 on grid rows [r0, r1): flags ``sgn = vol > level`` (zero padding) of the rows that have both
-    inside and outside samples, and per row the crossed x edges, the trim, the flag row to read (``trim[r,
-    3]``), the inside samples and, where ``bits`` is ``vol`` viewed as uint32 (float32 data; else pass an
-    empty array), the NaN and infinite values, found from their exponent bits.
+def sign_rows(s, r0, r1, o):
+    """Pass 1 on grid rows [r0, r1) of :class:`~._mc_records.Sign` ``s`` into :class:`~._mc_records.SignOut`
+    ``o``: flags ``sgn = vol > level`` (zero padding) of the rows that have both inside and outside samples,
+    and per row the crossed x edges, the trim, the flag row to read (``trim[r, 3]``), the inside samples and,
+    where ``bits`` is ``vol`` viewed as uint32 (float32 data; else an empty array), the NaN and infinite
+    values, found from their exponent bits.
 
     ``sgn`` has two rows more than the grid, filled by the caller: all outside (row ``nz * ny``) and all
     inside (the last); a row all outside or all inside (most rows, at a bone level) writes no flags and
@@ -125,6 +126,8 @@ def sign_rows(vol, level, sgn, words, bits, r0, r1, nxc, trim, ninside, nbad):
     sweeps the compiler vectorises. Like the kernels of the other passes it runs without
     Numba's reference counting.
     """
+    vol, level, sgn, words, bits = s
+    nxc, trim, ninside, nbad = o
     nz, ny, nx = vol.shape
     nw = words.shape[1]
     check = bits.size > 0

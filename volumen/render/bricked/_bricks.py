@@ -56,6 +56,8 @@ class BrickVolume(Volume):
     """A brick's Volume: its value range is the whole volume's (so its table is the whole volume's)."""
 
     whole_range: tuple[float, float] = (0.0, 1.0)
+    #: the brick's own least and greatest value when the source stores no per-chunk ranges (else None)
+    block_range: tuple[float, float] | None = None
 
     def value_range(self) -> tuple[float, float]:
         return self.whole_range

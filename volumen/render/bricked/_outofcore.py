@@ -27,7 +27,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ...core import Image, is_chunked
-from ..raycast import TILE, pack_geometry, render_part
+from ..raycast import TILE, pack_geometry, prepared_volumes, render_part
 from ._bricks import (
     brick_clipping,
     brick_grid,
@@ -101,9 +101,35 @@ def _occluded(carry, tiles, et: float) -> bool:
     return bool(rect.min() >= et)
 
 
-def draw_brick(src, data, b, scene, camera, size, vr, whole, carry) -> Partial | None:
+def _brick_volume(src, data, b, vr, cache):
+    """Brick ``b``'s :class:`~._bricks.BrickVolume`, from ``cache``'s derived entries (with the ray caster's
+    precomputations for it: normal codes, skip blocks, tables) or read from ``data`` (its chunks)."""
+    key = ("brick", b.rlo, b.rhi, float(vr[0]), float(vr[1]))
+    vol = cache.derived(key) if cache is not None else None
+    if vol is None:
+        block = np.asarray(data[b.read_slices])
+        vol = brick_volume(b, block, src, vr)
+        vol.block_range = (float(block.min()), float(block.max())) if src.cmin is None else None
+    return key, vol
+
+
+def _keep(cache, key, vol) -> None:
+    """Keep the brick's volume, its samples and the ray caster's precomputations for it under the cache's bound."""
+    if cache is not None:
+        cache.keep(key, vol, vol.data.nbytes + sum(p.nbytes() for p in prepared_volumes(vol)))
+
+
+#: what a brick's drawing built (a Prepared's ``timings`` keys) -> the counter of ``render_bricked``'s stats
+BUILT = {"normalize": "bricks_prepared", "normal codes": "normals_encoded", "blocks": "skip_blocks_built"}
+
+
+def draw_brick(src, data, b, scene, camera, size, vr, whole, carry, *, cache=None, tally=None) -> Partial | None:
     """Brick ``b`` of ``data`` drawn on the whole volume's sample grid (``whole``), its rays starting at the
-    opacity ``carry`` (H, W) in front (a full-size partial picture); None when it cannot show anything."""
+    opacity ``carry`` (H, W) in front (a full-size partial picture); None when it cannot show anything.
+
+    ``cache`` (the chunk cache ``data`` reads through, or None): the brick's volume and what the ray caster
+    derives from it are kept there, counted against its bound, and found again the next frames. ``tally``
+    (a dict) counts what was built (:data:`BUILT`)."""
     rng = chunk_range(src, b)
     clip = brick_clipping(b, src.affine, scene.clipping)
     if clip is None or (rng is not None and not brick_visible(scene, *rng, vr)):
@@ -111,11 +137,16 @@ def draw_brick(src, data, b, scene, camera, size, vr, whole, carry) -> Partial |
     tiles = screen_tiles(b, src.affine, camera, size, TILE)
     if tiles is not None and (tiles.size == 0 or _occluded(carry, tiles, scene.sampling.early_termination)):
         return None
-    block = np.asarray(data[b.read_slices])
-    if rng is None and not brick_visible(scene, float(block.min()), float(block.max()), vr):
+    key, vol = _brick_volume(src, data, b, vr, cache)
+    if rng is None and not brick_visible(scene, *vol.block_range, vr):
+        _keep(cache, key, vol)
         return None
-    vol = brick_volume(b, block, src, vr)
-    return Partial.of(render_part(brick_scene(scene, vol, clip), camera, size, whole, carry, tiles))
+    image = render_part(brick_scene(scene, vol, clip), camera, size, whole, carry, tiles)
+    _keep(cache, key, vol)
+    if tally is not None:
+        for name, counter in BUILT.items():
+            tally[counter] = tally.get(counter, 0) + (name in image.stats["timings"])
+    return Partial.of(image)
 
 
 #: bricks of about this many voxels on a side by default: each brick costs a frame's packing and kernel launch
@@ -146,7 +177,7 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
     return src, vr, bricks
 
 
-def _draw_all(src, data, bricks, scene, camera, size, vr):
+def _draw_all(src, data, bricks, scene, camera, size, vr, cache, tally):
     """The bricks drawn front to back and composited: ``(Partial, bricks drawn)``; composite carries each
     ray's opacity from brick to brick (:func:`~._composite.add_carried`), so rays stop where the whole ray
     stops and bricks hidden behind opaque pixels are neither read nor drawn."""
@@ -157,7 +188,7 @@ def _draw_all(src, data, bricks, scene, camera, size, vr):
     zeros = np.zeros((h, w), np.float32)
     for b in bricks:
         carry = np.ascontiguousarray(acc.rgba[..., 3]) if carried else zeros
-        part = draw_brick(src, data, b, scene, camera, size, vr, whole, carry)
+        part = draw_brick(src, data, b, scene, camera, size, vr, whole, carry, cache=cache, tally=tally)
         if part is not None:
             acc = add_carried(acc, part) if carried else combine(acc, part, scene.mode)
             drawn += 1
@@ -189,8 +220,10 @@ def render_bricked(scene, camera, size=(512, 512), *, memory=MEMORY, brick: int 
     Image
         Equal (within float rounding) to the whole volume drawn at once with the same scene.
         ``stats``: ``bricks``, ``bricks_drawn``, ``bricks_skipped`` (empty, or hidden behind opaque
-        pixels), ``chunk_reads`` (from the store), ``cache_peak_bytes``, ``level`` (the volume's pyramid
-        level), ``timings`` (seconds).
+        pixels), ``chunk_reads`` (read from the store and decoded this frame), ``bricks_prepared``,
+        ``normals_encoded``, ``skip_blocks_built`` (bricks whose samples, normal codes, skip blocks the ray
+        caster prepared this frame: none for a brick found in the cache), ``cache_bytes``,
+        ``cache_peak_bytes``, ``level`` (the volume's pyramid level), ``timings`` (seconds).
     """
     if device not in (None, "cpu", "auto"):
         raise ValueError(f"bricked rendering draws on the cpu, got device {device!r}")
@@ -199,10 +232,12 @@ def render_bricked(scene, camera, size=(512, 512), *, memory=MEMORY, brick: int 
     data, cache = src.data, None
     if is_chunked(data):
         data, cache = data.cached(parse_bytes(memory))
-    acc, drawn = _draw_all(src, data, bricks, scene, camera, tuple(int(s) for s in size), vr)
+        cache.new_frame()
+    misses, tally = cache.misses if cache else 0, dict.fromkeys(BUILT.values(), 0)
+    acc, drawn = _draw_all(src, data, bricks, scene, camera, tuple(int(s) for s in size), vr, cache, tally)
     stats = {"bricks": len(bricks), "bricks_drawn": drawn, "bricks_skipped": len(bricks) - drawn,
-             "level": int(scene.volume.meta.get("level", 0)), "chunk_reads": cache.misses if cache else 0,
-             "cache_peak_bytes": cache.peak if cache else 0, "timings": {"total": time.perf_counter() - t0},
-             "mode": scene.mode}
+             "level": int(scene.volume.meta.get("level", 0)), "chunk_reads": cache.misses - misses if cache else 0,
+             "cache_peak_bytes": cache.peak if cache else 0, "cache_bytes": cache.bytes if cache else 0, **tally,
+             "timings": {"total": time.perf_counter() - t0}, "mode": scene.mode}
     value = None if scene.mode == "composite" else acc.value
     return Image(rgba=acc.rgba, depth=acc.depth, stats=stats, value=value)

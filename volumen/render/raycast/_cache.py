@@ -8,6 +8,7 @@ long as the Volume lives (weak keys). It is rebuilt when the Volume's
 
 from __future__ import annotations
 
+import threading
 import time
 import weakref
 
@@ -17,7 +18,7 @@ from ._color import NO_RGB, luminance_samples, rgb8
 from ._normals import encode_normals
 from ._precompute import NLUT, build_blocks, normal_params, normalize
 
-__all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes"]
+__all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes", "shared_table"]
 
 
 class Prepared:
@@ -63,6 +64,7 @@ class Prepared:
             self.u, self.u0, self.ufac = data, self.vmin * steps, 1.0 / (self.scale * steps)
         else:  # floats (NaN to clear) and strided views: one normalized float32 copy
             self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0
+        self.u_copied = self.u is not data
         self.affine = np.array(volume.affine, dtype=float)
         self._normals: dict[tuple[bool, bool], tuple[np.ndarray, float]] = {}
         self._codes: dict[tuple[bool, bool, bool], tuple[np.ndarray, np.ndarray]] = {}
@@ -107,6 +109,13 @@ class Prepared:
             self._memo[key] = build()
         return self._memo[key]
 
+    def nbytes(self) -> int:
+        """Bytes of the arrays built here (the normalized copy of the samples if one was made, colours, normals'
+        codes, block grids, the memo's tables), not counting the volume's own data."""
+        parts = [self.u if self.u_copied else None, self.rgb, list(self._codes.values()),
+                 list(self._blocks.values()), list(self._memo.values())]
+        return _nbytes(parts)
+
     def blocks(self, block: int) -> tuple[np.ndarray, np.ndarray]:
         """``(bmin, bmax)`` float32 block grids in normalized units; see :func:`build_blocks`."""
         if block not in self._blocks:
@@ -120,8 +129,35 @@ class Prepared:
         return self._blocks[block]
 
 
-#: per-frame tables kept per volume (:meth:`Prepared.memo`)
+def _nbytes(obj) -> int:
+    """Bytes of the NumPy arrays in ``obj`` (arrays, tuples and lists of them, nested)."""
+    if isinstance(obj, np.ndarray):
+        return int(obj.nbytes)
+    if isinstance(obj, (tuple, list)):
+        return sum(_nbytes(o) for o in obj)
+    return 0
+
+
+#: per-frame tables kept per volume (:meth:`Prepared.memo`), and of every volume (:func:`shared_table`)
 MEMO = 8
+
+_SHARED: dict = {}
+_SHARED_LOCK = threading.Lock()
+
+
+def shared_table(key, build):
+    """``build()``, kept for whoever asks with the same ``key`` next (the last :data:`MEMO` kept): tables that
+    depend on settings and a value range only, not on a volume's samples (the transfer function's colour
+    table), shared by the volumes that ask for them -- the bricks of one out-of-core volume."""
+    with _SHARED_LOCK:
+        table = _SHARED.get(key)
+    if table is None:
+        table = build()
+        with _SHARED_LOCK:
+            if len(_SHARED) >= MEMO:
+                _SHARED.pop(next(iter(_SHARED)))
+            _SHARED[key] = table
+    return table
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -144,9 +180,11 @@ def prepare(volume) -> Prepared:
 
 
 def clear_cache(volume=None) -> None:
-    """Forget the precomputations of ``volume`` (or of every volume)."""
+    """Forget the precomputations of ``volume`` (or of every volume, and the shared tables)."""
     if volume is None:
         _CACHE.clear()
+        with _SHARED_LOCK:
+            _SHARED.clear()
     else:
         _CACHE.pop(volume, None)
 

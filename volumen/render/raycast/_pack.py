@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from ...core import Environment, studio_lights
-from ._cache import prepare
+from ._cache import prepare, shared_table
 from ._environment import pack_environment
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
@@ -106,9 +106,10 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
 
 
 def _color_table(prep, tf, ratio):
-    """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (the frames
-    share it: nothing writes into it)."""
-    return prep.memo(("lut", tf, ratio), lambda: color_table(tf, prep.vmin, prep.vmax, ratio))
+    """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (the frames, and
+    the volumes with the same range, share it: nothing writes into it)."""
+    return shared_table(("lut", tf, prep.vmin, prep.vmax, ratio),
+                        lambda: color_table(tf, prep.vmin, prep.vmax, ratio))
 
 
 def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:

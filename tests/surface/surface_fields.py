@@ -43,10 +43,10 @@ def ellipsoid_area(a: float, b: float, c: float) -> float:
 
 
 def edge_counts(faces: np.ndarray) -> np.ndarray:
-    """How many triangles share each undirected edge."""
-    e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    _, counts = np.unique(e, axis=0, return_counts=True)
-    return counts
+    """How many triangles share each undirected edge (one int64 key per edge: a sort of keys, not of rows)."""
+    from volumen.surface._check import edge_keys
+
+    return np.unique(edge_keys(faces, int(faces.max(initial=0)) + 1), return_counts=True)[1]
 
 
 def directed_edges_unique(faces: np.ndarray) -> bool:

@@ -60,13 +60,13 @@ def trace(a, s, out, mode, light):
 
 
 @cuda.jit(fastmath=True)
-def paths(s0, s1, a, s, acc, alpha):
+def paths(s0, s1, a, s, acc, alpha, feat):
     """One thread per pixel of ``acc`` (H, W, NACC): ``trace_path`` for samples ``s0 .. s1 - 1``; from sample 0 the
-    pixel's opacity into ``alpha`` (H, W)."""
+    pixel's opacity into ``alpha`` (H, W) and its denoiser features into ``feat`` (H, W, NFEAT)."""
     px, py = cuda.grid(2)
     if px < acc.shape[1] and py < acc.shape[0]:
         if s0 == 0:
-            _coverage(px, py, a, s, alpha)
+            _coverage(px, py, a, s, alpha, feat)
         for k in range(s0, s1):
             _trace_path(px, py, k, a, s, acc)
 

@@ -66,6 +66,7 @@ class CudaPathTracer(PathTracer):
         self._arrays = f.device_arrays(self._dev.put)
         self._acc = cuda.to_device(self.acc)
         self._alpha = cuda.to_device(self.coverage)
+        self._feat = cuda.to_device(self.features)
 
     def _accumulate(self, s0: int, s1: int) -> None:
         from numba import cuda
@@ -74,10 +75,12 @@ class CudaPathTracer(PathTracer):
 
         w, h = self.frame.size
         blocks, threads = _kernels.grid_2d(w, h)
-        _kernels.paths[blocks, threads](int(s0), int(s1), self._arrays, self.frame.settings, self._acc, self._alpha)
+        _kernels.paths[blocks, threads](int(s0), int(s1), self._arrays, self.frame.settings, self._acc, self._alpha,
+                                           self._feat)
         cuda.synchronize()
         self._acc.copy_to_host(self.acc)
         self._alpha.copy_to_host(self.coverage)
+        self._feat.copy_to_host(self.features)
 
     def reset(self) -> None:
         """Forget the accumulated samples (on the device too)."""

@@ -8,7 +8,8 @@ Other modules: ``_ray`` (a view ray), ``_geometry`` (rays, clipping),
 cross), ``_shadow`` (direct shadow rays), ``_lightvol``
 and ``_lightsweep`` (illumination volumes), ``_scatter`` (the scattering
 medium), ``_pathtrace`` (path-tracing kernels: ``_majorant`` tracking, ``_sobol`` random numbers,
-``_environment`` the environment light), ``_progressive`` (the progressive path tracer, ``_denoise``),
+``_environment`` the environment light), ``_progressive`` (the progressive path tracer, ``_denoise``;
+``_features`` the denoiser's noise-free albedo and normal),
 ``_tiles`` (the tiles of a picture), ``_precompute`` and
 ``_cache`` (per-volume arrays), ``_tables`` (transfer-function tables),
 ``_params`` (illumination-volume layout), ``_pack`` (scene -> Frame), ``_cpu``

@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "ray_interval", "region_interval",
+__all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "pixel_ray", "ray_interval", "region_interval",
            "footprint", "C_ORTHO", "G_BOX"]
 
 # packed camera layout
@@ -100,10 +100,17 @@ def footprint(cam: np.ndarray, geo: np.ndarray) -> tuple[int, int, int, int]:
 @njit(cache=True, fastmath=True, inline="always")
 def primary_ray(cam, px, py):
     """World ray through the centre of pixel (px, py): ``(ox, oy, oz, dx, dy, dz)``, d unit."""
+    return pixel_ray(cam, px + 0.5, py + 0.5)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def pixel_ray(cam, x, y):
+    """World ray through the picture point ``(x, y)`` (pixels from the top left corner: pixel (px, py) spans
+    ``[px, px + 1) x [py, py + 1)``): ``(ox, oy, oz, dx, dy, dz)``, d unit."""
     w = cam[C_W]
     h = cam[C_H]
-    sx = (px + 0.5 - 0.5 * w) / (0.5 * h) * cam[C_HALF]
-    sy = (0.5 * h - py - 0.5) / (0.5 * h) * cam[C_HALF]
+    sx = (x - 0.5 * w) / (0.5 * h) * cam[C_HALF]
+    sy = (0.5 * h - y) / (0.5 * h) * cam[C_HALF]
     if cam[C_ORTHO] > 0.5:
         ox = cam[C_EYE] + sx * cam[C_RIGHT] + sy * cam[C_UP]
         oy = cam[C_EYE + 1] + sx * cam[C_RIGHT + 1] + sy * cam[C_UP + 1]

@@ -29,7 +29,7 @@ from ._geometry import to_index
 from ._medium import depth_at, frame_medium
 from ._sobol import draw
 
-__all__ = ["majorant_grid", "free_flight", "transmittance", "optical_depth", "MAJ_BLOCK"]
+__all__ = ["majorant_grid", "free_flight", "transmittance", "grid_walk", "advance_cell", "MAJ_BLOCK"]
 
 #: block edge of the majorant grid (voxels)
 MAJ_BLOCK = 8
@@ -67,7 +67,7 @@ def _axis(o, d, c, size):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _cells(a, s, w, d, t0):
+def grid_walk(a, s, w, d, t0):
     """The grid walk of world ray ``w + t d`` from ``t0``: ``(o, di, cell, step, next, delta)`` as index-space
     triples (``o`` the origin, ``di`` the direction per mm, ``cell`` the cell at t0, then per axis the step, the t
     of the next boundary and the t per cell)."""
@@ -85,7 +85,7 @@ def _cells(a, s, w, d, t0):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _advance(g, c, st, nx, de):
+def advance_cell(g, c, st, nx, de):
     """The next cell along the walk: ``(cell, next, inside)``."""
     ci, cj, ck = c
     ni, nj, nk = nx
@@ -114,7 +114,7 @@ def _track(a, s, w, d, t0, t1, scale, ratio, key, dim, ctr):
     ``ctr, ctr + 1, ...`` (returned advanced).
     """
     g = a.maj
-    o, dv, c, st, nx, de = _cells(a, s, w, d, t0)
+    o, dv, c, st, nx, de = grid_walk(a, s, w, d, t0)
     med = frame_medium(a, s)
     t = t0
     wt = 1.0
@@ -147,7 +147,7 @@ def _track(a, s, w, d, t0, t1, scale, ratio, key, dim, ctr):
                 ctr += 1
             tau -= mu * (tn - t)
         t = tn
-        c, nx, inside = _advance(g, c, st, nx, de)
+        c, nx, inside = advance_cell(g, c, st, nx, de)
         if not inside:
             break
     return False, t1, 0, wt, ctr
@@ -165,27 +165,3 @@ def transmittance(a, s, w, d, t0, t1, scale, key, ctr):
     """Ratio tracking (:func:`_track`): ``(transmittance estimate, ctr)``, every number from the hash dimensions."""
     _, _, _, wt, ctr = _track(a, s, w, d, t0, t1, scale, True, key, -1, ctr)
     return wt, ctr
-
-
-@njit(cache=True, fastmath=True)
-def optical_depth(a, s, w, d, t0, t1, scale, h):
-    """``integral sigma_t dt`` along world ray ``w + t d`` from ``t0`` to ``t1``, by the midpoint rule with steps of
-    at most ``h`` mm inside the cells of non-zero majorant (the others hold no medium); stops past 10."""
-    g = a.maj
-    o, dv, c, st, nx, de = _cells(a, s, w, d, t0)
-    med = frame_medium(a, s)
-    t = t0
-    tau = 0.0
-    while t < t1 and tau < 10.0:
-        tn = min(nx[0], nx[1], nx[2], t1)
-        if g[c[2], c[1], c[0]] > 0.0 and tn > t:
-            n = int(math.ceil((tn - t) / h))
-            dt = (tn - t) / n
-            for k in range(n):
-                tm = t + (k + 0.5) * dt
-                tau += depth_at(med, o[0] + tm * dv[0], o[1] + tm * dv[1], o[2] + tm * dv[2])[0] * scale * dt
-        t = tn
-        c, nx, inside = _advance(g, c, st, nx, de)
-        if not inside:
-            break
-    return tau

@@ -2,7 +2,8 @@
 
 The medium is the one of the ``scattering`` model (:mod:`._scatter`): extinction ``sigma_t = kext * tau(v) / ds0``,
 albedo ``sigma_s / sigma_t`` times the transfer function's colour, Henyey-Greenstein phase of parameter ``g``.
-Per pixel sample (the ray through the pixel centre):
+Per pixel sample (the view ray through a point of the pixel drawn from the Sobol sequence: a picture's pixel is
+the mean over its area, a box filter, so detail finer than a pixel is averaged, not aliased):
 
 * free flights by delta tracking against the majorant grid (:mod:`._majorant`); a real collision is a
   scattering event;
@@ -22,11 +23,11 @@ Per pixel sample (the ray through the pixel centre):
 
 Random numbers: :mod:`._sobol` (an Owen-scrambled Sobol sequence per pixel for the first four events' decisions,
 a hash beyond): reproducible, independent of threads and of how samples are split between calls. A pixel's
-opacity is not sampled: it is ``1 - exp(-optical depth)`` along its view ray (:func:`._majorant.optical_depth`),
-so colour and alpha agree at every sample count; the colour is premultiplied by it in expectation (a path that
-meets no medium brings nothing). The first event's albedo and normal (the medium's density gradient, facing the
-eye) are averaged as the denoiser's auxiliary pictures. No allocation in the per-pixel functions: they are
-callable from a CUDA kernel.
+opacity is not sampled: it is ``1 - exp(-optical depth)`` along its view ray, marched once
+(:func:`._features.view_features`, which also gives the denoiser's auxiliary pictures: the first event's expected
+albedo and normal, free of noise), so colour and alpha agree at every sample count; the colour is premultiplied
+by it in expectation (a path that meets no medium brings nothing). No allocation in the per-pixel functions: they
+are callable from a CUDA kernel.
 """
 
 from __future__ import annotations
@@ -37,22 +38,25 @@ from numba import njit
 
 from ...jit import claim
 from ..optics import hg_phase
-from ._bspline import reconstruct
-from ._color import sample_rgb
 from ._environment import env_pdf, env_radiance, env_sample, sh_phase
-from ._geometry import primary_ray, ray_interval, region_interval, to_index
-from ._majorant import free_flight, optical_depth, transmittance
-from ._medium import event_color, frame_medium
+from ._features import NFEAT, event_albedo, view_features
+from ._geometry import pixel_ray, ray_interval, region_interval
+from ._majorant import free_flight, transmittance
 from ._shade import L_COL, L_RAD, light_vector
 from ._sobol import SOBOL_DIMS, draw, path_key
 
-__all__ = ["trace_path", "coverage_pixel", "sample_hg", "trace_tiles", "NACC"]
+__all__ = ["trace_path", "coverage_pixel", "sample_hg", "trace_tiles", "NACC", "NFEAT"]
 
-#: channels of the accumulation buffer: radiance (3), hits, depth sum, albedo (3), normal (3)
-NACC = 11
+#: channels of the accumulation buffer: radiance (3), hits, depth sum
+NACC = 5
 #: Sobol dimensions per event (the first SOBOL_DIMS // EVENT_DIMS events draw theirs from the sequence)
 EVENT_DIMS = 8
 _D_FLIGHT, _D_PICK, _D_LIGHT, _D_PHASE, _D_ROULETTE = 0, 1, 2, 5, 7
+#: Sobol dimensions of the sample's point in its pixel: the roulette dimensions of events 0 and 1, which never
+#: draw them (roulette starts after 3 events)
+_D_PIXEL = (_D_ROULETTE, EVENT_DIMS + _D_ROULETTE)
+#: sub-pixel points per axis of the pixel's opacity and denoiser features (a regular grid)
+COVERAGE_GRID = 3
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -90,16 +94,6 @@ def sample_hg(g, dx, dy, dz, u1, u2):
     cp = math.cos(phi) * s
     sp = math.sin(phi) * s
     return (c * dx + cp * t1x + sp * t2x, c * dy + cp * t1y + sp * t2y, c * dz + cp * t1z + sp * t2z)
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _albedo_color(a, s, idx, w):
-    """Colour of a scattering event at world point ``w``: the table's (the label-aware classification's with a
-    label map, ``_medium.event_color``), or the voxel's own in a colour volume."""
-    x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
-    if s.color:
-        return sample_rgb(a.rgb, x, y, z, s.nearest)
-    return event_color(frame_medium(a, s), x, y, z, idx)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -199,46 +193,19 @@ def _roulette(tr, n, key, ctr):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _normal(a, s, w, d):
-    """Unit normal of the medium at world point ``w`` (minus its density gradient, through the index -> world
-    gradient matrix ``Arrays.nrm``), turned toward the eye (against ``d``); (0, 0, 0) where the gradient vanishes."""
-    x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
-    r, v, u0, f = s.recon, a.vol, s.u0, s.ufac
-    gi = reconstruct(r, v, u0, f, x + 1.0, y, z, False) - reconstruct(r, v, u0, f, x - 1.0, y, z, False)
-    gj = reconstruct(r, v, u0, f, x, y + 1.0, z, False) - reconstruct(r, v, u0, f, x, y - 1.0, z, False)
-    gk = reconstruct(r, v, u0, f, x, y, z + 1.0, False) - reconstruct(r, v, u0, f, x, y, z - 1.0, False)
-    m = a.nrm
-    nx = -(m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk)
-    ny = -(m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk)
-    nz = -(m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk)
-    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if not ln > 1e-9:
-        return 0.0, 0.0, 0.0
-    if nx * d[0] + ny * d[1] + nz * d[2] > 0.0:
-        ln = -ln
-    return nx / ln, ny / ln, nz / ln
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _first_hit(a, s, w, d, t, c, px, py, acc):
-    """Record the view ray's first event: hit count, depth, albedo, normal."""
+def _first_hit(t, px, py, acc):
+    """Record the view ray's first event: hit count, depth."""
     acc[py, px, 3] += 1.0
     acc[py, px, 4] += t
-    for k in range(3):
-        acc[py, px, 5 + k] += min(max(s.albedo * c[k], 0.0), 1.0)
-    nx, ny, nz = _normal(a, s, w, d)
-    acc[py, px, 8] += nx
-    acc[py, px, 9] += ny
-    acc[py, px, 10] += nz
 
 
 @njit(cache=True, fastmath=True)
 def trace_path(px, py, sample, a, s, acc):
     """Add one path-traced sample of pixel (px, py) to ``acc[py, px]`` (:data:`NACC` channels: radiance r, g, b,
-    hits, depth sum, albedo r, g, b, normal x, y, z); ``a``, ``s`` the packed frame (``_frame``)."""
+    hits, depth sum); ``a``, ``s`` the packed frame (``_frame``)."""
     key = path_key(s.seed, py * int(a.cam[14]) + px, sample)
     ctr = SOBOL_DIMS
-    ox, oy, oz, dx, dy, dz = primary_ray(a.cam, px, py)
+    ox, oy, oz, dx, dy, dz = pixel_ray(a.cam, px + draw(key, _D_PIXEL[0]), py + draw(key, _D_PIXEL[1]))
     o, d = (ox, oy, oz), (dx, dy, dz)
     ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
     if not tb > ta:
@@ -266,9 +233,9 @@ def trace_path(px, py, sample, a, s, acc):
                     lr, lg, lb = lr + tr[0] * er * mis, lg + tr[1] * eg * mis, lb + tr[2] * eb * mis
             break
         w = (o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2])
-        c = _albedo_color(a, s, idx, w)
+        c = event_albedo(a, s, idx, w)
         if n == 0:
-            _first_hit(a, s, w, d, t, c, px, py, acc)
+            _first_hit(t, px, py, acc)
         tr = (tr[0] * s.albedo * c[0], tr[1] * s.albedo * c[1], tr[2] * s.albedo * c[2])
         last = n + 1 >= s.bounces
         er, eg, eb, ctr = _next_event(a, s, w, d, n, env_w, last, scale, key, ctr)
@@ -302,22 +269,31 @@ def trace_path(px, py, sample, a, s, acc):
 
 
 @njit(cache=True, fastmath=True)
-def coverage_pixel(px, py, a, s, alpha):
-    """``alpha[py, px] = 1 - exp(-optical depth)`` along the view ray of pixel (px, py): the probability that a
-    path meets the medium (the pixel's opacity)."""
-    ox, oy, oz, dx, dy, dz = primary_ray(a.cam, px, py)
-    ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
-    if not tb > ta:
-        alpha[py, px] = 0.0
-        return
-    tau = optical_depth(a, s, (ox, oy, oz), (dx, dy, dz), ta, tb, s.kext / s.ds0, s.ds)
-    alpha[py, px] = 1.0 - math.exp(-tau)
+def coverage_pixel(px, py, a, s, alpha, feat):
+    """``alpha[py, px]``: the probability that a path of pixel (px, py) meets the medium (the pixel's opacity), the
+    mean of ``1 - exp(-optical depth)`` over the view rays of a :data:`COVERAGE_GRID`-squared grid of points in the
+    pixel; ``feat[py, px]`` the denoiser's features over the same rays (:func:`._features.view_features`: the
+    first event's expected albedo and normal)."""
+    for k in range(NFEAT):
+        feat[py, px, k] = 0.0
+    n = COVERAGE_GRID
+    wt = 1.0 / (n * n)
+    cov = 0.0
+    for j in range(n):
+        for i in range(n):
+            ox, oy, oz, dx, dy, dz = pixel_ray(a.cam, px + (i + 0.5) / n, py + (j + 0.5) / n)
+            ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
+            if tb > ta:
+                tau = view_features(a, s, (ox, oy, oz), (dx, dy, dz), ta, tb, s.kext / s.ds0, s.ds, wt, feat, px, py)
+                cov += wt * (1.0 - math.exp(-tau))
+    alpha[py, px] = cov
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
-def trace_tiles(counter, order, tile, s0, s1, a, s, acc, alpha):
+def trace_tiles(counter, order, tile, s0, s1, a, s, acc, alpha, feat):
     """The tiles ``order[claim(counter)]`` (``volumen.jit.run_claiming``) until none is left: samples ``s0 .. s1 - 1``
-    of each pixel (none when ``s1 <= s0``) into ``acc``, and when ``s0 == 0`` its opacity into ``alpha``."""
+    of each pixel (none when ``s1 <= s0``) into ``acc``, and when ``s0 == 0`` its opacity into ``alpha`` and its
+    denoiser features into ``feat`` (:func:`coverage_pixel`)."""
     h, w = acc.shape[0], acc.shape[1]
     ntx = (w + tile - 1) // tile
     n = claim(counter)
@@ -328,7 +304,7 @@ def trace_tiles(counter, order, tile, s0, s1, a, s, acc, alpha):
         for py in range(y0, min(y0 + tile, h)):
             for px in range(x0, min(x0 + tile, w)):
                 if s0 == 0:
-                    coverage_pixel(px, py, a, s, alpha)
+                    coverage_pixel(px, py, a, s, alpha, feat)
                 for k in range(s0, s1):
                     trace_path(px, py, k, a, s, acc)
         n = claim(counter)

@@ -3,7 +3,7 @@
 The kernels are :mod:`._pathtrace`'s; this module packs the frame (adding the majorant grid and the index ->
 world gradient matrix the path tracer reads), runs the tiles on every thread (``volumen.jit.run_claiming``) and
 turns the running sums into an :class:`~volumen.core.Image`, through Intel Open Image Denoise (:mod:`._denoise`)
-fed the first events' albedo and normal when denoising.
+fed the first events' expected albedo and normal (:mod:`._features`, noise-free) when denoising.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from ._denoise import denoise
 from ._majorant import MAJ_BLOCK, majorant_grid
 from ._medium import depth_bound, label_scale
 from ._pack import pack_frame
-from ._pathtrace import NACC, trace_tiles
+from ._pathtrace import NACC, NFEAT, trace_tiles
 from ._tiles import TILE, tile_order
 
 __all__ = ["PathTracer"]
@@ -68,6 +68,9 @@ class PathTracer:
         Samples per pixel accumulated so far.
     coverage : (H, W) float32
         The pixels' opacity, ``1 - exp(-optical depth)`` along their view rays (the pictures' alpha).
+    features : (H, W, 6) float32
+        The denoiser's auxiliary pictures: the view rays' first events' expected albedo (0-2) and normal (3-5),
+        premultiplied by the opacity (:func:`._features.view_features`).
     display : Display
         The scene's display for path-traced pictures (the images carry it).
     """
@@ -85,6 +88,7 @@ class PathTracer:
         w, h = self.frame.size
         self.acc = np.zeros((h, w, NACC), np.float64)
         self.coverage = np.zeros((h, w), np.float32)
+        self.features = np.zeros((h, w, NFEAT), np.float32)
         self.spp = 0
         self.seconds = 0.0
         self.denoise = scene.shading.pathtrace.denoise
@@ -96,7 +100,7 @@ class PathTracer:
         w, h = f.size
         order = tile_order(w, h)
         run_claiming(trace_tiles, order.shape[0], order, TILE, s0, s1, f.arrays, f.settings, self.acc,
-                     self.coverage)
+                     self.coverage, self.features)
 
     def reset(self) -> None:
         """Forget the accumulated samples."""
@@ -139,12 +143,12 @@ class PathTracer:
         denoised = self.denoise if denoised is None else bool(denoised)
         mean = self.acc / self.spp
         rgb = np.maximum(mean[..., :3], 0.0)
-        t = time.perf_counter()
-        if denoised:
-            rgb = denoise(rgb, mean[..., 5:8], mean[..., 8:11])
-        t_denoise = time.perf_counter() - t
         alpha = self.coverage.astype(np.float64)
-        rgb[alpha == 0] = 0.0  # no path met the medium there: the denoiser's filter must not bleed into it
+        t = time.perf_counter()
+        if denoised:  # no path meets the medium where alpha is 0: the denoiser's filter must not bleed into it
+            rgb = denoise(rgb, self.features[..., :3], self.features[..., 3:], covered=alpha > 0)
+        t_denoise = time.perf_counter() - t
+        rgb[alpha == 0] = 0.0  # premultiplied: a path of a jittered ray may meet what the 3x3 coverage rays miss
         if not f.settings.hdr:
             rgb = np.minimum(np.clip(rgb, 0.0, 1.0), alpha[..., None])
         rgba = np.concatenate([rgb, alpha[..., None]], axis=-1).astype(np.float32)

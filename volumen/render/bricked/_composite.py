@@ -29,17 +29,19 @@ MODES = ("composite", "mip", "minip")
 
 @dataclass
 class Partial:
-    """rgba (H, W, 4) float32 premultiplied, depth (H, W) mm (inf: none), value (H, W) (NaN: none)."""
+    """rgba (H, W, 4) float32 premultiplied, depth (H, W) mm (inf: none), value (H, W) (NaN: none); ``rect``
+    ``(y0, y1, x0, x1)`` pixels, where known: outside it the partial is empty."""
 
     rgba: np.ndarray
     depth: np.ndarray
     value: np.ndarray
+    rect: tuple[int, int, int, int] | None = None
 
     @classmethod
-    def of(cls, image) -> Partial:
+    def of(cls, image, rect=None) -> Partial:
         h, w = image.depth.shape
         value = image.value if image.value is not None else np.full((h, w), np.nan, np.float32)
-        return cls(image.rgba, image.depth, value)
+        return cls(image.rgba, image.depth, value, rect)
 
 
 def empty_partial(w: int, h: int) -> Partial:
@@ -65,8 +67,13 @@ def combine(front: Partial, back: Partial, mode: str) -> Partial:
 
 
 def add_carried(front: Partial, back: Partial) -> Partial:
-    """``back`` drawn with ``front``'s opacity carried in, added to ``front`` (composite; see the module
-    docstring)."""
-    rgba = front.rgba + back.rgba
-    rgba[..., 3] = np.maximum(front.rgba[..., 3], back.rgba[..., 3])
-    return Partial(rgba, np.minimum(front.depth, back.depth), front.value)
+    """``back`` drawn with ``front``'s opacity carried in, added to ``front`` in place, over ``back.rect``
+    (composite; see the module docstring); returns ``front``."""
+    y0, y1, x0, x1 = back.rect if back.rect is not None else (0, None, 0, None)
+    f, b = front.rgba[y0:y1, x0:x1], back.rgba[y0:y1, x0:x1]
+    alpha = np.maximum(f[..., 3], b[..., 3])
+    f += b
+    f[..., 3] = alpha
+    depth = front.depth[y0:y1, x0:x1]
+    np.minimum(depth, back.depth[y0:y1, x0:x1], out=depth)
+    return front

@@ -94,11 +94,8 @@ def whole_geometry(src, scene) -> np.ndarray:
 
 def _occluded(carry, tiles, et: float) -> bool:
     """Whether every pixel of ``tiles`` already reached the early-termination opacity in front."""
-    h, w = carry.shape
-    ntx = -(-w // TILE)
-    ys, xs = tiles // ntx, tiles % ntx
-    rect = carry[ys.min() * TILE:(ys.max() + 1) * TILE, xs.min() * TILE:(xs.max() + 1) * TILE]
-    return bool(rect.min() >= et)
+    y0, y1, x0, x1 = _rect(tiles, carry.shape[::-1])
+    return bool(carry[y0:y1, x0:x1].min() >= et)
 
 
 def _brick_volume(src, data, b, vr, cache):
@@ -146,7 +143,15 @@ def draw_brick(src, data, b, scene, camera, size, vr, whole, carry, *, cache=Non
     if tally is not None:
         for name, counter in BUILT.items():
             tally[counter] = tally.get(counter, 0) + (name in image.stats["timings"])
-    return Partial.of(image)
+    return Partial.of(image, None if tiles is None else _rect(tiles, size))
+
+
+def _rect(tiles, size) -> tuple[int, int, int, int]:
+    """``(y0, y1, x0, x1)``: the pixels of the bounding box of ``tiles`` (row-major indices) in a ``size``
+    picture."""
+    ntx = -(-int(size[0]) // TILE)
+    ys, xs = tiles // ntx, tiles % ntx
+    return int(ys.min()) * TILE, (int(ys.max()) + 1) * TILE, int(xs.min()) * TILE, (int(xs.max()) + 1) * TILE
 
 
 #: bricks of about this many voxels on a side by default: each brick costs a frame's packing and kernel launch

@@ -29,8 +29,9 @@ __all__ = ["bench_scale", "bench_scale_huge"]
 
 FULL = dict(edge=256, chunk=64, memory=8 << 20, size=(384, 384), studies=40, study_edge=64)
 QUICK = dict(edge=64, chunk=16, memory=64 << 10, size=(64, 64), studies=6, study_edge=32)
-#: warm frames: the abdomen CT phantom (nz, ny, nx; None: its own 224 x 202 x 244), a cache its bricks fit
-WARM = dict(shape=None, chunk=64, memory=256 << 20, size=(512, 512), frames=4)
+#: warm frames: the abdomen CT phantom (nz, ny, nx; None: its own 224 x 202 x 244) at twice its size, a cache its
+#: bricks fit
+WARM = dict(shape=(448, 404, 488), chunk=64, memory=1 << 30, size=(512, 512), frames=4)
 WARM_QUICK = dict(shape=(28, 25, 30), chunk=8, memory=4 << 20, size=(64, 64), frames=2)
 
 
@@ -88,7 +89,6 @@ def _warm_row(table, tmp: Path, shape, chunk, memory, size, frames, peak=True):
     from ..data import phantom
     from ..io import load, save
     from ..render import render
-    from ..render.bricked import default_brick
     from ._scale_memory import memory_bound, out_of_core_peak
 
     v = phantom("abdomen", size=shape)
@@ -108,7 +108,7 @@ def _warm_row(table, tmp: Path, shape, chunk, memory, size, frames, peak=True):
     mem = {}
     if peak:
         r = out_of_core_peak(path, scene.with_(volume=None), cams[0], size, memory, frames=2)
-        bound = memory_bound(r["baseline"], memory, size, (default_brick(chunk) + 3) ** 3, chunk ** 3 * 2)
+        bound = memory_bound(r["baseline"], memory, size, (out.stats["brick"] + 3) ** 3, chunk ** 3 * 2)
         mem = dict(peak_mib=r["peak"] / 2**20, growth_mib=(r["peak"] - r["baseline"]) / 2**20, bound_mib=bound / 2**20)
     nz, ny, nx = v.shape
     tm, to = float(np.median(t_mem)), float(np.median(t_ooc))

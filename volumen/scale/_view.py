@@ -5,19 +5,37 @@ idle -- the reduced-viewport idea (``volumen.render.render_reduced``) extended t
 a volume in memory goes to ``render_reduced`` as before; a chunked (OME-Zarr) volume is drawn out of core
 (``volumen.render.bricked``) at the rendered viewport, from the level :func:`~._outofcore.pick_level`
 chooses for it (about one voxel per pixel) while ``interacting``, and from the volume's own level when idle.
+The volume's own level is drawn from the volume itself, the coarser ones are opened once and kept (the last
+:data:`KEPT`): their chunk caches, with what the bricks derived, stay warm from frame to frame while only the
+camera moves.
 """
 
 from __future__ import annotations
 
+from collections import OrderedDict
+
 from ..core import Image, is_chunked
 from ..io import open_levels
 from ..render import reduced_size, render_reduced, upscale
-from ._outofcore import pick_level, render_bricked
+from ._outofcore import open_volume, pick_level, render_bricked
 
-__all__ = ["render_view", "VIEW_MEMORY"]
+__all__ = ["render_view", "VIEW_MEMORY", "KEPT"]
 
 #: chunk cache of one interactive frame (bytes)
 VIEW_MEMORY = 1 << 30
+#: coarser levels kept open (each with its chunk cache) for the frames drawn while dragging
+KEPT = 2
+_OPEN: OrderedDict = OrderedDict()
+
+
+def _opened(source, level: int):
+    """The Volume of ``source`` at ``level``, opened once and kept (the last :data:`KEPT`)."""
+    key = (str(source), int(level))
+    vol = _OPEN.pop(key, None)
+    _OPEN[key] = vol = open_volume(source, level) if vol is None else vol
+    while len(_OPEN) > KEPT:
+        _OPEN.popitem(last=False)
+    return vol
 
 
 def render_view(scene, camera, size, fraction: float = 1.0, *, interacting: bool = False, memory=VIEW_MEMORY,
@@ -31,11 +49,11 @@ def render_view(scene, camera, size, fraction: float = 1.0, *, interacting: bool
     if vol is None or not is_chunked(vol.data):
         return render_reduced(scene, camera, size, fraction, **how)
     small = reduced_size(size, fraction)
-    source, level = vol.meta.get("source"), 0
+    source, level, base = vol.meta.get("source"), 0, int(vol.meta.get("level", 0))
     if source is not None:
-        base = int(vol.meta.get("level", 0))
         level = max(base, pick_level(open_levels(source)[0], small, interacting))
-    img = render_bricked(source if source is not None else vol, scene, camera, small, memory=memory, level=level)
+    drawn = vol if source is None or level == base else _opened(source, level)  # each with its warm cache
+    img = render_bricked(drawn, scene, camera, small, memory=memory, level=level)
     if small == tuple(int(s) for s in size):
         return img
     out = upscale(img, size)

@@ -110,6 +110,20 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     if chunked and device in (None, "auto") and getattr(technique, "name", technique) == "raycast":
         device = "cpu"  # the bricks are ray cast on the CPU
     device, technique = _choose(device, technique, options, backend)
+    w, h = _checked(scene, camera, size)
+    if chunked:
+        image = _out_of_core(scene, camera, (w, h), device, technique, memory, brick)
+    else:
+        if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
+            scene = scene.with_(volume=_luminance_volume(scene.volume))
+        image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
+    image.stats["renderer"] = {"device": device, "technique": technique.name}
+    image.display = scene.display.resolved(scene.shading.mode, scene.mode)
+    return image
+
+
+def _checked(scene, camera, size) -> tuple[int, int]:
+    """``(width, height)`` of a valid call, else a one-line ``ValueError``."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(camera, Camera):
@@ -123,15 +137,7 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         raise ValueError(f"size must be (width, height) in pixels, got {size!r}") from None
     if not (1 <= w <= 16384 and 1 <= h <= 16384):
         raise ValueError(f"size must be (width, height) with 1..16384 pixels each, got {size!r}")
-    if chunked:
-        image = _out_of_core(scene, camera, (w, h), device, technique, memory, brick)
-    else:
-        if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
-            scene = scene.with_(volume=_luminance_volume(scene.volume))
-        image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
-    image.stats["renderer"] = {"device": device, "technique": technique.name}
-    image.display = scene.display.resolved(scene.shading.mode, scene.mode)
-    return image
+    return w, h
 
 
 def _out_of_core(scene, camera, size, device, technique, memory, brick) -> Image:

@@ -103,11 +103,7 @@ class Prepared:
         """``build()``, kept for the next frames asking with the same ``key`` (the last :data:`MEMO` kept):
         per-frame tables that depend on the volume and a few settings only, e.g. the skip distances of a
         transfer function, are not rebuilt while the user only moves the camera."""
-        if key not in self._memo:
-            if len(self._memo) >= MEMO:
-                self._memo.pop(next(iter(self._memo)))
-            self._memo[key] = build()
-        return self._memo[key]
+        return _kept(self._memo, key, build)
 
     def nbytes(self) -> int:
         """Bytes of the arrays built here (the normalized copy of the samples if one was made, colours, normals'
@@ -150,14 +146,16 @@ def shared_table(key, build):
     depend on settings and a value range only, not on a volume's samples (the transfer function's colour
     table), shared by the volumes that ask for them -- the bricks of one out-of-core volume."""
     with _SHARED_LOCK:
-        table = _SHARED.get(key)
-    if table is None:
-        table = build()
-        with _SHARED_LOCK:
-            if len(_SHARED) >= MEMO:
-                _SHARED.pop(next(iter(_SHARED)))
-            _SHARED[key] = table
-    return table
+        return _kept(_SHARED, key, build)
+
+
+def _kept(store: dict, key, build):
+    """``store[key]``, built by ``build()`` where missing; the oldest entry makes room beyond :data:`MEMO`."""
+    if key not in store:
+        if len(store) >= MEMO:
+            store.pop(next(iter(store)))
+        store[key] = build()
+    return store[key]
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 

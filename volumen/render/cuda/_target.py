@@ -15,7 +15,8 @@ has the same LLVM intrinsics on the CPU).
 Numba's CUDA simulator runs a kernel's Python code in Python threads and
 hands it its arrays wrapped in fake device arrays, which a CPU dispatcher
 cannot take: :func:`device_function` then returns a wrapper that unwraps
-them and calls the dispatcher (compiled for the CPU, same source). The
+them and calls the dispatcher (compiled for the CPU, same source; with
+``NUMBA_DISABLE_JIT=1``, as the suite runs it, the Python function itself). The
 simulator thus checks everything the CUDA path adds -- grids, thread-to-pixel
 maps, uploads, device caches, the per-ray sweep -- and the kernels' CUDA
 compilation is checked by compiling them to PTX where a CUDA compiler exists

@@ -101,13 +101,14 @@ def piece(name: str, params: str, doc: str = ""):
     ``params`` names the arguments after the tag (comma-separated: the arity is
     fixed, so Numba can inline the chosen implementation into its caller).
     ``@f.register(TagA, TagB)`` above an ``@njit`` function registers it for
-    those tags; the implementation gets the arguments after the tag.
+    those tags; the implementation gets the arguments after the tag. Called
+    from Python (``NUMBA_DISABLE_JIT=1``) it calls the same implementation.
     """
     impls: dict[type, object] = {}
     args = ", ".join(p.strip() for p in params.split(",") if p.strip())
     sep = ", " if args else ""
     ns: dict = {"impls": impls, "inline_only": inline_only}
-    exec(f"def stub(tag{sep}{args}):\n    raise NotImplementedError('called from compiled code only')\n"
+    exec(f"def stub(tag{sep}{args}):\n    return impls[type(tag)]({args})\n"
          f"def choose(tag{sep}{args}):\n    fn = impls[tag.instance_class]\n"
          f"    def impl(tag{sep}{args}):\n        return fn({args})\n    return inline_only(impl)\n", ns)
     stub = ns["stub"]

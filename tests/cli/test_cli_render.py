@@ -144,3 +144,12 @@ def test_render_a_colour_dicom_shows_its_colours(tmp_path):
     assert drawn.mean() > 0.3
     print(f"coloured share of the drawn pixels: {(spread[drawn] > 60).mean():.2f}")
     assert (spread[drawn] > 60).mean() > 0.2, "the picture is grey"  # 0.27 measured; grey: 0
+
+
+def test_device_auto_says_which_device_it_took_and_why(tmp_path, capsys):
+    """``--device auto`` names the device ``choose_device`` picks here and its reason, in one line."""
+    from volumen.render import choose_device
+
+    chosen, why = choose_device("auto", "raycast")
+    assert main(["render", "phantom:sphere", "-o", str(tmp_path / "a.png"), "--size", "24x24", "--device", "auto"]) == 0
+    assert f"device auto: {chosen} ({why})" in capsys.readouterr().out.splitlines()

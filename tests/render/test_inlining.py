@@ -109,7 +109,7 @@ def _shape_problems() -> list[str]:
 def test_the_numba_internals_the_patches_replace_still_have_the_shape_they_expect():
     """Not only that the four patched internals exist: their signatures, the local the block copier reads from
     its caller's frame, the flag the typing-only patch flips, the locator list the cache walks. A Numba release
-    that reshapes one fails here, saying which and what it costs, instead of silently compiling 2-5x slower or
+    that reshapes one fails here, saying which and what it costs, instead of silently compiling 1.5-3x slower or
     keeping a stale cache."""
     problems = _shape_problems()
     assert not problems, (f"Numba {numba.__version__} changed internals volumen patches (NUMBA_TESTED "
@@ -125,7 +125,7 @@ def test_each_patch_names_the_upstream_report_it_works_around_and_what_lets_it_g
     assert len(patches) == 3
     for text in patches:
         assert re.search(r"Upstream: [\w-]+/[\w-]+#\d+", text) and "goes when" in text, text
-    assert re.search(r"upstream: numba/numba#\d+", _stamp.__doc__)
+    assert re.search(r"upstream: numba/numba#\d+", _stamp.__doc__) and "goes when" in _stamp.__doc__
 
 def test_a_reshaped_internal_is_named_in_the_failure(monkeypatch):
     from numba.core import dispatcher

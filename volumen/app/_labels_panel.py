@@ -65,8 +65,8 @@ class LabelsPanel(QWidget):
 
     def open(self, path) -> None:
         """Read ``path`` onto the current scan's grid and list its structures (errors go to the window)."""
-        from volumen import load_labels
         from volumen.errors import VolumenError
+        from volumen.io import load_labels
 
         if self.state.volume is None:
             return

@@ -10,8 +10,9 @@ first); the cache locators below then give each registered file the stamp of its
 modification times and sizes of every file in it, so editing any of them recompiles the group.
 
 This puts two locators at the front of ``numba.core.caching.CacheImpl._locator_classes`` (a private list,
-the fourth patch of Numba's internals, guarded by :mod:`._guard`; upstream: numba/numba#6845, "cache
-invalidation does not consider dependencies", open). Unlike the inliner's patches it does not stand down
+the fourth patch of Numba's internals, guarded by :mod:`._guard`; upstream: numba/numba#1833, "Caching
+issue: functions in different modules", open; it goes when Numba's cache keys a kernel on the files of the
+functions it calls, which numba/numba#8396 is hoped to do). Unlike the inliner's patches it does not stand down
 outside the tested Numba range, because without it a cache could be stale (wrong); it steps aside only when
 Numba lacks the list or the locator methods it extends, and then says so once.
 """

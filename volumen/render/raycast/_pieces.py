@@ -18,8 +18,10 @@ unchanged by it (``_bspline``).
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
+from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
 from ._inlining import inline_only
@@ -93,6 +95,14 @@ MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrat
 LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "headlight": Headlight, "shadows": Shadowed, "scatter": Scatter}
 #: Sampling.interpolation -> reconstruction tag class
 RECON_TAGS = {"linear": Trilinear, "nearest": Trilinear, "bspline": BSpline}
+
+
+# Numba's SSA pass, after inlining a piece whose implementation is inlined twice in one kernel, finds a
+# variable of the inlined copy outside its scope and prints a "pedantic check" warning of a dozen lines
+# per kernel on a user's first picture: numba/numba#9489 (open; Python 3.11). Harmless: the compiled
+# kernels draw the pixels of their source run as Python (tests/render/test_cuda_sim.py). Only the pieces' own
+# variables (``choose`` below) are silenced; goes when Numba fixes the scope of inlined variables.
+warnings.filterwarnings("ignore", message=r"variable 'choose__locals__impl", category=NumbaIRAssumptionWarning)
 
 
 def piece(name: str, params: str, doc: str = ""):

@@ -153,3 +153,13 @@ def test_device_auto_says_which_device_it_took_and_why(tmp_path, capsys):
     chosen, why = choose_device("auto", "raycast")
     assert main(["render", "phantom:sphere", "-o", str(tmp_path / "a.png"), "--size", "24x24", "--device", "auto"]) == 0
     assert f"device auto: {chosen} ({why})" in capsys.readouterr().out.splitlines()
+
+
+def test_lit_shading_without_lights_warns_only_when_nothing_but_the_ambient_term_lights_it(tmp_path, capsys):
+    """With no --light the default environment's studio rig lights the picture (no warning); a uniform
+    environment leaves only the ambient term, which the warning says."""
+    argv = ["render", "phantom:sphere", "-o", str(tmp_path / "a.png"), "--size", "24x24", "--shading", "phong"]
+    assert main(argv) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert main([*argv, "--environment", "uniform"]) == 0
+    assert "only the ambient term lights the picture" in capsys.readouterr().err

@@ -337,9 +337,10 @@ def run(args):
     if layer is not None:
         scene = scene.with_(labels=layer)
     t0 = time.perf_counter()
-    if scene.shading.mode in ("phong", "shadows", "scattering", "pathtrace") and not scene.lights:
+    lit_by_ambient_only = not scene.lights and scene.environment.kind == "uniform"  # auto: the studio rig lights it
+    if scene.shading.mode in ("phong", "shadows", "scattering", "pathtrace") and lit_by_ambient_only:
         print(f"warning: shading {scene.shading.mode!r} without --light: only the ambient term lights the picture "
-              "(add --light 'pos=X,Y,Z dir=...' or use --shading headlight)", file=sys.stderr)
+              "(add --light 'pos=X,Y,Z dir=...', use --environment studio or --shading headlight)", file=sys.stderr)
     device, technique = technique_from_args(args, base)
     out_dir = Path(args.out).resolve().parent
     if not out_dir.is_dir():

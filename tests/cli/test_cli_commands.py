@@ -101,3 +101,35 @@ def test_convert_to_unwritable_format_is_an_error(tmp_path, capsys):
     volumen.save(_volume(), tmp_path / "v.npz")
     assert main(["convert", str(tmp_path / "v.npz"), str(tmp_path / "v.vtk")]) == 1
     assert "cannot write" in capsys.readouterr().err
+
+
+def test_drawing_commands_say_once_that_they_compile(monkeypatch):
+    """The first compilation of one of volumen's kernels in a process writes one line (Numba's ``numba:compile``
+    event: not on a cache load); other packages' compilations and later ones write nothing. Every drawing
+    sub-command installs it."""
+    import io
+
+    from numba import njit
+    from numba.core import event
+
+    from volumen.cli import COMMANDS, COMPILING
+    from volumen.jit import announce
+    from volumen.jit._notice import MESSAGE
+
+    assert COMPILING <= set(COMMANDS) and {"render", "fly", "mesh", "demo"} <= COMPILING
+
+    def add_one(x):
+        return x + 1
+
+    stream = io.StringIO()
+    notice = announce(stream)
+    try:
+        njit(lambda x: x * 2)(3)  # not volumen's: nothing
+        assert stream.getvalue() == ""
+        add_one.__module__ = "volumen.kernel_of_this_test"  # as a kernel of the package: once
+        kernel = njit(add_one)
+        kernel(1)
+        kernel(2.5)
+    finally:
+        event.unregister("numba:compile", notice)
+    assert stream.getvalue().splitlines() == [MESSAGE + " ..."]

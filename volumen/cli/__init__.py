@@ -30,6 +30,8 @@ COMMANDS = {
     "bench": "_bench",
     "demo": "_demo",
 }
+#: sub-commands that draw, so may compile kernels on first use: they say so when they do (volumen.jit.announce)
+COMPILING = {"render", "fly", "cpr", "mesh", "batch", "demo"}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -55,6 +57,10 @@ def main(argv: list[str] | None = None) -> int:
 
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else list(argv)))
+    if args.command in COMPILING:
+        from volumen.jit import announce
+
+        announce()
     try:
         result = args._run(args)
     except VolumenError as exc:

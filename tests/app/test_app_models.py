@@ -166,3 +166,37 @@ def test_session_keeps_device_and_technique_and_reads_old_backend_names(tmp_path
     old["app"] = dict(d["app"], technique="mesh-gouraud")
     apply_session(again, old, head64)
     assert (again.device, again.technique) == ("gl", Technique("mesh", shading="gouraud"))
+
+
+def test_a_picture_finishing_after_stop_is_dropped_not_emitted(qtbot, monkeypatch):
+    """A first picture compiles for longer than ``stop`` waits; when it finishes, its window (and the worker)
+    may be gone. It used to emit into the deleted worker: "Signal source has been deleted" in the render
+    thread. Now nothing is emitted after ``stop`` and the thread ends quietly."""
+    import threading
+
+    import shiboken6
+
+    from volumen.app import _worker
+
+    started, release, errors = threading.Event(), threading.Event(), []
+
+    def slow_picture(job, fraction, final=True):
+        started.set()
+        release.wait(5)
+        return "frame"
+
+    monkeypatch.setattr(_worker, "render_frame", slow_picture)
+    monkeypatch.setattr(_worker.RenderWorker, "_probe_raster", lambda self: None)
+    monkeypatch.setattr(threading, "excepthook", lambda args: errors.append(args.exc_value))
+    worker = _worker.RenderWorker()
+    got = []
+    worker.frame_ready.connect(got.append)
+    worker.start()
+    worker.submit(None, interactive=True)
+    assert started.wait(5)
+    worker.stop(timeout=0.01)  # the picture outlives the wait
+    thread = worker._thread
+    shiboken6.delete(worker)  # the window closed: Qt deleted its worker
+    release.set()
+    thread.join(5)
+    assert not thread.is_alive() and errors == [] and got == []

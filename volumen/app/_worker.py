@@ -73,7 +73,9 @@ class RenderWorker(QObject):
             return self._pending is None and not self._busy
 
     def stop(self, timeout: float = 10.0) -> None:
-        """End the thread (after the picture in progress)."""
+        """End the thread (after the picture in progress). A picture still in progress after ``timeout`` (a
+        first picture compiling its kernels) finishes unseen: nothing is emitted after ``stop``, when the
+        window that owns this worker may be gone."""
         with self._cond:
             self._stop = True
             self._pending = None
@@ -81,6 +83,18 @@ class RenderWorker(QObject):
         self._thread.join(timeout)
 
     # -- worker thread ----------------------------------------------------------
+    def _emit(self, signal, *args) -> bool:
+        """``signal.emit(*args)`` unless stopped; False when not emitted (stopped, or Qt deleted this object
+        while the picture was made: "Signal source has been deleted")."""
+        with self._cond:
+            if self._stop:
+                return False
+        try:
+            signal.emit(*args)
+        except RuntimeError:
+            return False
+        return True
+
     def _has_pending(self) -> bool:
         with self._cond:
             return self._pending is not None or self._stop
@@ -95,9 +109,10 @@ class RenderWorker(QObject):
 
         try:
             renderer = on_gl_thread(probe)
-            self.raster_status.emit(True, renderer)
         except Exception as exc:  # noqa: BLE001 - any failure means: no OpenGL here
-            self.raster_status.emit(False, f"OpenGL is not available: {type(exc).__name__}: {exc}")
+            self._emit(self.raster_status, False, f"OpenGL is not available: {type(exc).__name__}: {exc}")
+        else:
+            self._emit(self.raster_status, True, renderer)
 
     def _loop(self) -> None:
         self._probe_raster()
@@ -119,15 +134,16 @@ class RenderWorker(QObject):
                         self.fraction = 0.25
                     elif dt < 0.3 * self.budget and self.fraction < 0.5:
                         self.fraction = 0.5
-                    self.frame_ready.emit(frame)
+                    self._emit(self.frame_ready, frame)
                 else:
                     for frame in progressive_frames(job, cancelled=self._has_pending):
-                        self.frame_ready.emit(frame)
+                        if not self._emit(self.frame_ready, frame):
+                            break
             except Exception as exc:  # noqa: BLE001 - reported to the interface, never kills the thread
                 msg = f"{type(exc).__name__}: {exc}"
                 if not isinstance(exc, (ValueError, RuntimeError)):
                     msg += "\n" + traceback.format_exc(limit=4)
-                self.failed.emit(job.token, msg)
+                self._emit(self.failed, job.token, msg)
             finally:
                 with self._cond:
                     self._busy = False

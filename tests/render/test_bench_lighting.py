@@ -1,0 +1,30 @@
+"""The real-CT rows of ``volumen bench lighting``: the zoom at which the scan fills the picture (geometry only;
+the rows themselves are timed by the benchmark, never in tests)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from volumen.bench._lighting import filling_zoom
+from volumen.core import Camera, Volume
+
+
+@pytest.mark.parametrize(("shape", "spacing", "size"), [
+    ((34, 393, 157), (1.5, 0.88, 0.88), (782, 415)),  # the VMTK aorta's slab: its height limits
+    ((300, 512, 512), (1.0, 0.7, 0.7), (782, 415)),   # a whole CT
+    ((40, 30, 200), (1.0, 1.0, 1.0), (200, 400)),     # a wide box in a tall picture: its width limits
+])
+def test_the_filling_zoom_puts_the_box_edge_to_edge_on_one_axis(shape, spacing, size):
+    """Orthographic, where the zoom is exact: the box's extent along the camera's right and up axes fits in the
+    picture (half height ``parallel_scale``, half width that times the aspect) and meets it on one of them."""
+    vol = Volume(np.zeros(shape, np.int16), spacing=spacing)
+    zoom = filling_zoom(vol, Camera.orbit(vol), size)
+    cam = Camera.orbit(vol, zoom=zoom, projection="orthographic")
+    r, u, _ = cam.basis()
+    rel = vol.corners() - np.asarray(cam.target)
+    fill_w = np.abs(rel @ r).max() / (cam.parallel_scale * size[0] / size[1])
+    fill_h = np.abs(rel @ u).max() / cam.parallel_scale
+    assert max(fill_w, fill_h) == pytest.approx(1.0, abs=1e-9) and min(fill_w, fill_h) <= 1.0 + 1e-9
+    if size[0] >= size[1]:  # a landscape picture shows the whole bounding sphere at zoom 1: the box fills more
+        assert zoom >= 1.0

@@ -16,10 +16,11 @@ from volumen.core import Camera, Volume
     ((40, 30, 200), (1.0, 1.0, 1.0), (200, 400)),     # a wide box in a tall picture: its width limits
 ])
 def test_the_filling_zoom_puts_the_box_edge_to_edge_on_one_axis(shape, spacing, size):
-    """Orthographic, where the zoom is exact: the box's extent along the camera's right and up axes fits in the
-    picture (half height ``parallel_scale``, half width that times the aspect) and meets it on one of them."""
+    """Orthographic, where the zoom is exact (no eye to keep outside): the box's extent along the camera's
+    right and up axes fits in the picture (half height ``parallel_scale``, half width that times the aspect)
+    and meets it on one of them."""
     vol = Volume(np.zeros(shape, np.int16), spacing=spacing)
-    zoom = filling_zoom(vol, Camera.orbit(vol), size)
+    zoom = filling_zoom(vol, Camera.orbit(vol, projection="orthographic"), size)
     cam = Camera.orbit(vol, zoom=zoom, projection="orthographic")
     r, u, _ = cam.basis()
     rel = vol.corners() - np.asarray(cam.target)
@@ -28,3 +29,16 @@ def test_the_filling_zoom_puts_the_box_edge_to_edge_on_one_axis(shape, spacing, 
     assert max(fill_w, fill_h) == pytest.approx(1.0, abs=1e-9) and min(fill_w, fill_h) <= 1.0 + 1e-9
     if size[0] >= size[1]:  # a landscape picture shows the whole bounding sphere at zoom 1: the box fills more
         assert zoom >= 1.0
+
+
+def test_a_perspective_eye_stays_outside_the_box():
+    """The VMTK aorta's slab is 345 mm deep seen from the front and 51 mm tall: filling the picture's height
+    would put the eye inside it. The zoom stops with the eye 5 % beyond the box's depth."""
+    vol = Volume(np.zeros((34, 393, 157), np.int16), spacing=(1.5, 0.88, 0.88))
+    cam = Camera.orbit(vol, zoom=filling_zoom(vol, Camera.orbit(vol), (782, 415)))
+    _, _, f = cam.basis()
+    depth = np.abs((vol.corners() - np.asarray(cam.target)) @ f).max()
+    assert cam.distance == pytest.approx(1.05 * depth, rel=1e-9)
+    whole = Volume(np.zeros((300, 512, 512), np.int16), spacing=(1.0, 0.7, 0.7))  # a whole CT: the picture limits
+    cam = Camera.orbit(whole, zoom=filling_zoom(whole, Camera.orbit(whole), (782, 415)))
+    assert cam.distance > 1.5 * np.abs((whole.corners() - np.asarray(cam.target)) @ cam.basis()[2]).max()

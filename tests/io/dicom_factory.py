@@ -85,7 +85,7 @@ def _base(sop_class: str, sop_uid: str, series_uid: str, modality: str, patient:
     ds.Modality = modality
     ds.Manufacturer = "volumen-tests"
     ds.StudyDate = "20240102"
-    for key, value in (patient or {"PatientName": "Anonymous", "PatientID": "0"}).items():
+    for key, value in (patient or {"PatientName": "Anonymous^", "PatientID": "0"}).items():
         setattr(ds, key, value)
     return ds
 

@@ -218,10 +218,10 @@ def filling_zoom(volume, camera, size) -> float:
     r, u, f = camera.basis()
     rel = volume.corners() - np.asarray(camera.target)
     half_w, half_h, half_d = (np.abs(rel @ axis).max() for axis in (r, u, f))
-    radius = volume.diagonal / 2
+    radius = camera.parallel_scale  # orbit's sphere radius at zoom 1 (both projections); zoom divides it
     zoom = min(radius / half_h, radius * size[0] / size[1] / half_w)
-    if camera.projection == "perspective":  # Camera.orbit's distance is radius / sin(fov / 2) / zoom
-        zoom = min(zoom, radius / np.sin(np.radians(camera.fov) / 2) / (1.05 * half_d))
+    if camera.projection == "perspective":  # and the eye's distance
+        zoom = min(zoom, camera.distance / (1.05 * half_d))
     return float(zoom)
 
 

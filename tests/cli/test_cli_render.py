@@ -21,7 +21,7 @@ def test_saved_settings_reproduce_the_picture_bit_for_bit(tmp_path):
     settings = tmp_path / "s.json"
     argv = ["render", "phantom:sphere", "-o", str(first), "--size", "40x32", "--preset", "ct-bone",
             "--azimuth", "30", "--elevation", "15", "--spv", "1.5", "--light", "pos=100,100,100 exp=4 dir=-1,-1,-1",
-            "--clip-plane", "point=0,0,0 normal=0,0,1", "--save-settings", str(settings)]
+            "--clip-plane", "point=0,0,0 normal=0,0,1", "--adaptive", "--save-settings", str(settings)]
     assert main(argv) == 0
     assert main(["render", "--settings", str(settings), "-o", str(again)]) == 0
     a, b = _png(first), _png(again)
@@ -31,6 +31,7 @@ def test_saved_settings_reproduce_the_picture_bit_for_bit(tmp_path):
     saved = json.loads(settings.read_text())
     assert saved["scene"]["shading"]["mode"] == "phong" and len(saved["scene"]["lights"]) == 1
     assert saved["scene"]["clipping"]["planes"][0]["normal"] == [0.0, 0.0, 1.0]
+    assert saved["scene"]["sampling"]["adaptive"] is True
     assert saved["orbit"] == {"azimuth": 30.0, "elevation": 15.0}
 
 

@@ -7,7 +7,9 @@ most rays); the MRI template from ``volumen.data.sample`` where installed, as it
 at half its size. Per CT the notes give the share of the picture's rays that cross the body and soft
 tissue (:func:`._datasets.ray_shares`).
 Cases: composite ct-bone headlight, composite ct-skin-bone headlight (translucent), composite ct-bone
-unshaded, plus mip and isosurface.
+unshaded, plus mip and isosurface; the three composite cases again with adaptive sampling
+(``Sampling.adaptive``: sampling "adaptive"), whose rows also give the mean |RGB diff| from the full-rate
+picture.
 
 Timing: VTK's ``vtkFixedPointVolumeRayCastMapper`` renders the same scene
 (volume, camera, transfer-function points, sample distance, image size) with
@@ -28,6 +30,7 @@ import resource
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -39,13 +42,16 @@ from ._vtk import VtkScene, vtk_available
 __all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "AORTA_OFFSET", "aorta_path", "load_dataset", "peak_memory"]
 
 IMAGES = {"512x512": (512, 512)}
-#: (mode, shading, preset)
+#: (mode, shading, preset, sampling: "full" or "adaptive")
 CASES = [
-    ("composite", "headlight", "ct-bone"),
-    ("composite", "headlight", "ct-skin-bone"),
-    ("composite", "none", "ct-bone"),
-    ("mip", "none", None),
-    ("isosurface", "headlight", None),
+    ("composite", "headlight", "ct-bone", "full"),
+    ("composite", "headlight", "ct-skin-bone", "full"),
+    ("composite", "none", "ct-bone", "full"),
+    ("mip", "none", None, "full"),
+    ("isosurface", "headlight", None, "full"),
+    ("composite", "headlight", "ct-bone", "adaptive"),
+    ("composite", "headlight", "ct-skin-bone", "adaptive"),
+    ("composite", "none", "ct-bone", "adaptive"),
 ]
 #: data set name -> (kind, (nx, ny, nz) or None)
 DATASETS = {f"{kind}-{s}": (kind, tuple(int(n) for n in s.split("x")))
@@ -59,7 +65,7 @@ QUICK = {"datasets": {"aorta-96x80x88": ("aorta", (96, 80, 88)), "abdomen-61x51x
          "images": {"128x128": (128, 128)}, "memory_datasets": {}}
 
 
-def _scene(volume, mode, shading, preset, offset, spv):
+def _scene(volume, mode, shading, preset, offset, spv, adaptive=False):
     from volumen.core import Isosurface, Sampling, Scene, Shading, TransferFunction
     from volumen.render import default_transfer
 
@@ -69,7 +75,7 @@ def _scene(volume, mode, shading, preset, offset, spv):
         tf = default_transfer(volume, "composite" if mode == "composite" else mode)
     iso = 300.0 + (offset or 0.0) if offset is not None else float(np.percentile(volume.data[::4, ::4, ::4], 90))
     return Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading),
-                 sampling=Sampling(samples_per_voxel=spv), isosurface=Isosurface(value=iso))
+                 sampling=Sampling(samples_per_voxel=spv, adaptive=adaptive), isosurface=Isosurface(value=iso))
 
 
 def _alternate(ours, theirs, rounds: int) -> tuple[float, float]:
@@ -161,6 +167,10 @@ def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
         row.update(vtk_ms=float(np.median(b)) * 1e3, ratio_vtk=ours_s / float(np.median(b)),
                    ratio_lo=float(each.min()), ratio_hi=float(each.max()),
                    diff_vtk=float(np.mean(np.abs(np.clip(image.rgba[..., :3], 0, 1) - theirs))))
+    if scene.sampling.adaptive:
+        full = render(replace(scene, sampling=replace(scene.sampling, adaptive=False)), camera, size, device=backend)
+        shown, ref = (np.clip(im.rgba[..., :3], 0, 1) for im in (image, full))
+        row["diff_full"] = float(np.mean(np.abs(shown - ref)))
     return row
 
 
@@ -169,12 +179,12 @@ def _summary(table) -> None:
     by_case: dict = {}
     for r in table.rows:
         if "ratio_vtk" in r and r.get("kind") in CT_KINDS:
-            key = (r["image"], r["mode"], r["shading"], r["preset"])
+            key = (r["image"], r["mode"], r["shading"], r["preset"], r["sampling"])
             by_case.setdefault(key, []).append((r["ratio_vtk"], r["data"]))
-    for (image, mode, shading, preset), got in by_case.items():
+    for (image, mode, shading, preset, sampling), got in by_case.items():
         ratios = sorted(got)
         median = float(np.median([x for x, _ in ratios]))
-        table.notes.append(f"{image} {mode} {shading} {preset}: ours/VTK over {len(ratios)} CTs lowest "
+        table.notes.append(f"{image} {mode} {shading} {preset} {sampling}: ours/VTK over {len(ratios)} CTs lowest "
                            f"{ratios[0][0]:.2f} ({ratios[0][1]}), median {median:.2f}, highest {ratios[-1][0]:.2f} "
                            f"({ratios[-1][1]})")
 
@@ -219,9 +229,11 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
     use_vtk = with_vtk and vtk_available()
     table = Table(f"volumen bench render ({device} ray casting vs VTK fixed-point, {threads} threads each)", [
         ("data", "data", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
-        ("preset", "preset", "s"), ("ms", "ms/frame", ".1f"), ("msamples_s", "Msamples/s", ".0f"),
+        ("preset", "preset", "s"), ("sampling", "sampling", "s"), ("ms", "ms/frame", ".1f"),
+        ("msamples_s", "Msamples/s", ".0f"),
         ("vtk_ms", "VTK ms", ".1f"), ("ratio_vtk", "ours/VTK", ".2f"), ("ratio_lo", "rounds' lowest", ".2f"),
         ("ratio_hi", "highest", ".2f"), ("diff_vtk", "mean |diff| vs VTK", ".4f"),
+        ("diff_full", "mean |diff| vs full rate", ".4f"),
     ])
     table.notes.append(f"samples per voxel {spv}; medians of {rounds} alternating rounds (ours, VTK) after a "
                        f"warm-up; load average at start {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
@@ -242,13 +254,13 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
                                    f"{100 * shares['soft']:.0f}% soft tissue ({SOFT_TISSUE_HU[0]:.0f}.."
                                    f"{SOFT_TISSUE_HU[1]:.0f} HU)")
                 progress("  " + table.notes[-1])
-            for mode, shading, preset in cases:
-                scene = _scene(vol, mode, shading, preset, offset, spv)
+            for mode, shading, preset, sampling in cases:
+                scene = _scene(vol, mode, shading, preset, offset, spv, adaptive=sampling == "adaptive")
                 shown = (preset if offset is not None else "data default") if preset else "-"
-                label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=shown)
+                label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=shown, sampling=sampling)
                 row = _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label)
                 row.update(kind=kind, **{f"rays_{k}": v for k, v in shares.items()})
-                progress(f"  {iname} {mode}/{shading}/{shown}: {row['ms']:.1f} ms"
+                progress(f"  {iname} {mode}/{shading}/{shown}/{sampling}: {row['ms']:.1f} ms"
                          + (f", VTK {row['vtk_ms']:.1f} ms, ratio {row['ratio_vtk']:.2f}" if "vtk_ms" in row else ""))
     _summary(table)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

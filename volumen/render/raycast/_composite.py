@@ -80,10 +80,11 @@ def _init(light, r, a, s):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _post(light, r, a, s, st, k, t, c):
-    """Composite the classified sample ``c`` taken at ``t`` (sample ``k``): ``(state, 0, done)``."""
-    if k == 0 or k == r.n - 1:  # the end samples stand for less than a step
-        seg = (r.t1 if k == r.n - 1 else t + 0.5 * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
+def _post(light, r, a, s, st, k, t, c, span):
+    """Composite the classified sample ``c`` taken at ``t`` (sample ``k``, standing for ``span`` grid steps from
+    it: more than 1 only where adaptive sampling merges steps, ``_march``): ``(state, 0, done)``."""
+    if k == 0 or k + span >= r.n or span > 1:  # the end samples stand for less than a step, merged ones for more
+        seg = (r.t1 if k + span >= r.n else t + (span - 0.5) * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
         c = _corrected(c, seg, s.ds)
     if c[3] > 0.0:
         c = lit(light, r, a, s, t, c, s.gradop)
@@ -93,17 +94,17 @@ def _post(light, r, a, s, st, k, t, c):
 
 @step.register(Composite)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_post(light, r, a, s, st, k, t, v, have):
+def _step_post(light, r, a, s, st, k, t, v, have, span):
     idx = np.uintp(v + 0.5)  # v >= 0: the table spans the volume's whole range; unsigned: no wraparound code
     al = a.lut[idx, 3]
-    return _post(light, r, a, s, st, k, t, (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al))
+    return _post(light, r, a, s, st, k, t, (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al), span)
 
 
 @step.register(LabelledComposite)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_labelled(light, r, a, s, st, k, t, v, have):
+def _step_labelled(light, r, a, s, st, k, t, v, have, span):
     c = classify_sample(a, s, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, np.uintp(v + 0.5))
-    return _post(light, r, a, s, st, k, t, c)
+    return _post(light, r, a, s, st, k, t, c, span)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -116,7 +117,7 @@ def _lookup_pre(pre, vf, vb, scale):
 
 @step.register(Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_pre(light, r, a, s, st, k, t, v, have):
+def _step_pre(light, r, a, s, st, k, t, v, have, span):
     vp, tp = st[5], st[6]
     extra = 0
     if k == 0:

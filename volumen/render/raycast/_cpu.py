@@ -88,6 +88,6 @@ def render_part(scene, camera, size: tuple[int, int], whole, carry: np.ndarray, 
     w, h = f.size
     arrays = f.arrays._replace(whole=np.asarray(whole, np.float64), carry=np.asarray(carry, np.float32))
     traced = None if tiles is None else np.asarray(tiles, np.int64)  # indices, never read as a rectangle
-    out, counts, kernel = _draw(f, frame_tiles(w, h, traced), arrays, f.settings._replace(part=True))
+    out, counts, kernel = _draw(f, frame_tiles(w, h, traced), arrays, f.settings._replace(part=True, stride=1))
     timings = dict(f.timings, kernel=kernel, total=time.perf_counter() - t_start)
     return frame_image(scene, f, out, timings, {"backend": "cpu"}, counts)

@@ -52,6 +52,7 @@ class Arrays(NamedTuple):
     bflag: np.ndarray   #: skip distance per block (uint8, Chebyshev radius in blocks)
     bmin: np.ndarray    #: block minima (normalized units)
     bmax: np.ndarray    #: block maxima
+    bcoarse: np.ndarray  #: per block 1 where adaptive sampling merges steps (``_tables.coarse_blocks``); (1, 1, 1) off
     lights: np.ndarray  #: packed lights (n, NLCOL) (``_shade``)
     lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
     lvd: np.ndarray     #: illumination-volume buffer (float32)
@@ -103,6 +104,7 @@ class Settings(NamedTuple):
     seed: int = 0            #: jitter / path-tracing seed
     skip: bool = False       #: empty-space skipping
     block: int = 4           #: block size of the skipping grids (voxels)
+    stride: int = 1          #: adaptive sampling: most grid steps one sample stands for in ``Arrays.bcoarse`` blocks
     gradop: bool = False     #: gradient-magnitude opacity modulation
     sobel: bool = False      #: normals from the 3x3x3 Sobel operator instead of central differences
     nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)

@@ -78,7 +78,7 @@ def _init(light, r, a, s):
 
 @step.register(Isosurface)
 @njit(cache=True, fastmath=True, inline="always")
-def _step(light, r, a, s, st, k, t, v, have):
+def _step(light, r, a, s, st, k, t, v, have, span):
     side = st[3]
     if not _beyond(v, s.iso, side):
         return (FAR, v, t, side), 0, False

@@ -68,13 +68,20 @@ def _jump(mode, r, a, s, st, k, t, prev_skip):
     bk = min(max(int(z * inv_b), 0), gz - 1)
     rad = radius(mode, a, st, bk, bj, bi)
     if not (prev_skip or eager(mode)) and rad > 0:
-        return k, False, True, t
+        return k, False, True, t, False
     r1 = max(rad, 1)
     dt = min(_box_exit(x, r.di, bi, r1, b), _box_exit(y, r.dj, bj, r1, b), _box_exit(z, r.dk, bk, r1, b))
     if rad <= 0:
-        return k, False, False, t + dt
+        return k, False, False, t + dt, s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
     kn = int(math.ceil((t + dt - r.t0) / s.ds - r.jit))
-    return max(kn, k + 1), True, True, t
+    return max(kn, k + 1), True, True, t, False
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _span(r, s, k, t, t_check):
+    """Grid steps sample ``k`` (at ``t``) stands for in a coarse block: at most ``s.stride``, every one of them
+    before the block's far side ``t_check`` and on the ray."""
+    return max(min(s.stride, int(math.ceil((t_check - t) / s.ds)), r.k1 - k), 1)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -133,20 +140,21 @@ def trace_pixel(px, py, a, s, out, mode, light):
         return
     _clear(out, px, py)
     st, taken, done, have = init(mode, light, r, a, s)
-    prev_skip = False
+    prev_skip = coarse = False
     t_check = r.t0 - 1.0
     k = r.k0
     while k < r.k1 and not done:
         t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
         if s.skip and t >= t_check:
-            k, jumped, prev_skip, t_check = _jump(mode, r, a, s, st, k, t, prev_skip)
+            k, jumped, prev_skip, t_check, coarse = _jump(mode, r, a, s, st, k, t, prev_skip)
             if jumped:
                 have = False
                 continue
-        st, extra, done = step(mode, light, r, a, s, st, k, t, sample_at(r, a, s, t), have)
+        span = _span(r, s, k, t, t_check) if coarse else 1
+        st, extra, done = step(mode, light, r, a, s, st, k, t, sample_at(r, a, s, t), have, span)
         taken += 1 + extra
-        have = True
-        k += 1
+        have = span == 1
+        k += span
     finish(mode, light, r, a, s, st, taken, have, out, px, py)
     _settle(out, px, py)
 

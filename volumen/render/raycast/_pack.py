@@ -26,8 +26,11 @@ from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
 from ._tables import (
+    ADAPTIVE_ALPHA,
+    ADAPTIVE_STRIDE,
     NPRE,
     block_visibility,
+    coarse_blocks,
     color_table,
     extinction_table,
     gradient_table,
@@ -105,6 +108,21 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     return True, bflag, bmin, bmax
 
 
+def _coarse_table(scene, prep, lut, lab):
+    """``Arrays.bcoarse``: the blocks adaptive sampling takes longer steps in (post-classified composite without
+    labels, with skipping), else a (1, 1, 1) zero placeholder."""
+    smp = scene.sampling
+    if not (smp.adaptive and smp.skip_empty and scene.mode == "composite" and lab is None and not smp.preintegrate):
+        return _NO_COARSE
+    bmin, bmax = prep.blocks(smp.block_size)
+    return prep.memo(("coarse", smp.block_size, (lut[:, 3] >= ADAPTIVE_ALPHA).tobytes()),
+                     lambda: coarse_blocks(lut[:, 3], bmin, bmax))
+
+
+#: the placeholder of a frame without adaptive sampling
+_NO_COARSE = np.zeros((1, 1, 1), np.uint8)
+
+
 def _color_table(prep, tf, ratio):
     """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (the frames, and
     the volumes with the same range, share it: nothing writes into it)."""
@@ -131,6 +149,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
     lab = _labels(scene, ratio * kext)
     skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso, lab)
+    bcoarse = _coarse_table(scene, prep, lut, lab)
     if sh.mode not in LIT_SHADINGS or model == "unlit":
         sig = np.zeros(1, np.float32)
     elif mode == "isosurface":  # the drawn surface casts the shadows
@@ -139,7 +158,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
         sig = extinction_table(tf, prep.vmin, prep.vmax)
     lab, llut = lab if lab is not None else (_NO_LAB, _NO_LLUT)
     return dict(lut=lut, pre=pre, nrm=nrm, ncode=ncode, gcode=gcode, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax,
-                sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab, llut=llut)
+                bcoarse=bcoarse, sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab, llut=llut)
 
 
 #: the label arrays of a scene without labels: one object, so a device keeps it between frames (PER_VOLUME)
@@ -221,7 +240,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", recon=RECON_TAGS[smp.interpolation](), jitter=bool(smp.jitter),
         lattice=smp.lattice, seed=int(smp.seed),
-        skip=t["skip"],
+        skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"].size > 1 else 1,
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
@@ -258,7 +277,7 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     ncode=t["ncode"], gcode=t["gcode"], ndir=DIRS,
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
-                    lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
+                    bcoarse=t["bcoarse"], lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
                     lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY,
                     env=env[0], envbasis=env[1], envcdf=env[2], envsh=env[3], maj=NO_MAJ)
     mode = "preintegrated" if t["preint"] else "labelled" if st.nlab > 0 else scene.mode

@@ -142,7 +142,8 @@ def piece(name: str, params: str, doc: str = ""):
 # the pieces of the marching skeleton (``_march``), implemented per mode tag in ``_composite``,
 # ``_project`` and ``_iso``, and the lighting piece, implemented per light tag in ``_shade``
 init = piece("init", "light, r, a, s", "-> (state, samples taken, done, previous sample usable)")
-step = piece("step", "light, r, a, s, st, k, t, v, have", "-> (state, extra samples taken, done)")
+step = piece("step", "light, r, a, s, st, k, t, v, have, span",
+             "-> (state, extra samples taken, done); span: grid steps the sample stands for (adaptive sampling)")
 finish = piece("finish", "light, r, a, s, st, taken, have, out, px, py", "write the pixel")
 radius = piece("radius", "a, st, bk, bj, bi", "-> skip radius in blocks (0: take the sample)")
 eager = piece("eager", "", "-> True when one skippable block suffices to jump")

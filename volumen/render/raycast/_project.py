@@ -37,19 +37,19 @@ def _init_average(light, r, a, s):
 
 @step.register(Mip)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_mip(light, r, a, s, st, k, t, v, have):
+def _step_mip(light, r, a, s, st, k, t, v, have, span):
     return ((v, t) if v > st[0] else st), 0, False
 
 
 @step.register(Minip)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_minip(light, r, a, s, st, k, t, v, have):
+def _step_minip(light, r, a, s, st, k, t, v, have, span):
     return ((v, t) if v < st[0] else st), 0, False
 
 
 @step.register(Average)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_average(light, r, a, s, st, k, t, v, have):
+def _step_average(light, r, a, s, st, k, t, v, have, span):
     return (st[0] + v, st[1] + 1.0), 0, False
 
 

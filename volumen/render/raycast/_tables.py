@@ -26,7 +26,7 @@ from ..optics import correct_opacity, optical_depth
 from ._precompute import NLUT
 
 __all__ = ["NPRE", "color_table", "extinction_table", "preintegrated_table", "block_visibility", "iso_visibility",
-           "skip_distance", "gradient_table"]
+           "skip_distance", "gradient_table", "coarse_blocks", "ADAPTIVE_ALPHA", "ADAPTIVE_STRIDE"]
 
 #: side of the pre-integrated table
 NPRE = 512
@@ -136,6 +136,22 @@ def gradient_table(tf, gmax: float) -> np.ndarray:
     """``(128,)`` float32: opacity factor of magnitude code ``c`` (``|g| = gmax * (c / 127) ** 2``)."""
     codes = np.arange(128, dtype=np.float64)
     return tf.gradient_factor(gmax * (codes / 127.0) ** 2).astype(np.float32)
+
+
+#: adaptive sampling (``Sampling.adaptive``): a block is sampled coarsely where every value in its range classifies
+#: below this opacity per step ...
+ADAPTIVE_ALPHA = 0.1
+#: ... with one sample standing for up to this many steps
+ADAPTIVE_STRIDE = 4
+
+
+def coarse_blocks(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
+    """uint8 flags per block: 1 if every table entry in ``[floor(bmin), ceil(bmax)]`` has alpha below
+    :data:`ADAPTIVE_ALPHA` (nearly transparent throughout: adaptive sampling takes longer steps there)."""
+    prefix = np.concatenate([[0], np.cumsum(lut_alpha >= ADAPTIVE_ALPHA)])
+    lo = np.clip(np.floor(bmin).astype(np.int64), 0, NLUT - 1)
+    hi = np.clip(np.ceil(bmax).astype(np.int64), 0, NLUT - 1)
+    return ((prefix[hi + 1] - prefix[lo]) == 0).astype(np.uint8)
 
 
 def skip_distance(flags: np.ndarray) -> np.ndarray:

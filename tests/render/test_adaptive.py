@@ -1,0 +1,100 @@
+"""Adaptive sampling (``Sampling.adaptive``, issue 27 item 2): longer steps where every value of a block classifies
+nearly transparent, opacity-corrected; full rate wherever a block holds anything more opaque."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from render_helpers import axis_camera
+
+import volumen
+from volumen.core import Camera, Sampling, Scene, Shading, TransferFunction, Volume
+from volumen.data import phantom
+from volumen.render import render
+from volumen.render.raycast._tables import ADAPTIVE_ALPHA, ADAPTIVE_STRIDE, coarse_blocks
+
+A0 = 0.05  # opacity per voxel of the slab: below ADAPTIVE_ALPHA, so the whole slab is sampled coarsely
+COLOR = (1.0, 0.5, 0.25)
+
+
+def _pair(scene, camera, size):
+    """The full-rate and the adaptive picture of ``scene``."""
+    adaptive = scene.with_(sampling=replace(scene.sampling, adaptive=True))
+    return render(scene, camera, size), render(adaptive, camera, size)
+
+
+def test_coarse_blocks_are_those_whose_whole_range_is_nearly_transparent():
+    alpha = np.zeros(4096, np.float32)
+    alpha[1000:2000] = np.linspace(0.0, 2 * ADAPTIVE_ALPHA, 1000)  # reaches ADAPTIVE_ALPHA at entry 1500
+    cross = 1500
+    bmin = np.array([0.0, 500.0, 1200.0, 1200.0, 2500.0]).reshape(1, 1, 5)
+    bmax = np.array([10.0, 900.0, cross - 2.0, cross + 5.0, 4000.0]).reshape(1, 1, 5)
+    assert coarse_blocks(alpha, bmin, bmax).ravel().tolist() == [1, 1, 1, 0, 1]
+
+
+def test_a_translucent_slab_keeps_beer_lambert_with_a_quarter_of_the_samples():
+    """A homogeneous slab of opacity 0.05 per voxel seen along z: the total opacity is still the analytic
+    ``1 - exp(-sigma L)`` within 1 %, with at most half the full-rate samples (measured 43 %: one sample per 1-4
+    steps, as no sample stands for a step beyond its block's far side)."""
+    vol = Volume(np.full((30, 12, 10), 100.0, np.float32), spacing=(1.5, 1.5, 1.5))
+    cam, size = axis_camera(vol, "superior")
+    tf = TransferFunction(color=((0, *COLOR), (200, *COLOR)), opacity=((0, A0), (200, A0)))
+    scene = Scene(volume=vol, transfer=tf, shading=Shading(mode="none"), sampling=Sampling(jitter=False))
+    full, adaptive = _pair(scene, cam, size)
+    expected = 1 - np.exp(np.log(1 - A0) / 1.5 * 29 * 1.5)
+    np.testing.assert_allclose(adaptive.rgba[..., 3], expected, rtol=0.01)
+    np.testing.assert_allclose(adaptive.rgba[..., :3], np.asarray(COLOR) * adaptive.rgba[..., 3:], rtol=1e-5)
+    print(f"samples: full {full.stats['samples']}, adaptive {adaptive.stats['samples']} (stride {ADAPTIVE_STRIDE})")
+    assert adaptive.stats["samples"] <= 0.5 * full.stats["samples"]
+
+
+def test_a_thin_opaque_layer_inside_translucent_tissue_is_sampled_at_full_rate():
+    """A one-voxel opaque plane in a translucent slab: the blocks that hold it are sampled at full rate, so the
+    plane is drawn as at full rate (max |diff| < 0.02) although most of the ray is sampled coarsely."""
+    data = np.full((40, 16, 16), 100.0, np.float32)
+    data[23] = 1000.0
+    vol = Volume(data)
+    cam, size = axis_camera(vol, "superior")
+    tf = TransferFunction(color=((0, *COLOR), (1000, 1.0, 1.0, 1.0)), opacity=((0, 0.01), (200, 0.01), (1000, 0.9)))
+    scene = Scene(volume=vol, transfer=tf, shading=Shading(mode="none"), sampling=Sampling(jitter=False))
+    full, adaptive = _pair(scene, cam, size)
+    assert full.rgba[..., 3].min() > 0.9  # the plane is drawn
+    assert np.abs(full.rgba - adaptive.rgba).max() < 0.02
+    assert adaptive.stats["samples"] < 0.75 * full.stats["samples"]
+
+
+@pytest.mark.parametrize("preset", ["ct-skin-bone", "ct-bone"])
+def test_a_whole_abdomen_ct_is_drawn_within_the_bar_with_fewer_samples(preset, output_dir):
+    """The whole-abdomen phantom (HU, soft tissue in most rays), a CT preset, the default headlight, jitter and
+    early termination: mean |RGB diff| from the full-rate picture <= 0.005 (issue 27's bar where adaptive
+    sampling is on; measured 0.0005 / 0.0004 here, 0.0009 at 244x202x224), the same coverage, at least 15 % fewer
+    samples (measured 20 % / 37 % here, 39 % / 44 % at 244x202x224)."""
+    vol = phantom("abdomen", size=(112, 101, 122))
+    scene = Scene(volume=vol, transfer=TransferFunction.preset(preset))
+    cam = Camera.orbit(vol)
+    full, adaptive = _pair(scene, cam, (96, 96))
+    diff = np.abs(np.clip(full.rgba[..., :3], 0, 1) - np.clip(adaptive.rgba[..., :3], 0, 1)).mean()
+    saved = 1 - adaptive.stats["samples"] / full.stats["samples"]
+    print(f"{preset}: mean |diff| {diff:.5f}, samples {full.stats['samples']} -> {adaptive.stats['samples']} "
+          f"({100 * saved:.0f} % fewer)")
+    adaptive.save(output_dir / f"adaptive_{preset}.png")
+    assert diff <= 0.005
+    assert np.abs(full.rgba[..., 3] - adaptive.rgba[..., 3]).mean() <= 0.005
+    assert saved >= 0.15
+
+
+def test_bricks_drawn_out_of_core_sample_at_full_rate(tmp_path):
+    """A chunked volume's bricks follow the whole volume's sample grid one brick at a time: adaptive sampling is
+    off there, the picture identical with it asked for or not."""
+    pytest.importorskip("zarr", reason="the scale extra (zarr) is not installed")
+    rng = np.random.default_rng(0)
+    v = Volume((rng.normal(40, 30, (24, 22, 20))).astype(np.int16), spacing=(1.0, 0.9, 1.1))
+    volumen.save(v, tmp_path / "v.ome.zarr", chunks=8)
+    chunked = volumen.load(tmp_path / "v.ome.zarr")
+    tf = TransferFunction.preset("ct-skin-bone")
+    cam = Camera.orbit(v)
+    scenes = [Scene(volume=chunked, transfer=tf, sampling=Sampling(adaptive=a)) for a in (False, True)]
+    a, b = (render(s, cam, (40, 40), memory="64KB", brick=8) for s in scenes)
+    assert np.array_equal(a.rgba, b.rgba)

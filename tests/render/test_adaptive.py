@@ -13,7 +13,7 @@ import volumen
 from volumen.core import Camera, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.data import phantom
 from volumen.render import render
-from volumen.render.raycast._tables import ADAPTIVE_ALPHA, ADAPTIVE_STRIDE, coarse_blocks
+from volumen.render.raycast._tables import ADAPTIVE_ALPHA, ADAPTIVE_STRIDE, coarse_blocks, faint_blocks
 
 A0 = 0.05  # opacity per voxel of the slab: below ADAPTIVE_ALPHA, so the whole slab is sampled coarsely
 COLOR = (1.0, 0.5, 0.25)
@@ -25,13 +25,20 @@ def _pair(scene, camera, size):
     return render(scene, camera, size), render(adaptive, camera, size)
 
 
-def test_coarse_blocks_are_those_whose_whole_range_is_nearly_transparent():
+def test_coarse_blocks_are_visible_faint_blocks_with_their_distance_to_the_rest():
     alpha = np.zeros(4096, np.float32)
     alpha[1000:2000] = np.linspace(0.0, 2 * ADAPTIVE_ALPHA, 1000)  # reaches ADAPTIVE_ALPHA at entry 1500
-    cross = 1500
     bmin = np.array([0.0, 500.0, 1200.0, 1200.0, 2500.0]).reshape(1, 1, 5)
-    bmax = np.array([10.0, 900.0, cross - 2.0, cross + 5.0, 4000.0]).reshape(1, 1, 5)
-    assert coarse_blocks(alpha, bmin, bmax).ravel().tolist() == [1, 1, 1, 0, 1]
+    bmax = np.array([10.0, 900.0, 1498.0, 1505.0, 4000.0]).reshape(1, 1, 5)
+    assert faint_blocks(alpha, bmin, bmax).ravel().tolist() == [1, 1, 1, 0, 1]
+    # a 5^3 grid of faint visible blocks around one opaque block, and an empty one in a corner
+    lo, hi = np.full((5, 5, 5), 1200.0), np.full((5, 5, 5), 1400.0)
+    hi[2, 2, 2] = 1800.0
+    lo[0, 0, 0] = hi[0, 0, 0] = 10.0
+    d = coarse_blocks(alpha, lo, hi)
+    assert d[2, 2, 2] == 0 and d[0, 0, 0] == 0  # full rate there; skipping jumps the empty block
+    assert d[1, 2, 2] == d[1, 1, 1] == 1 and d[4, 4, 4] == d[0, 2, 4] == 2
+    assert d[0, 0, 1] == 1  # next to the empty block
 
 
 def test_a_translucent_slab_keeps_beer_lambert_with_a_quarter_of_the_samples():

@@ -18,12 +18,14 @@ with 3 lights at 128 steps per ray (``direct``: 32 shadow steps per light
 path) against Phong at the same steps. Frame times are medians after a
 warm-up frame (which compiles the kernels and builds the volumes).
 
-Last, a real CT (:func:`real_ct_rows`): the VMTK aorta resampled to about
-366x303x336 at 782x415 with the command line's defaults for a CT (the
+Last, CTs (:func:`real_ct_rows`): the VMTK aorta resampled to about
+366x303x336, and the whole-abdomen CT built for the purpose at that size, at 782x415
+with the command line's defaults for a CT (the
 ``ct-skin-bone`` preset, the default sample rate), Phong and shadows with
 one light and scattering with three, the camera orbiting, from the default
 view and zoomed until the scan fills the picture (the phantom is mostly
-empty space and flatters), beside the frame rates issue 27 asks for. The
+empty space and flatters), each at full rate and with adaptive sampling
+(``Sampling.adaptive``), beside the frame rates issue 27 asks for. The
 default step is the smallest voxel spacing: on the aorta's slab, resampled
 from 34 slices to 336, that is 0.15 mm, which a CT acquired at that size
 would not have; the rows say the step they ran at.
@@ -51,8 +53,9 @@ FULL = {
     "direct_max_voxels": 200 * 200 * 100,
     "scatter_volume": ("512x512x256", (256, 512, 512)),
 }
-#: the real CT's rows: size (x, y, z voxels; quick), viewport, and the frame rates asked for on 2 cores (issue 27)
-REAL_CT = {"size": (366, 303, 336), "quick_size": (46, 38, 42), "viewport": (782, 415), "quick_viewport": (98, 52),
+#: the CT rows: data set kinds, size (x, y, z voxels; quick), viewport, and the frame rates asked for on 2 cores (issue 27)
+REAL_CT = {"kinds": ("aorta", "abdomen"),
+           "size": (366, 303, 336), "quick_size": (46, 38, 42), "viewport": (782, 415), "quick_viewport": (98, 52),
            "bars": {"phong": 30.0, "shadows": 16.0, "scattering": 10.0}}
 QUICK = {
     "volumes": {"64x64x32": (32, 64, 64), "32x32x16": (16, 32, 32)},
@@ -226,32 +229,43 @@ def filling_zoom(volume, camera, size) -> float:
 
 
 def real_ct_rows(table, render, *, quick: bool = False, repeat: int = 3, progress=print) -> None:
-    """Add the real CT's rows (:data:`REAL_CT`) to ``table``; a note instead where the scan is missing."""
+    """Add the CT rows (:data:`REAL_CT`: the real aorta and the whole-abdomen CT, at full rate and with adaptive
+    sampling) to ``table``; a note instead where the aorta is missing."""
+    from ._datasets import load_dataset
+
+    shape = REAL_CT["quick_size" if quick else "size"]
+    for kind in REAL_CT["kinds"]:
+        loaded = load_dataset(kind, shape)
+        if loaded is None:
+            table.notes.append(f"{kind}: the VMTK aorta was not found (VOLUMEN_SHARED_DATA): no rows")
+            continue
+        _ct_rows(table, render, kind, loaded, REAL_CT["quick_viewport" if quick else "viewport"], repeat, progress)
+
+
+def _ct_rows(table, render, kind, loaded, size, repeat, progress) -> None:
+    """The rows of one CT: both views, the three models, full rate and adaptive."""
+    from dataclasses import replace
+
     from volumen.core import Camera, Scene, Shading, TransferFunction
 
-    from ._datasets import load_dataset, ray_shares
+    from ._datasets import ray_shares
 
-    loaded = load_dataset("aorta", REAL_CT["quick_size" if quick else "size"])
-    if loaded is None:
-        table.notes.append("real CT: the VMTK aorta was not found (VOLUMEN_SHARED_DATA): no rows")
-        return
     vol, offset = loaded
-    size = REAL_CT["quick_viewport" if quick else "viewport"]
-    name, iname = "x".join(str(n) for n in vol.shape[::-1]), f"{size[0]}x{size[1]}"
+    name, iname = f"{kind} " + "x".join(str(n) for n in vol.shape[::-1]), f"{size[0]}x{size[1]}"
     base = Scene(volume=vol, transfer=TransferFunction.preset("ct-skin-bone").shifted(offset))
     cases = (("phong", 1, Shading(mode="phong")), ("shadows", 1, Shading(mode="shadows")),
              ("scattering", 3, Shading(mode="scattering", phase_g=0.3)))
     for view, zoom in (("default view", 1.0), ("filled", filling_zoom(vol, Camera.orbit(vol), size))):
         cams = [Camera.orbit(vol, azimuth=3.0 * i, zoom=zoom) for i in range(repeat + 1)]
         body = ray_shares(vol, offset, cams[0], size).get("body", float("nan"))
-        for shading, n, sh in cases:
+        for (shading, n, sh), adaptive in ((c, a) for c in cases for a in (False, True)):
             scene = base.with_(lights=_lights(vol, n), shading=sh)
+            scene = scene.with_(sampling=replace(scene.sampling, adaptive=adaptive))
             step = render(scene, cams[0], size).stats.get("step_mm", float("nan"))  # warm-up: caches, lights
             frames = iter(cams[1:])  # a new view each frame: nothing of the last frame is reused
             ms = median_time(lambda s=scene, f=frames: render(s, next(f), size), repeat=repeat, warmup=0) * 1e3
-            bar = REAL_CT["bars"][shading]
-            table.add(sweep=f"real CT, {view} (zoom {zoom:.2f}, body on {body:.0%} of rays, step {step:.2f} mm)",
-                      volume=name,
-                      viewport=iname, distance="-", lights=n, shading=shading, ms=ms, fps=1e3 / ms,
+            bar, label = REAL_CT["bars"][shading], shading + (" adaptive" if adaptive else "")
+            table.add(sweep=f"CT, {view} (zoom {zoom:.2f}, body on {body:.0%} of rays, step {step:.2f} mm)",
+                      volume=name, viewport=iname, distance="-", lights=n, shading=label, ms=ms, fps=1e3 / ms,
                       bar_fps=f">= {bar:g}" + ("" if 1e3 / ms >= bar else " (not met)"))
-            progress(f"  real CT {name} {view}: {shading} {n} light(s): {ms:.1f} ms ({1e3 / ms:.1f} fps; bar {bar:g})")
+            progress(f"  {name} {view}: {label} {n} light(s): {ms:.1f} ms ({1e3 / ms:.1f} fps; bar {bar:g})")

@@ -58,7 +58,7 @@ class Sampling(JsonData):
         Edge in voxels of the empty-space blocks.
     adaptive : bool
         Adaptive sampling (composite mode with skipping, post-classified, no labels): in the blocks where every
-        value classifies nearly transparent (below 0.05 opacity per step), one sample stands for up to 4 steps,
+        value classifies nearly transparent (below 0.1 opacity per step), one sample stands for up to 4 steps,
         its opacity corrected to their length; full rate wherever a block holds anything more opaque. Faster
         on translucent presets (soft tissue in every ray); pictures within a mean 0.005 of full-rate sampling.
         Drawn in memory on the CPU and CUDA devices; bricks drawn out of core, and OpenGL, sample at full rate.

@@ -56,7 +56,8 @@ def _jump(mode, r, a, s, st, k, t, prev_skip):
     """Empty-space skipping at sample ``k``: ``(next k, jumped, prev_skip, t of the next check)``.
 
     A block that must be sampled is not asked again until the ray leaves it
-    (the next check is at its far side)."""
+    (the next check is at its far side; for a coarse block, at the far side of the cube of coarse blocks around it,
+    ``Arrays.bcoarse``): ``jumped`` False, the last value whether the block is coarse."""
     gz, gy, gx = a.bflag.shape
     x = r.oi + t * r.di
     y = r.oj + t * r.dj
@@ -69,10 +70,11 @@ def _jump(mode, r, a, s, st, k, t, prev_skip):
     rad = radius(mode, a, st, bk, bj, bi)
     if not (prev_skip or eager(mode)) and rad > 0:
         return k, False, True, t, False
-    r1 = max(rad, 1)
+    coarse = rad <= 0 and s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
+    r1 = max(int(a.bcoarse[bk, bj, bi]) if coarse else rad, 1)
     dt = min(_box_exit(x, r.di, bi, r1, b), _box_exit(y, r.dj, bj, r1, b), _box_exit(z, r.dk, bk, r1, b))
     if rad <= 0:
-        return k, False, False, t + dt, s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
+        return k, False, False, t + dt, coarse
     kn = int(math.ceil((t + dt - r.t0) / s.ds - r.jit))
     return max(kn, k + 1), True, True, t, False
 
@@ -80,7 +82,7 @@ def _jump(mode, r, a, s, st, k, t, prev_skip):
 @njit(cache=True, fastmath=True, inline="always")
 def _span(r, s, k, t, t_check):
     """Grid steps sample ``k`` (at ``t``) stands for in a coarse block: at most ``s.stride``, every one of them
-    before the block's far side ``t_check`` and on the ray."""
+    before the far side ``t_check`` of the cube of coarse blocks around it and on the ray."""
     return max(min(s.stride, int(math.ceil((t_check - t) / s.ds)), r.k1 - k), 1)
 
 

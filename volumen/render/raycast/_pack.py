@@ -115,8 +115,9 @@ def _coarse_table(scene, prep, lut, lab):
     if not (smp.adaptive and smp.skip_empty and scene.mode == "composite" and lab is None and not smp.preintegrate):
         return _NO_COARSE
     bmin, bmax = prep.blocks(smp.block_size)
-    return prep.memo(("coarse", smp.block_size, (lut[:, 3] >= ADAPTIVE_ALPHA).tobytes()),
-                     lambda: coarse_blocks(lut[:, 3], bmin, bmax))
+    alpha = lut[:, 3]
+    return prep.memo(("coarse", smp.block_size, (alpha >= ADAPTIVE_ALPHA).tobytes(), (alpha > 0).tobytes()),
+                     lambda: coarse_blocks(alpha, bmin, bmax))
 
 
 #: the placeholder of a frame without adaptive sampling

@@ -53,7 +53,7 @@ FULL = {
     "direct_max_voxels": 200 * 200 * 100,
     "scatter_volume": ("512x512x256", (256, 512, 512)),
 }
-#: the CT rows: data set kinds, size (x, y, z voxels; quick), viewport, and the frame rates asked for on 2 cores (issue 27)
+#: the CT rows: data set kinds, size (x, y, z voxels; quick), viewport, frame rates asked for on 2 cores (issue 27)
 REAL_CT = {"kinds": ("aorta", "abdomen"),
            "size": (366, 303, 336), "quick_size": (46, 38, 42), "viewport": (782, 415), "quick_viewport": (98, 52),
            "bars": {"phong": 30.0, "shadows": 16.0, "scattering": 10.0}}

@@ -1,8 +1,8 @@
 """The benchmarks' data sets: real scans where the machine has them, and the whole-region CTs built for speed.
 
-* ``aorta``: the VMTK aorta CTA (``vmtk-aorta/aorta.mha`` in :func:`volumen.data.shared_data`, scanner units
-  0..2570 = HU + 1000), resampled with ``scipy.ndimage.zoom`` (linear) to the asked size as int16: a cropped angiogram,
-  little soft tissue in view;
+* ``aorta``: the VMTK aorta CTA (``vmtk-aorta/aorta.mha`` in :func:`volumen.data.shared_data`, uncalibrated
+  scanner units 0..2570), resampled with ``scipy.ndimage.zoom`` (linear) to the asked size and converted to HU
+  (:data:`AORTA_HU`) as int16: a cropped angiogram;
 * ``abdomen``, ``chest``: :func:`volumen.data.phantom`'s whole-region CTs (HU), soft tissue in most rays;
 * ``mri``: the MRI template of :func:`volumen.data.sample` (``mni-brain``, 301x370x316 uint8 at 0.5 mm) where
   installed, as it is or resampled;
@@ -19,14 +19,21 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["aorta_path", "resampled", "upsampled_aorta", "load_dataset", "ray_shares", "CT_KINDS", "SOFT_TISSUE_HU"]
+__all__ = ["aorta_path", "resampled", "upsampled_aorta", "hu_aorta", "load_dataset", "ray_shares", "CT_KINDS",
+           "SOFT_TISSUE_HU", "AORTA_OFFSET", "AORTA_HU"]
 
 #: the data set kinds that are CTs (their ratios are the bars), as opposed to the MRI and the old phantoms
 CT_KINDS = ("aorta", "abdomen", "chest")
 #: Hounsfield range of soft tissue (fat, muscle, organs, blood): low but non-zero opacity in translucent presets
 SOFT_TISSUE_HU = (-200.0, 200.0)
-#: the aorta scan's units are HU + this
+#: the shift of the CT presets on the aorta scan's own units where a picture keeps them (the path-tracing bench,
+#: the reference pictures): it puts the contrast-filled lumen (1600-2200) in the presets' vessel and bone range
 AORTA_OFFSET = 1000.0
+#: the aorta scan's units against Hounsfield units, ``value = zero + per_hu * HU``: its README gives soft tissue
+#: at 200-300 and the contrast-filled lumen at 1600-2200, which a CT angiogram shows at about 50 and 400 HU.
+#: Below about 0 HU the scan holds 0 (fat and air read as water). With the presets shifted by +1000 instead, soft
+#: tissue classified as skin (-750 HU): an opaque, speckled picture that a real CT does not give.
+AORTA_HU = {"zero": 15.0, "per_hu": 4.7}
 
 
 def aorta_path() -> Path | None:
@@ -63,6 +70,16 @@ def upsampled_aorta(size_xyz):
     return resampled(load(aorta_path()), size_xyz, np.int16, modality="CT", units="HU+1000")
 
 
+def hu_aorta(size_xyz):
+    """:func:`upsampled_aorta` in Hounsfield units (:data:`AORTA_HU`), int16."""
+    from volumen.core import Volume
+
+    raw = upsampled_aorta(size_xyz)
+    hu = (raw.data.astype(np.float32) - AORTA_HU["zero"]) / AORTA_HU["per_hu"]
+    return Volume(np.rint(hu).astype(np.int16), spacing=raw.spacing, affine=raw.affine, modality="CT", units="HU",
+                  name=raw.name)
+
+
 def load_dataset(kind: str, shape):
     """``(Volume, HU offset)`` of a data set (offset None where the values are not HU-based); None where its
     source is missing. ``shape``: (nx, ny, nz) voxels (None: the MRI template as installed)."""
@@ -83,7 +100,7 @@ def load_dataset(kind: str, shape):
         raise ValueError(f"unknown data set kind {kind!r}")
     if aorta_path() is None:
         return None
-    return upsampled_aorta(shape), AORTA_OFFSET
+    return hu_aorta(shape), 0.0
 
 
 def ray_shares(volume, offset, camera, size) -> dict:

@@ -1,6 +1,6 @@
 """``volumen bench pathtrace``: the path tracer's error against a reference, denoised and raw, and its speed.
 
-Cases: VMTK's aorta (``aorta.mha`` where it is found; the CT presets shifted by +1000, as ``bench render``) and the
+Cases: VMTK's aorta (``aorta.mha`` where it is found, in its own units; the CT presets shifted by +1000) and the
 head phantom, each with the cinematic preset and the studio rig (no lights given: the default scene of
 ``volumen render --shading pathtrace``). For each, one progressive path tracer accumulates
 ``REFERENCE`` samples per pixel in other random streams (two halves, seeds 1 and 2: half their difference estimates
@@ -42,15 +42,14 @@ def _cases(quick: bool):
     from volumen.core import Camera, Scene, Shading, TransferFunction
     from volumen.data import phantom
 
-    from ._render import AORTA_OFFSET, load_dataset
+    from ._datasets import AORTA_OFFSET, aorta_path, upsampled_aorta
 
     out = {}
     head = phantom("head", size=(40, 48, 48) if quick else (96, 112, 112))
     out["head phantom, ct-cinematic-bone"] = (Scene(volume=head, transfer=TransferFunction.preset(
         "ct-cinematic-bone"), shading=Shading(mode="pathtrace")), Camera.orbit(head, azimuth=-30, elevation=15))
-    got = load_dataset("aorta", (96, 80, 88) if quick else (157, 393, 34))
-    if got is not None:
-        vol, _ = got
+    if aorta_path() is not None:
+        vol = upsampled_aorta((96, 80, 88) if quick else (157, 393, 34))
         tf = TransferFunction.preset("ct-cinematic-vessels").shifted(AORTA_OFFSET)
         out["VMTK aorta, ct-cinematic-vessels"] = (Scene(volume=vol, transfer=tf, shading=Shading(mode="pathtrace")),
                                                   Camera.orbit(vol, view="left", zoom=1.6))
@@ -102,12 +101,11 @@ def _speed(shape, size, progress):
     from volumen.core import Camera, Scene, Shading, TransferFunction
     from volumen.render import PathTracer
 
-    from ._render import AORTA_OFFSET, load_dataset
+    from ._datasets import AORTA_OFFSET, aorta_path, upsampled_aorta
 
-    got = load_dataset("aorta", shape)
-    if got is None:
+    if aorta_path() is None:
         return None
-    vol, _ = got
+    vol = upsampled_aorta(shape)
     scene = Scene(volume=vol, transfer=TransferFunction.preset("ct-cinematic-vessels").shifted(AORTA_OFFSET),
                   shading=Shading(mode="pathtrace"))
     pt = PathTracer(scene, Camera.orbit(vol), size)

@@ -1,8 +1,8 @@
 """``volumen bench render``: ray casting on real scans and whole-region CTs, against VTK in the same process.
 
 Data sets (:mod:`._datasets`), each CT at two sizes, 244x202x224 and 366x303x336 int16: the VMTK aorta
-CTA (a cropped angiogram; its transfer functions are the CT presets shifted by +1000, the scan's offset
-from Hounsfield units), and the whole-abdomen and whole-chest CTs built for the purpose (soft tissue in
+CTA (a cropped angiogram, its scanner units converted to Hounsfield units: ``_datasets.AORTA_HU``), and the
+whole-abdomen and whole-chest CTs built for the purpose (soft tissue in
 most rays); the MRI template from ``volumen.data.sample`` where installed, as it is (301x370x316 uint8) and
 at half its size. Per CT the notes give the share of the picture's rays that cross the body and soft
 tissue (:func:`._datasets.ray_shares`).
@@ -35,11 +35,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ._datasets import AORTA_OFFSET, CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
+from ._datasets import CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
 from ._table import Table, resolve_device
 from ._vtk import VtkScene, vtk_available
 
-__all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "AORTA_OFFSET", "aorta_path", "load_dataset", "peak_memory"]
+__all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "load_dataset", "peak_memory"]
 
 IMAGES = {"512x512": (512, 512)}
 #: (mode, shading, preset, sampling: "full" or "adaptive")

@@ -63,8 +63,8 @@ def resampled(src, size_xyz, dtype=None, **labels):
 
 
 def upsampled_aorta(size_xyz):
-    """The aorta scan resampled (linear) to ``size_xyz`` voxels (x, y, z), rounded to int16: a Volume (units
-    HU + 1000)."""
+    """The aorta scan resampled (linear) to ``size_xyz`` voxels (x, y, z), rounded to int16, in its own units: a
+    Volume labelled HU + 1000, the shift the CT presets take on it (:data:`AORTA_OFFSET`; in HU: :func:`hu_aorta`)."""
     from volumen.io import load
 
     return resampled(load(aorta_path()), size_xyz, np.int16, modality="CT", units="HU+1000")

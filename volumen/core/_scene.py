@@ -95,6 +95,7 @@ class Sampling(JsonData):
             raise ValueError(f"block_size must be an integer in [2, 64], got {self.block_size!r}")
         object.__setattr__(self, "block_size", int(self.block_size))
         object.__setattr__(self, "seed", int(self.seed))
+        object.__setattr__(self, "adaptive", bool(self.adaptive))
         object.__setattr__(self, "jitter", bool(self.jitter))
         object.__setattr__(self, "skip_empty", bool(self.skip_empty))
         object.__setattr__(self, "preintegrate", bool(self.preintegrate))

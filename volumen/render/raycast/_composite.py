@@ -4,6 +4,9 @@
 Post-classified samples each stand for the part of ``[t0, t1]`` nearer to
 them than to their neighbours (``ds`` inside, less at the ends), opacity
 corrected to that length, so a ray's total length is exact whatever the step.
+With adaptive sampling (``_march``) a sample in a coarse block stands for ``span`` steps from half a step before
+it, corrected alike; the depth there is the merged sample's own, up to ``span - 1`` steps nearer than at full
+rate (in tissue that classifies below 0.1 opacity a step).
 Pre-integrated: sample ``k`` closes the segment ``[t_{k-1}, t_k]`` (from
 ``t0`` for k = 0); :func:`_finish_pre` adds the last segment, to ``t1``.
 Depth = where the accumulated opacity first reaches 0.5 (``DEPTH_OPACITY``),

@@ -52,7 +52,7 @@ class Arrays(NamedTuple):
     bflag: np.ndarray   #: skip distance per block (uint8, Chebyshev radius in blocks)
     bmin: np.ndarray    #: block minima (normalized units)
     bmax: np.ndarray    #: block maxima
-    bcoarse: np.ndarray  #: per block 1 where adaptive sampling merges steps (``_tables.coarse_blocks``); (1, 1, 1) off
+    bcoarse: np.ndarray  #: adaptive sampling: distance to a non-coarse block (``_tables.coarse_blocks``); (1, 1, 1) off
     lights: np.ndarray  #: packed lights (n, NLCOL) (``_shade``)
     lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
     lvd: np.ndarray     #: illumination-volume buffer (float32)

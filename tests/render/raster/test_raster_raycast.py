@@ -200,16 +200,18 @@ def test_every_frame_field_reaches_the_shader():
                  "lsolid": "label maps (not on gl)",
                  "lattice": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "part": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
-                 "env_power": "path tracing (not on gl)", "mblock": "path tracing (not on gl)"}
+                 "env_power": "path tracing (not on gl)", "mblock": "path tracing (not on gl)",
+                 "stride": "adaptive sampling (cpu and cuda; gl samples at full rate)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm",
-              "envsh": "u_envsh"}
+              "envsh": "u_envsh", "nrm": "u_nmat"}
     not_on_gl = {"lab", "llut",  # label maps: DeviceLimitError on gl
                  "ncode", "gcode", "ndir",  # normal codes: the shader computes normals from the volume (u_nmat)
                  "whole", "carry",  # bricks: cpu only
-                 "env", "envbasis", "envcdf", "maj"}  # the path tracer's environment map and majorant grid
+                 "env", "envbasis", "envcdf", "maj",  # the path tracer's environment map and majorant grid
+                 "bcoarse"}  # adaptive sampling: cpu and cuda
     missing += [f for f in Arrays._fields
-                if f not in FrameTextures.FIELDS and packed.get(f, "?") not in src and f not in not_on_gl]
+                if f not in FrameTextures.FIELDS and not (f in packed and packed[f] in src) and f not in not_on_gl]
     assert not missing, missing
 
 

@@ -115,12 +115,17 @@ def preintegrated_table(tf, vmin: float, vmax: float, ratio: float) -> np.ndarra
     return out
 
 
-def block_visibility(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
-    """uint8 flags per block: 1 if any table entry in ``[floor(bmin), ceil(bmax)]`` has alpha > 0."""
-    prefix = np.concatenate([[0], np.cumsum(lut_alpha > 0)])
+def _entries_in_range(marked: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
+    """Per block, how many ``marked`` table entries lie in ``[floor(bmin), ceil(bmax)]`` (a prefix sum)."""
+    prefix = np.concatenate([[0], np.cumsum(marked)])
     lo = np.clip(np.floor(bmin).astype(np.int64), 0, NLUT - 1)
     hi = np.clip(np.ceil(bmax).astype(np.int64), 0, NLUT - 1)
-    return ((prefix[hi + 1] - prefix[lo]) > 0).astype(np.uint8)
+    return prefix[hi + 1] - prefix[lo]
+
+
+def block_visibility(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
+    """uint8 flags per block: 1 if any table entry in ``[floor(bmin), ceil(bmax)]`` has alpha > 0."""
+    return (_entries_in_range(lut_alpha > 0, bmin, bmax) > 0).astype(np.uint8)
 
 
 def iso_visibility(u_iso: float, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
@@ -148,25 +153,17 @@ ADAPTIVE_STRIDE = 4
 def faint_blocks(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
     """uint8 flags per block: 1 if every table entry in ``[floor(bmin), ceil(bmax)]`` has alpha below
     :data:`ADAPTIVE_ALPHA` (nearly transparent throughout, or empty)."""
-    prefix = np.concatenate([[0], np.cumsum(lut_alpha >= ADAPTIVE_ALPHA)])
-    lo = np.clip(np.floor(bmin).astype(np.int64), 0, NLUT - 1)
-    hi = np.clip(np.ceil(bmax).astype(np.int64), 0, NLUT - 1)
-    return ((prefix[hi + 1] - prefix[lo]) == 0).astype(np.uint8)
+    return (_entries_in_range(lut_alpha >= ADAPTIVE_ALPHA, bmin, bmax) == 0).astype(np.uint8)
 
 
 def coarse_blocks(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
     """uint8 per block: 0 where adaptive sampling keeps the full rate (the block holds a value at or above
     :data:`ADAPTIVE_ALPHA`, or nothing visible: skipping jumps over it); in a block that is visible and faint
     throughout (:func:`faint_blocks`), the Chebyshev distance in blocks to the nearest block that is not (capped
-    at 255): the cube of blocks within that distance less one is faint and visible, one span of coarse steps."""
-    from scipy import ndimage
-
+    at 255): the cube of blocks within that distance less one is faint and visible, one span of coarse steps.
+    That is :func:`skip_distance` of the blocks that are not coarse."""
     coarse = (faint_blocks(lut_alpha, bmin, bmax) > 0) & (block_visibility(lut_alpha, bmin, bmax) > 0)
-    if not coarse.any():
-        return np.zeros(coarse.shape, np.uint8)
-    if coarse.all():
-        return np.full(coarse.shape, 255, np.uint8)
-    return np.clip(ndimage.distance_transform_cdt(coarse, metric="chessboard"), 0, 255).astype(np.uint8)
+    return skip_distance((~coarse).astype(np.uint8))
 
 
 def skip_distance(flags: np.ndarray) -> np.ndarray:

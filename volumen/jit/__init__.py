@@ -3,6 +3,7 @@
 * :func:`run_parts`, :func:`run_claiming`, :func:`claim`, :func:`fetch_add`: the one thread driver of every
   compiled pass (ray casting, marching cubes, per-volume precomputation);
 * :func:`stamp_sources`: Numba's on-disk cache keyed on every source a kernel is compiled from;
+* :mod:`._savelock`: one process at a time writes a cache index (installed on import);
 * :data:`NUMBA_TESTED`, :func:`patches_allowed`: the fence around the patches to Numba's internals;
 * :func:`announce`: one line when a command starts compiling (the command line's, for its drawing commands).
 
@@ -11,8 +12,11 @@ Importing this package imports Numba; ``import volumen`` does not import it.
 
 from ._guard import ENV, NUMBA_TESTED, in_tested_range, numba_version, patches_allowed
 from ._notice import announce
+from ._savelock import install as _lock_cache_saves
 from ._stamp import stamp_sources, stamped_with
 from ._threads import claim, fetch_add, run_claiming, run_parts
+
+_lock_cache_saves()
 
 __all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "stamp_sources", "stamped_with", "NUMBA_TESTED",
            "ENV", "numba_version", "in_tested_range", "patches_allowed", "announce"]

@@ -12,6 +12,13 @@ HEAD_REF = "phantom:head?size=64"
 VIEW = 160  # 3D view side, px
 
 
+@pytest.fixture(autouse=True)
+def no_background_compile(monkeypatch):
+    """The windows of these tests compile nothing in the background (``volumen.app._warmup``; its own test turns
+    it back on): a child process per window would cost the suite seconds each."""
+    monkeypatch.setenv("VOLUMEN_WARM", "0")
+
+
 @pytest.fixture(scope="session")
 def head64():
     from volumen.data import phantom

@@ -10,7 +10,8 @@ picture is being made replaces any older one still waiting.
   half the size, or a quarter when half took longer than
   :attr:`RenderWorker.budget` seconds -- and upscaled (``final`` False);
 * otherwise the full picture (:func:`~volumen.app._frame.progressive_frames`;
-  path tracing refines while idle and stops as soon as a new request comes).
+  path tracing refines while idle and stops as soon as a new request comes); after the first one of a kind of
+  volume, the other modes' kernels compile in a background process (:class:`~volumen.app._warmup.Warmup`).
 
 OpenGL techniques (texture slicing, meshes) run on the process's one OpenGL
 thread (``_frame.on_gl_thread``); the worker probes once whether they are
@@ -26,6 +27,7 @@ import traceback
 from PySide6.QtCore import QObject, Signal
 
 from ._frame import FrameJob, progressive_frames, render_frame
+from ._warmup import Warmup
 
 __all__ = ["RenderWorker"]
 
@@ -53,6 +55,7 @@ class RenderWorker(QObject):
         self._stop = False
         self._busy = False
         self._thread = threading.Thread(target=self._loop, name="volumen-render", daemon=True)
+        self.warmup = Warmup()
 
     def start(self) -> None:
         """Start the thread: call it once the signals are connected (its first act, the OpenGL probe, emits
@@ -80,6 +83,7 @@ class RenderWorker(QObject):
             self._stop = True
             self._pending = None
             self._cond.notify()
+        self.warmup.stop()
         self._thread.join(timeout)
 
     # -- worker thread ----------------------------------------------------------
@@ -139,6 +143,8 @@ class RenderWorker(QObject):
                     for frame in progressive_frames(job, cancelled=self._has_pending):
                         if not self._emit(self.frame_ready, frame):
                             break
+                    else:
+                        self.warmup.after(job)
             except Exception as exc:  # noqa: BLE001 - reported to the interface, never kills the thread
                 msg = f"{type(exc).__name__}: {exc}"
                 if not isinstance(exc, (ValueError, RuntimeError)):

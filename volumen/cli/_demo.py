@@ -57,19 +57,18 @@ def gallery_entries(name: str, volume) -> list[tuple[str, dict, str]]:
     return entries
 
 
-def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path:
-    """Render :func:`gallery_entries` for each phantom into ``out``; write ``index.html``; return its path."""
+ORBIT = {"view": "anterior", "azimuth": -25, "elevation": 10, "zoom": 1.5}
+
+
+def gallery_scenes(phantoms: dict):
+    """``(phantom name, file stem, caption, scene, camera)`` of every gallery picture."""
     from dataclasses import replace
 
     from volumen.core import Camera, Clipping, Isosurface, Light, Scene, Shading, TransferFunction
-    from volumen.render import Technique, default_transfer, render
+    from volumen.render import default_transfer
 
-    from ._render import SETTINGS_VERSION
-
-    out.mkdir(parents=True, exist_ok=True)
-    cards = []
     for name, volume in phantoms.items():
-        camera = Camera.orbit(volume, view="anterior", azimuth=-25, elevation=10, zoom=1.5)
+        camera = Camera.orbit(volume, **ORBIT)
         for stem, s, caption in gallery_entries(name, volume):
             mode = s["mode"]
             tf = TransferFunction.preset(s["preset"]) if "preset" in s else default_transfer(volume, mode)
@@ -83,18 +82,29 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
                 crop = (nx * 0.25, nx * 0.75, ny * 0.25, ny * 0.75, 0, nz - 1)
                 scene = replace(scene, clipping=Clipping(crop=crop),
                                 transfer=TransferFunction.window_level(1100.0, -450.0, opacity=(1.0, 1.0)))
-            t0 = time.perf_counter()
-            image = render(scene, camera, (size, size))
-            ms = (time.perf_counter() - t0) * 1e3
-            png = out / f"{name}_{stem}.png"
-            image.save(png)
-            orbit = {"view": "anterior", "azimuth": -25, "elevation": 10, "zoom": 1.5}
-            settings = {"version": SETTINGS_VERSION, "scene": scene.to_dict(), "camera": camera.to_dict(),
-                        "size": [size, size], "background": [0, 0, 0], "orbit": orbit, "load": {},
-                        "device": image.stats["renderer"]["device"], "technique": Technique().to_dict()}
-            png.with_suffix(".json").write_text(json.dumps(settings, indent=2))
-            cards.append((name, png.name, caption, ms, png.with_suffix(".json").name))
-            progress(f"  {png.name}: {ms:.0f} ms")
+            yield name, stem, caption, scene, camera
+
+
+def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path:
+    """Render :func:`gallery_scenes` into ``out``; write ``index.html``; return its path."""
+    from volumen.render import Technique, render
+
+    from ._render import SETTINGS_VERSION
+
+    out.mkdir(parents=True, exist_ok=True)
+    cards = []
+    for name, stem, caption, scene, camera in gallery_scenes(phantoms):
+        t0 = time.perf_counter()
+        image = render(scene, camera, (size, size))
+        ms = (time.perf_counter() - t0) * 1e3
+        png = out / f"{name}_{stem}.png"
+        image.save(png)
+        settings = {"version": SETTINGS_VERSION, "scene": scene.to_dict(), "camera": camera.to_dict(),
+                    "size": [size, size], "background": [0, 0, 0], "orbit": dict(ORBIT), "load": {},
+                    "device": image.stats["renderer"]["device"], "technique": Technique().to_dict()}
+        png.with_suffix(".json").write_text(json.dumps(settings, indent=2))
+        cards.append((name, png.name, caption, ms, png.with_suffix(".json").name))
+        progress(f"  {png.name}: {ms:.0f} ms")
     body = "\n".join(
         f'<figure><img src="{html.escape(f)}" width="{size}" height="{size}" alt="{html.escape(c)}">'
         f"<figcaption><b>{html.escape(n)}</b>: {html.escape(c)}<br><small>{ms:.0f} ms on the CPU; "
@@ -108,6 +118,21 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
         "<h1>volumen: built-in phantoms, anterior-left view</h1><p>Each picture reproduces with "
         "<code>volumen render --settings NAME.json -o NAME.png</code>.</p>" + body + "</body></html>")
     return index
+
+
+def warm_gallery(phantoms: dict, progress=print) -> dict:
+    """Compile (or load from the cache) the gallery's kernels in one process per core (``volumen.render.warm``)."""
+    import os
+
+    from volumen.render import warm
+
+    jobs = [(scene, camera) for _, _, _, scene, camera in gallery_scenes(phantoms)]
+    t0 = time.perf_counter()
+    progress(f"compiling the gallery's kernels for this machine in {os.cpu_count()} processes (loaded from the "
+             "cache after the first run)...")
+    done = warm(jobs, progress=progress)
+    progress(f"kernels ready in {time.perf_counter() - t0:.1f} s")
+    return done
 
 
 def run(args):
@@ -125,7 +150,8 @@ def run(args):
         written += write_montages(vol, out / "slices", name, window=window)
         written += write_montages(vol, out / "slices", f"{name}_bone", window="bone")[:1]
     print(f"wrote {len(written)} slice pictures into {(out / 'slices').resolve()}")
-    print("rendering the gallery (the first picture compiles the kernels, or loads them from the cache)...")
+    warm_gallery(phantoms)
+    print("rendering the gallery...")
     index = render_gallery(out / "gallery", phantoms, args.size)
     print(f"gallery: {index.resolve()}")
     return 0

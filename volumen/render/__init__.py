@@ -8,7 +8,7 @@ a :class:`Technique` holds a name with its options and round-trips through JSON.
 accumulates path-traced samples progressively (``.step(n)``); ``render_reduced`` draws at a fraction of
 the size and upscales (any device and technique: what a view shows while the user drags). The Numba
 kernels are imported (and compiled, or loaded from Numba's cache) on first use; OpenGL on the first
-rasterized picture.
+rasterized picture. ``warm(jobs)`` compiles the kernels of several pictures side by side in child processes.
 """
 
 from ._api import clear_cache, default_transfer, render, render_volume
@@ -22,10 +22,11 @@ from ._techniques import (
     option_choices,
     resolve_device,
 )
+from ._warm import warm
 
 __all__ = ["render", "render_volume", "render_reduced", "reduced_size", "upscale", "default_transfer", "clear_cache",
            "DEVICES", "TECHNIQUES", "Technique", "option_choices", "resolve_device", "choose_device", "legacy_backend",
-           "PathTracer"]
+           "PathTracer", "warm"]
 
 
 def __getattr__(name):

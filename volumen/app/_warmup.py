@@ -1,0 +1,78 @@
+"""The app's background warm-up: after the first picture of a volume, the other modes' kernels compile aside.
+
+Each ray-casting mode and shading model has its own kernel, compiled on its first use (8-20 s each; docs/design.md
+section 9): without this, the 3-D view waits that long the first time the user picks shadows. After the first
+finished CPU ray-cast picture of a kind of volume (its sample type; colour or not), :class:`Warmup` compiles the
+kernels of every other mode and shading model (:data:`VARIANTS`) with ``volumen.render.warm`` in one child
+process at low priority (niceness :data:`NICE`), which yields the cores to the pictures being drawn; picking one
+of them later loads it from Numba's disk cache. Closing the window stops the child. Set ``VOLUMEN_WARM=0`` to
+turn it off (it then compiles on first use, as before).
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from dataclasses import replace
+
+from ..core import is_chunked
+from ..render import resolve_device
+
+__all__ = ["Warmup", "VARIANTS", "NICE", "ENV", "variants"]
+
+#: (mode, shading model) of every kernel warmed
+VARIANTS = (("composite", "none"), ("composite", "headlight"), ("composite", "phong"), ("composite", "shadows"),
+            ("composite", "scattering"), ("isosurface", "headlight"), ("isosurface", "shadows"), ("mip", "none"),
+            ("minip", "none"), ("average", "none"))
+#: added niceness of the child that compiles
+NICE = 10
+#: environment variable: ``0`` turns the warm-up off
+ENV = "VOLUMEN_WARM"
+
+
+def variants(job) -> list:
+    """``(scene, camera)`` of each of :data:`VARIANTS` but the job's own, on the job's volume (no label map)."""
+    scene = replace(job.scene, labels=None)
+    own = (scene.mode, scene.shading.mode)
+    return [(replace(scene, mode=m, shading=replace(scene.shading, mode=s)), job.camera)
+            for m, s in VARIANTS if (m, s) != own]
+
+
+class Warmup:
+    """Warms the other kernels once per kind of volume, one warm-up at a time (see the module docstring)."""
+
+    def __init__(self):
+        self._cancel = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._kinds: set = set()
+        self.finished: dict = {}
+
+    def after(self, job) -> bool:
+        """Called after a finished picture of ``job``: start warming when it is the first CPU ray-cast picture of
+        its kind of volume; whether it started."""
+        vol = job.scene.volume
+        if (os.environ.get(ENV, "1").strip() == "0" or job.technique.name != "raycast"
+                or resolve_device(job.device, "raycast") != "cpu" or vol is None or is_chunked(vol.data)):
+            return False
+        kind = (str(vol.dtype), vol.is_color)
+        if kind in self._kinds or self.running or self._cancel.is_set():
+            return False
+        self._kinds.add(kind)
+        self._thread = threading.Thread(target=self._run, args=(variants(job),), name="volumen-warmup", daemon=True)
+        self._thread.start()
+        return True
+
+    def _run(self, jobs) -> None:
+        from ..render import warm
+
+        self.finished.update(warm(jobs, workers=1, nice=NICE, cancel=self._cancel))
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None and self._thread.is_alive()
+
+    def stop(self, timeout: float = 5.0) -> None:
+        """Stop the child (a kernel half compiled is not cached) and wait for the thread."""
+        self._cancel.set()
+        if self._thread is not None:
+            self._thread.join(timeout)

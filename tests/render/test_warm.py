@@ -10,7 +10,7 @@ from pathlib import Path
 
 from numba.core import event
 
-from volumen.core import Camera, Scene, Shading, TransferFunction
+from volumen.core import Camera, Clipping, Scene, Shading, TransferFunction
 from volumen.data import phantom
 from volumen.render import render
 from volumen.render._warm import WARM_EDGE, kernel_key, warm_scene
@@ -42,6 +42,17 @@ def test_the_cropped_scene_compiles_nothing_the_scene_did_not():
     with event.install_listener("numba:compile", seen):
         render(small, cam, (16, 16))
     assert not [m for m in seen.modules if m.startswith("volumen.")]
+
+
+def test_a_voxel_crop_box_moves_with_the_crop():
+    vol = phantom("head", size=(64, 60, 56))  # (z, y, x) = (56, 60, 64): centred 48-voxel ranges start at 4, 6, 8
+    nz, ny, nx = vol.shape
+    scene = Scene(volume=vol, clipping=Clipping(crop=(10.0, 30.0, 0.0, ny - 1.0, 20.0, 40.0)))
+    small = warm_scene(scene)
+    x0, y0, z0 = ((n - WARM_EDGE) // 2 for n in (nx, ny, nz))
+    assert small.clipping.crop == (10.0 - x0, 30.0 - x0, 0.0, WARM_EDGE - 1.0, 20.0 - z0, 40.0 - z0)
+    assert small.volume.meta == {}
+    assert kernel_key(small) == kernel_key(scene)
 
 
 _COLD = textwrap.dedent('''

@@ -122,14 +122,13 @@ def render_gallery(out: Path, phantoms: dict, size: int, progress=print) -> Path
 
 def warm_gallery(phantoms: dict, progress=print) -> dict:
     """Compile (or load from the cache) the gallery's kernels in one process per core (``volumen.render.warm``)."""
-    import os
-
     from volumen.render import warm
+    from volumen.render._warm import cores
 
     jobs = [(scene, camera) for _, _, _, scene, camera in gallery_scenes(phantoms)]
     t0 = time.perf_counter()
-    progress(f"compiling the gallery's kernels for this machine in {os.cpu_count()} processes (loaded from the "
-             "cache after the first run)...")
+    progress(f"compiling the gallery's kernels for this machine, {cores()} at a time (loaded from the cache after "
+             "the first run)...")
     done = warm(jobs, progress=progress)
     progress(f"kernels ready in {time.perf_counter() - t0:.1f} s")
     return done

@@ -1,24 +1,31 @@
-"""One writer at a time per Numba cache index, across processes.
+"""One writer at a time per Numba cache index, across processes, and the data before the index.
 
 Numba's disk cache keeps one index file per cached function (signature -> data file), which
-``numba.core.caching.IndexDataCacheFile.save`` reads, extends and writes back. Two processes that compile two
-signatures of one function at the same time -- the warming processes of :func:`volumen.render.warm`, the app's
-background compile beside its drawing, the suite's two workers -- can both read the old index and both pick the
-same data file name. Then one kernel is lost from the index, or, worse, the index names one signature's entry
-and the file holds the other's machine code, which a later process would load and call with the wrong
-arguments. :func:`install` wraps ``save`` in an inter-process lock (``flock``) named after the index's path, so
-each save reads the index the last one wrote. Loading takes no lock: files are replaced whole (Numba writes a
-temporary file and renames it), and an entry whose data file is not written yet reads as a miss.
+``numba.core.caching.IndexDataCacheFile.save`` reads, extends and writes back, and then writes the data file.
+Two processes that compile two signatures of one function at the same time -- the warming processes of
+:func:`volumen.render.warm`, the app's background compile beside its drawing, the suite's two workers -- can
+both read the old index and both pick the same data file name. Then one kernel is lost from the index (two such
+writers of 200 entries each kept 228-329 of the 400), or the index names one signature's entry while the file
+holds the other's machine code, which a later process would load and call with the wrong arguments. And since
+the index is written first, a reader between the two writes (or after a process killed between them) could
+load a stale data file of that name left from before the sources changed: the numbering restarts at 1 then.
+
+:func:`install` replaces ``save`` with the same steps under an inter-process lock (``flock``) on
+``<index>.lock`` beside the index (in the temporary folder where that cannot be made): read the index, pick
+the name, write the data file, then the index. Loading takes no lock: files are replaced whole (Numba writes a
+temporary file and renames it). Where no lock can be taken at all, it saves as Numba does.
 
 Like the cache stamp (:mod:`._stamp`) it is about correctness, so it does not stand down outside the tested
-Numba range; it steps aside where Numba's class has no ``save`` or ``_index_path``. Upstream: the same race,
-met by concurrent processes, is numba/numba#10128 (open), where Numba's developers proposed a file lock; this
-goes when Numba takes one.
+Numba range; it steps aside where Numba's class lacks the helpers it calls. Upstream: the same race, met by
+concurrent processes, is numba/numba#10128 (open), where Numba's developers proposed a file lock; this goes
+when Numba takes one.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import itertools
 import os
 import tempfile
 from pathlib import Path
@@ -26,32 +33,59 @@ from pathlib import Path
 __all__ = ["install", "installed", "lock_path"]
 
 _state = {"installed": False}
+#: what ``save`` calls on Numba's class
+_HELPERS = ("_load_index", "_save_index", "_save_data", "_data_name", "_index_path")
 
 
-def lock_path(index_path) -> Path:
-    """The lock file of one cache index: in the temporary folder (the cache folder may be shared or read-only)."""
+def lock_path(index_path, beside: bool = True) -> Path:
+    """The lock file of one cache index: ``<index>.lock`` beside it, or (``beside`` False) one named after its
+    path in the temporary folder."""
+    if beside:
+        return Path(f"{index_path}.lock")
     d = Path(tempfile.gettempdir()) / f"volumen-numba-index-locks-{os.getuid()}"
     d.mkdir(exist_ok=True)
     return d / (hashlib.sha1(os.fsencode(os.path.abspath(index_path))).hexdigest() + ".lock")
 
 
-def _locked(original):
+@contextlib.contextmanager
+def _locked(index_path):
+    """Hold the index's lock (nothing where no lock file can be opened)."""
     import fcntl
 
-    def save(self, key, data):
-        fd = os.open(lock_path(self._index_path), os.O_CREAT | os.O_RDWR, 0o600)
+    fd = None
+    for beside in (True, False):
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX)
-            return original(self, key, data)
-        finally:
-            os.close(fd)  # closing the only descriptor releases the lock
+            fd = os.open(lock_path(index_path, beside), os.O_CREAT | os.O_RDWR, 0o600)
+            break
+        except OSError:
+            continue
+    if fd is None:
+        yield
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        fcntl.flock(fd, fcntl.LOCK_UN)  # explicitly: a child forked meanwhile shares the descriptor
+        os.close(fd)
 
-    save.__wrapped__ = original
-    return save
+
+def _save(self, key, data):
+    """Numba's ``save`` under the index's lock, writing the data file before the index names it."""
+    with _locked(self._index_path):
+        overloads = self._load_index()
+        name = overloads.get(key)
+        if name is None:
+            existing = set(overloads.values())
+            name = next(n for n in (self._data_name(i) for i in itertools.count(1)) if n not in existing)
+        self._save_data(name, data)
+        if overloads.get(key) != name:
+            overloads[key] = name
+            self._save_index(overloads)
 
 
 def install() -> bool:
-    """Wrap ``IndexDataCacheFile.save`` once (process-wide); whether it is wrapped."""
+    """Replace ``IndexDataCacheFile.save`` once (process-wide); whether it is replaced."""
     if _state["installed"]:
         return True
     try:
@@ -61,13 +95,15 @@ def install() -> bool:
     from numba.core import caching
 
     cls = getattr(caching, "IndexDataCacheFile", None)
-    if cls is None or not hasattr(cls, "save") or "_index_path" not in cls.__init__.__code__.co_names:
+    if cls is None or not all(hasattr(cls, h) for h in _HELPERS[:-1]) or \
+            _HELPERS[-1] not in cls.__init__.__code__.co_names:
         return False
-    cls.save = _locked(cls.save)
+    _save.__wrapped__ = cls.save
+    cls.save = _save
     _state["installed"] = True
     return True
 
 
 def installed() -> bool:
-    """Whether ``save`` is wrapped in this process."""
+    """Whether ``save`` is replaced in this process."""
     return _state["installed"]

@@ -1,12 +1,14 @@
 """Compile the kernels of several pictures side by side, in child processes, into Numba's disk cache.
 
-A ray-casting kernel compiles for about 8-20 s on its first use (one per mode and shading model: docs/design.md
-section 9), and a process compiles one kernel at a time (Numba's compiler lock). :func:`warm` draws a small
-version of each scene (:func:`warm_scene`) in child processes, one per core, so their kernels compile at the
-same time and land in the disk cache; the pictures this process draws next load them from there. The cache's
-index files are written by one process at a time (``volumen.jit._savelock``). ``volumen demo`` warms its gallery
-so; the app warms the other shading models in the background after its first picture.
+A ray-casting kernel compiles for about 10-37 s on its first use on 2 cores (one per mode and shading model:
+docs/design.md section 9), and a process compiles one kernel at a time (Numba's compiler lock). :func:`warm`
+draws a small version of each scene (:func:`warm_scene`) in child processes, one per core, so their kernels
+compile at the same time and land in the disk cache; the pictures this process draws next load them. The
+cache's index files are written by one process at a time (``volumen.jit._savelock``). ``volumen demo`` warms its
+gallery so; the app warms other modes and shading models in the background after its first picture.
 
+The children are daemon processes that die with this one (``PR_SET_PDEATHSIG`` on Linux; a daemon child is
+also stopped when this process exits normally), so a warm-up never outlives the program that asked for it.
 Only the CPU device is warmed (the Numba kernels of ``device="cpu"``); a child that fails costs nothing but
 time: the picture then compiles its kernel as it would have.
 """
@@ -15,98 +17,142 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import queue
 import threading
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import replace
 
-__all__ = ["warm", "warm_scene", "kernel_key", "WARM_EDGE", "WARM_SIZE"]
+__all__ = ["warm", "warm_scene", "kernel_key", "cores", "WARM_EDGE", "WARM_SIZE"]
 
 #: the picture a child draws (pixels): the kernel is what it is for, not the picture
 WARM_SIZE = (16, 16)
 #: a volume with more voxels than this along an axis is cropped to this many about its centre for a child
 WARM_EDGE = 48
-#: the shading models and modes in the order their kernels take longest to compile (longest first)
+#: the shading models in the order their kernels take longest to compile (longest first)
 _COST = {"scattering": 0, "shadows": 1, "phong": 2, "headlight": 3, "none": 4}
+
+
+def cores() -> int:
+    """The cores this process may run on (its affinity, where the system tells it)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
 
 
 def warm_scene(scene):
     """A scene whose picture needs the same kernels as ``scene``'s: the volume cropped to at most
-    :data:`WARM_EDGE` voxels per axis about its centre (the same type, so the same compiled signatures; world
-    positions kept, so the camera and lights still frame it), unless a label map is on its grid."""
+    :data:`WARM_EDGE` voxels per axis about its centre (the same sample type, so the same compiled signatures;
+    world positions kept, so the camera and lights still frame it; a voxel crop box moved with it; no metadata),
+    unless a label map is on its grid."""
     vol = scene.volume
     if scene.labels is not None or max(vol.shape) <= WARM_EDGE:
         return scene
     ranges = [((n - min(n, WARM_EDGE)) // 2, (n - min(n, WARM_EDGE)) // 2 + min(n, WARM_EDGE)) for n in vol.shape]
-    return replace(scene, volume=vol.crop(*ranges))
+    small = vol.crop(*ranges)
+    small.meta.clear()
+    clip = scene.clipping
+    if clip.crop is not None and clip.crop_space == "voxel":
+        (z0, z1), (y0, y1), (x0, x1) = ranges
+        box = []
+        for lo, hi, a, b in zip(clip.crop[::2], clip.crop[1::2], (x0, y0, z0), (x1, y1, z1), strict=True):
+            box += [min(max(lo - a, 0.0), b - a - 1.0), min(max(hi - a, 0.0), b - a - 1.0)]
+        clip = replace(clip, crop=tuple(box))
+    return replace(scene, volume=small, clipping=clip)
 
 
-def kernel_key(scene) -> tuple:
-    """What decides the kernels a scene's picture compiles, as far as :func:`warm` tells scenes apart (two scenes
-    with one key are warmed once)."""
+def kernel_key(scene, camera=None) -> tuple:
+    """What decides the kernels a picture compiles, as far as :func:`warm` tells jobs apart (two jobs with one
+    key are warmed once)."""
     sm, vol = scene.sampling, scene.volume
     return (scene.mode, scene.shading.mode, str(vol.dtype), vol.is_color, scene.labels is not None,
-            sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive)
+            sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive, getattr(camera, "projection", None))
 
 
-def _draw(scene, camera) -> float:
+def _dies_with_parent(nice: int) -> None:
+    """A child's first act: ask Linux to stop it when its parent dies (``PR_SET_PDEATHSIG``), and lower its
+    priority by ``nice``."""
+    try:
+        import ctypes
+        import signal
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if nice:
+        os.nice(nice)
+
+
+def _child(jobs, results, parent: int, nice: int) -> None:
+    """A warming process: draw ``(index, scene, camera)`` jobs until the None that ends them."""
+    _dies_with_parent(nice)
+    if os.getppid() != parent:  # the parent died before the request above
+        return
     from volumen.render import render
 
-    t0 = time.perf_counter()
-    render(scene, camera, WARM_SIZE, device="cpu")
-    return time.perf_counter() - t0
+    while (job := jobs.get()) is not None:
+        i, scene, camera = job
+        t0 = time.perf_counter()
+        try:
+            render(scene, camera, WARM_SIZE, device="cpu")
+            results.put((i, time.perf_counter() - t0, None))
+        except Exception as exc:  # noqa: BLE001 - reported; the picture compiles its kernel itself then
+            results.put((i, None, f"{type(exc).__name__}: {exc}"))
 
 
 def _order(jobs):
-    """One job per :func:`kernel_key`, the slowest to compile first (a pool then balances them)."""
+    """One job per :func:`kernel_key`, the slowest to compile first (the children take them in this order)."""
     seen: dict = {}
     for scene, camera in jobs:
-        seen.setdefault(kernel_key(scene), (scene, camera))
+        seen.setdefault(kernel_key(scene, camera), (scene, camera))
     return sorted(seen.items(), key=lambda kv: (_COST.get(kv[0][1], 5), kv[0][0] != "composite"))
 
 
 def warm(jobs: Sequence, workers: int | None = None, progress: Callable[[str], None] | None = None, *,
          nice: int = 0, cancel: threading.Event | None = None) -> dict:
-    """Compile the kernels that drawing each ``(scene, camera)`` of ``jobs`` needs, ``workers`` child processes
-    at a time (default: one per core).
+    """Compile the kernels that drawing each ``(scene, camera)`` of ``jobs`` needs, in ``workers`` child
+    processes (default: one per core, at most one per distinct kernel).
 
     Returns ``{kernel_key: seconds}``: each distinct key's draw in its child (compiling, or loading from the
-    cache), None where the child failed. ``progress``, when given, gets one line per finished key. ``nice``:
-    the children's added niceness (a background warm-up yields to the pictures being drawn). ``cancel``: once
-    set, the children are stopped and the keys not finished are left out (a kernel half compiled is not
-    cached; the cache's files are replaced whole).
+    cache), None where it failed. ``progress``, when given, gets one line per finished key. ``nice``: the
+    children's added niceness (a background warm-up yields to the pictures being drawn). ``cancel``: once set,
+    the children are stopped and the keys not finished are left out (a kernel half compiled is not cached).
     """
     todo = _order(jobs)
     done: dict = {}
-    if not todo:
+    if not todo or (cancel is not None and cancel.is_set()):
         return done
-    workers = max(1, min(workers or os.cpu_count() or 1, len(todo)))
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("spawn"),
-                               initializer=os.nice if nice else None, initargs=(nice,) if nice else ())
-    futures = {pool.submit(_draw, warm_scene(scene), camera): key for key, (scene, camera) in todo}
-    pending = set(futures)
+    workers = max(1, min(workers or cores(), len(todo)))
+    ctx = mp.get_context("spawn")
+    inbox, results = ctx.Queue(), ctx.Queue()
+    for i, (_, (scene, camera)) in enumerate(todo):
+        inbox.put((i, warm_scene(scene), camera))
+    for _ in range(workers):
+        inbox.put(None)
+    procs = [ctx.Process(target=_child, args=(inbox, results, os.getpid(), nice), daemon=True,
+                         name=f"volumen-warm-{n}") for n in range(workers)]
+    for p in procs:
+        p.start()
     try:
-        while pending and not (cancel is not None and cancel.is_set()):
-            finished, pending = wait(pending, timeout=0.25, return_when=FIRST_COMPLETED)
-            for fut in finished:
-                done[futures[fut]] = _result(fut, len(done) + 1, len(todo), futures[fut], progress)
+        while len(done) < len(todo) and not (cancel is not None and cancel.is_set()):
+            alive = any(p.is_alive() for p in procs)  # asked before reading: a child's last result is sent
+            try:                                        # before it ends
+                i, seconds, error = results.get(timeout=0.25)
+            except queue.Empty:
+                if not alive:
+                    break  # every child ended (one crashed): what is left compiles when drawn
+                continue
+            key = todo[i][0]
+            done[key] = seconds
+            if progress:
+                said = f"{seconds:.1f} s" if error is None else f"failed to warm: {error}"
+                progress(f"  kernel {len(done)}/{len(todo)} ({key[0]}, {key[1]}): {said}")
     finally:
-        if pending:
-            for proc in list(getattr(pool, "_processes", {}).values()):  # no public way to stop a running child
-                proc.terminate()
-        pool.shutdown(wait=not pending, cancel_futures=True)
+        for p in procs:
+            if p.is_alive():
+                p.terminate()
+        for p in procs:
+            p.join(5)
+        inbox.cancel_join_thread()  # jobs no child took are dropped, not flushed at exit
     return done
-
-
-def _result(fut, n, total, key, progress):
-    """A finished child's seconds (None where it failed), said to ``progress``."""
-    try:
-        seconds = fut.result()
-    except Exception as exc:  # noqa: BLE001 - the picture compiles its kernel itself then
-        if progress:
-            progress(f"  kernel {n}/{total} ({key[0]}, {key[1]}) failed to warm: {exc}")
-        return None
-    if progress:
-        progress(f"  kernel {n}/{total} ({key[0]}, {key[1]}): {seconds:.1f} s")
-    return seconds

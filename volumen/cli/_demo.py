@@ -129,7 +129,7 @@ def warm_gallery(phantoms: dict, progress=print) -> dict:
     t0 = time.perf_counter()
     progress(f"compiling the gallery's kernels for this machine, {cores()} at a time (loaded from the cache after "
              "the first run)...")
-    done = warm(jobs, progress=progress)
+    done = warm(jobs, progress=progress, here=True)
     progress(f"kernels ready in {time.perf_counter() - t0:.1f} s")
     return done
 

@@ -84,11 +84,8 @@ def _dies_with_parent(nice: int) -> None:
         os.nice(nice)
 
 
-def _child(jobs, results, parent: int, nice: int) -> None:
-    """A warming process: draw ``(index, scene, camera)`` jobs until the None that ends them."""
-    _dies_with_parent(nice)
-    if os.getppid() != parent:  # the parent died before the request above
-        return
+def _serve(jobs, results) -> None:
+    """Draw ``(index, scene, camera)`` jobs until the None that ends them; each result to ``results``."""
     from volumen.render import render
 
     while (job := jobs.get()) is not None:
@@ -101,6 +98,13 @@ def _child(jobs, results, parent: int, nice: int) -> None:
             results.put((i, None, f"{type(exc).__name__}: {exc}"))
 
 
+def _child(jobs, results, parent: int, nice: int) -> None:
+    """A warming process: :func:`_serve` once it is sure to die with its parent."""
+    _dies_with_parent(nice)
+    if os.getppid() == parent:  # else the parent died before the request above
+        _serve(jobs, results)
+
+
 def _order(jobs):
     """One job per :func:`kernel_key`, the slowest to compile first (the children take them in this order)."""
     seen: dict = {}
@@ -110,9 +114,13 @@ def _order(jobs):
 
 
 def warm(jobs: Sequence, workers: int | None = None, progress: Callable[[str], None] | None = None, *,
-         nice: int = 0, cancel: threading.Event | None = None) -> dict:
-    """Compile the kernels that drawing each ``(scene, camera)`` of ``jobs`` needs, in ``workers`` child
-    processes (default: one per core, at most one per distinct kernel).
+         nice: int = 0, cancel: threading.Event | None = None, here: bool = False) -> dict:
+    """Compile the kernels that drawing each ``(scene, camera)`` of ``jobs`` needs, ``workers`` processes at a
+    time (default: one per core, at most one per distinct kernel).
+
+    ``here``: this process is one of them (it takes jobs too, after starting ``workers - 1`` children, and keeps
+    their kernels in memory): for a command that waits for the warm-up anyway (``volumen demo``). Otherwise
+    every job runs in a child, as a background warm-up needs (``nice`` and ``cancel`` apply to children only).
 
     Returns ``{kernel_key: seconds}``: each distinct key's draw in its child (compiling, or loading from the
     cache), None where it failed. ``progress``, when given, gets one line per finished key. ``nice``: the
@@ -131,10 +139,12 @@ def warm(jobs: Sequence, workers: int | None = None, progress: Callable[[str], N
     for _ in range(workers):
         inbox.put(None)
     procs = [ctx.Process(target=_child, args=(inbox, results, os.getpid(), nice), daemon=True,
-                         name=f"volumen-warm-{n}") for n in range(workers)]
+                         name=f"volumen-warm-{n}") for n in range(workers - 1 if here else workers)]
     for p in procs:
         p.start()
     try:
+        if here:
+            _serve(inbox, results)
         while len(done) < len(todo) and not (cancel is not None and cancel.is_set()):
             alive = any(p.is_alive() for p in procs)  # asked before reading: a child's last result is sent
             try:                                        # before it ends

@@ -31,9 +31,8 @@ def test_the_other_kernels_warm_once_per_kind_and_stop_with_the_window(head64, m
         time.sleep(0.05)
     assert mp.active_children()  # the child runs
     time.sleep(1.0)
-    t0 = time.perf_counter()
     w.stop()  # the window closes while the child compiles
-    assert not w.running and time.perf_counter() - t0 < 5.0
+    assert not w.running  # the thread ended within stop's own wait
     deadline = time.monotonic() + 5.0
     while mp.active_children() and time.monotonic() < deadline:
         time.sleep(0.05)

@@ -18,14 +18,13 @@ from dataclasses import replace
 
 from ..core import is_chunked
 from ..render import resolve_device
+from ..render._warm import COMMON_KERNELS
 from ._frame import raycast_device
 
 __all__ = ["Warmup", "VARIANTS", "NICE", "ENV", "variants"]
 
 #: (mode, shading model) of every kernel warmed
-VARIANTS = (("composite", "none"), ("composite", "headlight"), ("composite", "phong"), ("composite", "shadows"),
-            ("composite", "scattering"), ("isosurface", "headlight"), ("isosurface", "shadows"), ("mip", "none"),
-            ("minip", "none"), ("average", "none"))
+VARIANTS = COMMON_KERNELS
 #: added niceness of the child that compiles
 NICE = 10
 #: environment variable: ``0`` turns the warm-up off

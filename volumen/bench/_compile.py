@@ -19,14 +19,14 @@ import sys
 import tempfile
 import time
 
+from volumen.render._warm import COMMON_KERNELS
+
 from ._table import Table
 
 __all__ = ["bench_compile", "CASES"]
 
 #: (mode, shading) of each first picture
-CASES = (("mip", "none"), ("minip", "none"), ("average", "none"), ("composite", "none"),
-         ("composite", "headlight"), ("composite", "phong"), ("composite", "shadows"),
-         ("composite", "scattering"), ("isosurface", "headlight"), ("isosurface", "shadows"))
+CASES = COMMON_KERNELS
 QUICK = (("mip", "none"),)
 BAR_S = 15.0
 #: ``make demo`` from a cold cache after installation, seconds (issue 27)

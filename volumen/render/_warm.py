@@ -23,8 +23,13 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 
-__all__ = ["warm", "warm_scene", "kernel_key", "cores", "WARM_EDGE", "WARM_SIZE"]
+__all__ = ["warm", "warm_scene", "kernel_key", "cores", "COMMON_KERNELS", "WARM_EDGE", "WARM_SIZE"]
 
+#: (mode, shading model) of the common ray-casting kernels: what the app warms in the background and
+#: ``volumen bench compile`` times (not path tracing, label maps or pre-integration)
+COMMON_KERNELS = (("mip", "none"), ("minip", "none"), ("average", "none"), ("composite", "none"),
+                  ("composite", "headlight"), ("composite", "phong"), ("composite", "shadows"),
+                  ("composite", "scattering"), ("isosurface", "headlight"), ("isosurface", "shadows"))
 #: the picture a child draws (pixels): the kernel is what it is for, not the picture
 WARM_SIZE = (16, 16)
 #: a volume with more voxels than this along an axis is cropped to this many about its centre for a child

@@ -53,6 +53,7 @@ class Arrays(NamedTuple):
     bmin: np.ndarray    #: block minima (normalized units)
     bmax: np.ndarray    #: block maxima
     bcoarse: np.ndarray  #: adaptive sampling: distance to a non-coarse block (``_tables.coarse_blocks``); (1, 1, 1) off
+    cells: np.ndarray   #: a bit per cell that can hold a visible sample (``_cells``); (1, 1, 1) off
     lights: np.ndarray  #: packed lights (n, NLCOL) (``_shade``)
     lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
     lvd: np.ndarray     #: illumination-volume buffer (float32)
@@ -105,6 +106,7 @@ class Settings(NamedTuple):
     skip: bool = False       #: empty-space skipping
     block: int = 4           #: block size of the skipping grids (voxels)
     stride: int = 1          #: adaptive sampling: most grid steps one sample stands for in ``Arrays.bcoarse`` blocks
+    cells: bool = False      #: pass over the samples in the cells ``Arrays.cells`` marks transparent (``_cells``)
     gradop: bool = False     #: gradient-magnitude opacity modulation
     sobel: bool = False      #: normals from the 3x3x3 Sobel operator instead of central differences
     nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)

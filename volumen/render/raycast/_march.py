@@ -23,6 +23,10 @@ jumps to the first sample past the block -- past the whole cube of empty
 blocks around it when the block array holds the Chebyshev distance (in
 blocks) to the nearest block that can contribute -- keeping the same sample
 grid, so skipping changes no pixel.
+
+Pre-classified cells (post-classified composite, ``Settings.cells``): inside a block that must be sampled, a
+sample whose voxel cell holds no visible value (``_cells``) is passed over unreconstructed; that changes no pixel
+either, only the samples counted.
 """
 
 from __future__ import annotations
@@ -34,6 +38,7 @@ from numba import njit
 
 from ...jit import claim, fetch_add, run_claiming
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
+from ._cells import cell_visible
 from ._frame import FAR
 from ._pieces import eager, finish, init, radius, step
 from ._ray import begin_ray, sample_at
@@ -153,6 +158,10 @@ def trace_pixel(px, py, a, s, out, mode, light):
                 have = False
                 continue
         span = _span(r, s, k, t, t_check) if coarse else 1
+        if s.cells and not cell_visible(a, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk):
+            have = False  # a transparent cell: the sample (and the steps it stands for) would add nothing
+            k += span
+            continue
         st, extra, done = step(mode, light, r, a, s, st, k, t, sample_at(r, a, s, t), have, span)
         taken += 1 + extra
         have = span == 1

@@ -14,6 +14,7 @@ import numpy as np
 
 from ...core import Environment, studio_lights
 from ._cache import prepare, shared_table
+from ._cells import NO_CELLS, cell_bits
 from ._environment import pack_environment
 from ._frame import Arrays, Frame, Settings
 from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
@@ -124,6 +125,18 @@ def _coarse_table(scene, prep, lut, lab):
 _NO_COARSE = np.zeros((1, 1, 1), np.uint8)
 
 
+def _cell_table(scene, prep, lut, lab, skip):
+    """``Arrays.cells``: which cells can hold a visible sample (post-classified composite without labels, with
+    skipping, not the B-spline), else :data:`NO_CELLS`. Kept while the camera moves (it depends only on which
+    table entries are visible)."""
+    smp = scene.sampling
+    if not (skip and scene.mode == "composite" and lab is None and not smp.preintegrate
+            and smp.interpolation != "bspline"):
+        return NO_CELLS
+    alpha = lut[:, 3]
+    return prep.memo(("cells", (alpha > 0).tobytes()), lambda: cell_bits(prep.u, prep.u0, prep.ufac, alpha))
+
+
 def _color_table(prep, tf, ratio):
     """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (the frames, and
     the volumes with the same range, share it: nothing writes into it)."""
@@ -151,6 +164,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     lab = _labels(scene, ratio * kext)
     skip, bflag, bmin, bmax = _skip_tables(scene, prep, lut, u_iso, lab)
     bcoarse = _coarse_table(scene, prep, lut, lab)
+    cells = _cell_table(scene, prep, lut, lab, skip)
     if sh.mode not in LIT_SHADINGS or model == "unlit":
         sig = np.zeros(1, np.float32)
     elif mode == "isosurface":  # the drawn surface casts the shadows
@@ -159,7 +173,7 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
         sig = extinction_table(tf, prep.vmin, prep.vmax)
     lab, llut = lab if lab is not None else (_NO_LAB, _NO_LLUT)
     return dict(lut=lut, pre=pre, nrm=nrm, ncode=ncode, gcode=gcode, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax,
-                bcoarse=bcoarse, sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab, llut=llut)
+                bcoarse=bcoarse, cells=cells, sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab, llut=llut)
 
 
 #: the label arrays of a scene without labels: one object, so a device keeps it between frames (PER_VOLUME)
@@ -241,7 +255,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", recon=RECON_TAGS[smp.interpolation](), jitter=bool(smp.jitter),
         lattice=smp.lattice, seed=int(smp.seed),
-        skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"].size > 1 else 1,
+        skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"].size > 1 else 1, cells=t["cells"].size > 1,
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
@@ -278,7 +292,7 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
                     ncode=t["ncode"], gcode=t["gcode"], ndir=DIRS,
                     lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
-                    bcoarse=t["bcoarse"], lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
+                    bcoarse=t["bcoarse"], cells=t["cells"], lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
                     lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY,
                     env=env[0], envbasis=env[1], envcdf=env[2], envsh=env[3], maj=NO_MAJ)
     mode = "preintegrated" if t["preint"] else "labelled" if st.nlab > 0 else scene.mode

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..optics import composite, correct_opacity
+from ..optics import composite, correct_opacity, power
 from ._bspline import normal
 from ._color import emission
 from ._frame import FAR
@@ -65,6 +65,18 @@ def _corrected(c, seg, ds):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def _merged(c, span):
+    """``c`` standing for ``span`` whole steps: opacity ``1 - (1 - alpha) ** span`` by repeated multiplication
+    (``optics.power``; a call to ``pow`` in the loop cost 3-7 % of an adaptive frame), colour scaled alike."""
+    cr, cg, cb, al = c
+    if al > 0.0:
+        a2 = 1.0 - power(1.0 - al, span) if al < 1.0 else 1.0
+        f = a2 / al
+        return cr * f, cg * f, cb * f, a2
+    return c
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def _accumulate(st, c, t, et):
     """Composite ``c`` under the state's colour; ``(state, done)``."""
     ar, ag, ab, aa, dep, vp, tp = st
@@ -86,9 +98,11 @@ def _init(light, r, a, s):
 def _post(light, r, a, s, st, k, t, c, span):
     """Composite the classified sample ``c`` taken at ``t`` (sample ``k``, standing for ``span`` grid steps from
     it: more than 1 only where adaptive sampling merges steps, ``_march``): ``(state, 0, done)``."""
-    if k == 0 or k + span >= r.n or span > 1:  # the end samples stand for less than a step, merged ones for more
+    if k == 0 or k + span >= r.n:  # the end samples stand for less than a step (or a merged one's part)
         seg = (r.t1 if k + span >= r.n else t + (span - 0.5) * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
         c = _corrected(c, seg, s.ds)
+    elif span > 1:  # a merged sample inside the ray: ``span`` whole steps
+        c = _merged(c, span)
     if c[3] > 0.0:
         c = lit(light, r, a, s, t, c, s.gradop)
     st, done = _accumulate(st, c, t, s.et)

@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from ...core import Light
-from ..optics import phong_terms, spot_factor
+from ..optics import phong_terms, power, spot_factor
 from ._environment import sh_irradiance, sh_phase
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
@@ -180,6 +180,21 @@ def _phong(light, a, s, n, v, w):
     return fr, fg, fb, sr, sg, sb
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _headlight_terms(n, v, shine):
+    """Diffuse and specular factors of a light at the eye, from the gradient ``n`` (not normalized) and the unit
+    vector ``v`` toward the viewer: ``|N.V|`` and ``max(2 (N.V)^2 - 1, 0) ** shine`` (``R.V`` with ``L = V``),
+    the values of :func:`phong_terms` for the normal turned toward the viewer, without forming that normal (a
+    fifth of a translucent frame's time less); ``(1, 0)`` where the gradient vanishes, as there."""
+    gx, gy, gz = n
+    g2 = gx * gx + gy * gy + gz * gz
+    if g2 < 1e-6:  # |g| < 1e-3: flat (``_unit_facing``)
+        return 1.0, 0.0
+    diff = abs(gx * v[0] + gy * v[1] + gz * v[2]) / math.sqrt(g2)
+    rdv = 2.0 * diff * diff - 1.0
+    return diff, (power(rdv, shine) if rdv > 0.0 else 0.0)
+
+
 @shade.register(Unlit)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_unlit(a, s, n, v, w):
@@ -195,14 +210,14 @@ def _shade_phong(a, s, n, v, w):
 @shade.register(Headlight)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_headlight(a, s, n, v, w):
-    nx, ny, nz, flat = _unit_facing(n, v)
-    diff, spec = 1.0, 0.0
-    if not flat:
-        diff, spec = phong_terms(nx, ny, nz, v[0], v[1], v[2], v[0], v[1], v[2], s.shine)
+    diff, spec = _headlight_terms(n, v, s.shine)
     kd = s.kd * diff
     ks = s.ks * spec
     cr, cg, cb = a.lights[0, L_COL], a.lights[0, L_COL + 1], a.lights[0, L_COL + 2]
-    ar, ag, ab = _ambient(a, s, nx, ny, nz)
+    ar = ag = ab = s.ka
+    if s.envmode != 0:  # the environment's irradiance about the unit normal
+        nx, ny, nz, _ = _unit_facing(n, v)
+        ar, ag, ab = _ambient(a, s, nx, ny, nz)
     return ar + kd * cr, ag + kd * cg, ab + kd * cb, ks * cr, ks * cg, ks * cb
 
 

@@ -92,8 +92,9 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         where the extreme value was first met; average: the ray's entry into
         the drawn region; isosurface: the surface. ``value`` (H, W) for
         mip/minip/average: the projected value in data units (NaN off the
-        volume). ``stats``: ``timings`` (seconds: normalize/normals/blocks when
-        built, tables, kernel, total), ``samples`` taken, ``rays``, ``rays_hit``.
+        volume). ``stats``: ``timings`` (seconds: normalize/normals/blocks/cells when
+        built, tables, kernel, total), ``samples`` taken, ``rays``, ``rays_hit`` (rays that took a sample: a ray
+        whose samples all fell in transparent cells, ``raycast._cells``, takes none).
 
         Shading ``shadows`` / ``scattering`` reports ``light_volumes`` seconds
         in the timings when illumination volumes were (re)built, and

@@ -201,7 +201,8 @@ def test_every_frame_field_reaches_the_shader():
                  "lattice": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "part": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "env_power": "path tracing (not on gl)", "mblock": "path tracing (not on gl)",
-                 "stride": "adaptive sampling (cpu and cuda; gl samples at full rate)"}
+                 "stride": "adaptive sampling (cpu and cuda; gl samples at full rate)",
+                 "cells": "transparent cells (cpu and cuda; gl takes every sample)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm",
               "envsh": "u_envsh", "nrm": "u_nmat"}
@@ -209,7 +210,8 @@ def test_every_frame_field_reaches_the_shader():
                  "ncode", "gcode", "ndir",  # normal codes: the shader computes normals from the volume (u_nmat)
                  "whole", "carry",  # bricks: cpu only
                  "env", "envbasis", "envcdf", "maj",  # the path tracer's environment map and majorant grid
-                 "bcoarse"}  # adaptive sampling: cpu and cuda
+                 "bcoarse",  # adaptive sampling: cpu and cuda
+                 "cells"}  # transparent cells (raycast._cells): cpu and cuda
     missing += [f for f in Arrays._fields
                 if f not in FrameTextures.FIELDS and not (f in packed and packed[f] in src) and f not in not_on_gl]
     assert not missing, missing

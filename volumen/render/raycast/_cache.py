@@ -105,6 +105,20 @@ class Prepared:
         transfer function, are not rebuilt while the user only moves the camera."""
         return _kept(self._memo, key, build)
 
+    def memo_repeated(self, key, build, first, timing: str):
+        """``first`` the first time ``key`` is asked for; from the second time on ``build()``, kept as
+        :meth:`memo` keeps it (its seconds in ``timings[timing]``). For a table that pays for its pass over the
+        volume only over several frames: while the user drags a transfer function each frame asks for a new
+        key and gets ``first``; a camera move asks for the same one again."""
+        if key not in self._memo:
+            _kept(self._memo, key, lambda: _PENDING)
+            return first
+        if self._memo[key] is _PENDING:
+            t = time.perf_counter()
+            self._memo[key] = build()
+            self.timings[timing] = time.perf_counter() - t
+        return self._memo[key]
+
     def nbytes(self) -> int:
         """Bytes of the arrays built here (the normalized copy of the samples if one was made, colours, normals'
         codes, block grids, the memo's tables), not counting the volume's own data."""
@@ -125,6 +139,10 @@ class Prepared:
         return self._blocks[block]
 
 
+#: what :meth:`Prepared.memo_repeated` keeps for a key asked for once
+_PENDING = object()
+
+
 def _nbytes(obj) -> int:
     """Bytes of the NumPy arrays in ``obj`` (arrays, tuples and lists of them, nested)."""
     if isinstance(obj, np.ndarray):
@@ -134,8 +152,9 @@ def _nbytes(obj) -> int:
     return 0
 
 
-#: per-frame tables kept per volume (:meth:`Prepared.memo`), and of every volume (:func:`shared_table`)
-MEMO = 8
+#: per-frame tables kept per volume (:meth:`Prepared.memo`), and of every volume (:func:`shared_table`): a
+#: composite transfer function keeps up to three per volume (skip distances, coarse blocks, cells)
+MEMO = 12
 
 _SHARED: dict = {}
 _SHARED_LOCK = threading.Lock()

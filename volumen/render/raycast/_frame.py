@@ -70,8 +70,9 @@ class Arrays(NamedTuple):
     maj: np.ndarray     #: path tracing: majorant extinction (1/mm) per block of ``mblock^3`` voxels (``_majorant``)
 
 
-#: fields of :class:`Arrays` that belong to the volume (cached objects, never changed in place)
-PER_VOLUME = ("vol", "nrm", "ncode", "gcode", "ndir", "bmin", "bmax", "lab", "rgb")
+#: fields of :class:`Arrays` that belong to the volume, or to it and a transfer function (cached objects, never
+#: changed in place)
+PER_VOLUME = ("vol", "nrm", "ncode", "gcode", "ndir", "bmin", "bmax", "lab", "rgb", "cells")
 
 
 class Settings(NamedTuple):

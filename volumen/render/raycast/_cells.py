@@ -10,11 +10,11 @@ Empty-space skipping decides per block of the skipping grid (4 voxels a side by 
 bone and soft tissue must be sampled, and in an opaque preset most of its samples are transparent. The cells
 decide per voxel cell inside such blocks, one byte read for eight cells.
 
-The bits are built per transfer function, from which table entries are visible (kept while the camera moves:
-``_pack``), in one pass over the volume, packed eight cells to a byte along x:
-``bits[k, j, i >> 3] >> (i & 7) & 1``, a sixteenth of an int16 volume's size. Not for pre-integration (a segment
-needs the sample before it), labels (their own classification) or the B-spline (its value can leave the
-corners' range).
+The bits are built per transfer function, from which table entries are visible, in one pass over the volume,
+packed eight cells to a byte along x: ``bits[k, j, i >> 3] >> (i & 7) & 1``, a sixteenth of an int16 volume's
+size. ``_pack`` builds them from the second frame with the same visible entries on and keeps them while the
+camera moves. Not for pre-integration (a segment needs the sample before it), labels (their own
+classification), the B-spline (its value can leave the corners' range) or the path tracer.
 """
 
 from __future__ import annotations

@@ -32,6 +32,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ._kernel_sources import SOURCES  # noqa: F401 - first: the Numba cache stamp, before any compiled function
+
 __all__ = ["correct_opacity", "composite", "spot_factor", "phong_terms", "power", "optical_depth", "hg_phase",
            "REFERENCE_STEP_VOXELS", "MAX_OPACITY"]
 

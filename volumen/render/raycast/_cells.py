@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from ...jit import run_parts
+from ._tables import entry_prefix
 
 __all__ = ["cell_bits", "cell_visible", "NO_CELLS"]
 
@@ -71,7 +72,7 @@ def cell_bits(u: np.ndarray, u0: float, ufac: float, lut_alpha: np.ndarray) -> n
     ``(k, j, i)`` of the samples ``u`` (table units ``(u - u0) * ufac``, read at ``int(v + 0.5)``) can have an
     opacity ``lut_alpha > 0``."""
     nz, ny, nx = u.shape
-    prefix = np.concatenate([[0], np.cumsum(np.asarray(lut_alpha) > 0)]).astype(np.int64)
+    prefix = entry_prefix(np.asarray(lut_alpha) > 0)
     bits = np.empty((nz, ny, (nx + 7) // 8), np.uint8)
     run_parts(_bits_kernel, nz, u, float(u0), float(ufac), prefix, bits)
     return bits

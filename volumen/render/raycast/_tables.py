@@ -25,8 +25,8 @@ from numba import njit
 from ..optics import correct_opacity, optical_depth
 from ._precompute import NLUT
 
-__all__ = ["NPRE", "color_table", "extinction_table", "preintegrated_table", "block_visibility", "iso_visibility",
-           "skip_distance", "gradient_table", "coarse_blocks", "ADAPTIVE_ALPHA", "ADAPTIVE_STRIDE"]
+__all__ = ["NPRE", "entry_prefix", "color_table", "extinction_table", "preintegrated_table", "block_visibility",
+           "iso_visibility", "skip_distance", "gradient_table", "coarse_blocks", "ADAPTIVE_ALPHA", "ADAPTIVE_STRIDE"]
 
 #: side of the pre-integrated table
 NPRE = 512
@@ -115,9 +115,15 @@ def preintegrated_table(tf, vmin: float, vmax: float, ratio: float) -> np.ndarra
     return out
 
 
+def entry_prefix(marked: np.ndarray) -> np.ndarray:
+    """int64 ``(len + 1,)``: ``[i]`` how many of the table entries before ``i`` are ``marked``; the marked entries
+    in ``[a, b]`` are ``prefix[b + 1] - prefix[a]``."""
+    return np.concatenate([[0], np.cumsum(np.asarray(marked, bool))]).astype(np.int64)
+
+
 def _entries_in_range(marked: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
     """Per block, how many ``marked`` table entries lie in ``[floor(bmin), ceil(bmax)]`` (a prefix sum)."""
-    prefix = np.concatenate([[0], np.cumsum(marked)])
+    prefix = entry_prefix(marked)
     lo = np.clip(np.floor(bmin).astype(np.int64), 0, NLUT - 1)
     hi = np.clip(np.ceil(bmax).astype(np.int64), 0, NLUT - 1)
     return prefix[hi + 1] - prefix[lo]

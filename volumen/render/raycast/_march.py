@@ -14,15 +14,12 @@ pixel's jitter (0 without jitter) and ``n`` the number of such points in
 entry and, when the length is a whole number of steps, the last at the
 exact exit.
 
-Empty-space skipping: when a sample falls in a block that cannot contribute
-(the mode's ``radius``: composite -- no visible value in the block's range;
-isosurface -- threshold outside it; mip -- block max <= current max; minip --
-block min >= current min) and so did the previous sample (or at once, for the
-``eager`` modes, which need no neighbouring sample to classify), the loop
-jumps to the first sample past the block -- past the whole cube of empty
-blocks around it when the block array holds the Chebyshev distance (in
-blocks) to the nearest block that can contribute -- keeping the same sample
-grid, so skipping changes no pixel.
+Empty-space skipping (``Settings.skip``): the walk of :mod:`._walk` goes through the skipping grid's blocks along
+the ray and hands the loop the next sample in a block that can contribute (the mode's ``radius``: composite -- a
+visible value in the block's range; isosurface -- the threshold in it; mip / minip -- a value past the running max
+/ min), with the parameter past which it must be asked again; the samples in between are passed over, on the same
+sample grid, so skipping changes no pixel. Under adaptive sampling, a sample in a cube of coarse blocks stands
+for up to ``Settings.stride`` grid steps (``_span``).
 
 Pre-classified cells (post-classified composite, ``Settings.cells``): inside a block that must be sampled, a
 sample whose voxel cell holds no visible value (``_cells``) is passed over unreconstructed; that changes no pixel
@@ -40,55 +37,19 @@ from ...jit import claim, fetch_add, run_claiming
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
 from ._cells import cell_visible
 from ._frame import FAR
-from ._pieces import eager, finish, init, radius, step
+from ._pieces import finish, init, step
 from ._ray import begin_ray, sample_at
+from ._walk import enter, walk
 
 __all__ = ["trace_pixel", "render_tiles"]
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _box_exit(x, d, b, rad, size):
-    """Distance along the index ray from coordinate x to the far side of blocks b - rad + 1 .. b + rad - 1."""
-    if d > 0.0:
-        return ((b + rad) * size - x) * (1.0 / d)
-    if d < 0.0:
-        return ((b - rad + 1) * size - x) * (1.0 / d)
-    return FAR
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _jump(mode, r, a, s, st, k, t, prev_skip):
-    """Empty-space skipping at sample ``k``: ``(next k, jumped, prev_skip, t of the next check)``.
-
-    A block that must be sampled is not asked again until the ray leaves it
-    (the next check is at its far side; for a coarse block, at the far side of the cube of coarse blocks around it,
-    ``Arrays.bcoarse``): ``jumped`` False, the last value whether the block is coarse."""
-    gz, gy, gx = a.bflag.shape
-    x = r.oi + t * r.di
-    y = r.oj + t * r.dj
-    z = r.ok + t * r.dk
-    b = s.block
-    inv_b = 1.0 / b
-    bi = min(max(int(x * inv_b), 0), gx - 1)
-    bj = min(max(int(y * inv_b), 0), gy - 1)
-    bk = min(max(int(z * inv_b), 0), gz - 1)
-    rad = radius(mode, a, st, bk, bj, bi)
-    if not (prev_skip or eager(mode)) and rad > 0:
-        return k, False, True, t, False
-    coarse = rad <= 0 and s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
-    r1 = max(int(a.bcoarse[bk, bj, bi]) if coarse else rad, 1)
-    dt = min(_box_exit(x, r.di, bi, r1, b), _box_exit(y, r.dj, bj, r1, b), _box_exit(z, r.dk, bk, r1, b))
-    if rad <= 0:
-        return k, False, False, t + dt, coarse
-    kn = int(math.ceil((t + dt - r.t0) / s.ds - r.jit))
-    return max(kn, k + 1), True, True, t, False
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def _span(r, s, k, t, t_check):
     """Grid steps sample ``k`` (at ``t``) stands for in a coarse block: at most ``s.stride``, every one of them
     before the far side ``t_check`` of the cube of coarse blocks around it and on the ray."""
-    return max(min(s.stride, int(math.ceil((t_check - t) / s.ds)), r.k1 - k), 1)
+    steps = (t_check - t) / s.ds  # FAR / ds where the cube reaches the grid's end: compared before converting
+    return max(min(s.stride if steps >= s.stride else int(math.ceil(steps)), r.k1 - k), 1)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -150,13 +111,18 @@ def trace_pixel(px, py, a, s, out, mode, light):
     prev_skip = coarse = False
     t_check = r.t0 - 1.0
     k = r.k0
+    tc = r.t0 + (k + r.jit - 1.0) * s.ds  # a step before the first sample: the walk starts in its block
+    bk, bj, bi = enter(r, a, s, tc + s.ds)
     while k < r.k1 and not done:
         t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
         if s.skip and t >= t_check:
-            k, jumped, prev_skip, t_check, coarse = _jump(mode, r, a, s, st, k, t, prev_skip)
-            if jumped:
+            kk, t_check, coarse, bk, bj, bi, tc, prev_skip = walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip)
+            if kk != k:
                 have = False
-                continue
+                k = kk
+                if k >= r.k1:
+                    break
+                t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
         span = _span(r, s, k, t, t_check) if coarse else 1
         if s.cells and not cell_visible(a, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk):
             have = False  # a transparent cell: the sample (and the steps it stands for) would add nothing

@@ -138,7 +138,7 @@ float box_exit(float x, float d, int b, int rad, float size) {
     return FAR;
 }
 
-int jump(int k, float t, inout bool prev_skip, out bool jumped) {   // _march._jump
+int jump(int k, float t, inout bool prev_skip, out bool jumped) {   // per sample; the CPU walks the blocks (_walk.walk)
     jumped = false;
     vec3 x = R.oi + t * R.di;
     float size = float(u_block);

@@ -1,0 +1,110 @@
+"""The block walk of empty-space skipping (``raycast._walk``, issue 27 item 2), a 3-D DDA through the skipping
+grid: on random rays it visits, in order, exactly the blocks the ray passes through, each over the ray's own
+interval in it, and a jump past a cube of empty blocks leaves the ray on the cube's face. That skipping changes no
+picture is ``test_acceleration``'s."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from volumen.render.raycast._frame import FAR
+from volumen.render.raycast._ray import Ray
+from volumen.render.raycast._walk import _past, enter
+
+BLOCK = 4
+GRID = (7, 6, 5)  # blocks along z, y, x
+
+
+class _Arrays(NamedTuple):
+    bflag: np.ndarray
+
+
+class _Settings(NamedTuple):
+    block: int
+
+
+@njit(cache=False)
+def _walk_all(r, a, s, t, rad, out):
+    """From the block at ray parameter ``t``, ``_past`` with radius ``rad`` until no block is left: rows
+    ``(bk, bj, bi, entry t)``, the first with entry ``t``; the number of rows."""
+    bk, bj, bi = enter(r, a, s, t)
+    n = 0
+    while t < FAR / 2 and n < out.shape[0]:
+        out[n, 0], out[n, 1], out[n, 2], out[n, 3] = bk, bj, bi, t
+        n += 1
+        bk, bj, bi, t = _past(r, a, s, bk, bj, bi, rad)
+    return n
+
+
+def _ray(rng):
+    """A random ray through the grid's box (index space, t in index units), with its entry and exit."""
+    top = np.array(GRID[::-1], float) * BLOCK  # x, y, z
+    while True:
+        o = rng.uniform(-20, top + 20)
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        if rng.random() < 0.3:
+            d[rng.integers(3)] = 0.0  # a ray parallel to a face
+            d /= np.linalg.norm(d)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ta, tb = (0 - o) / d, (top - o) / d
+        lo = np.where(d != 0, np.minimum(ta, tb), -np.inf)
+        hi = np.where(d != 0, np.maximum(ta, tb), np.inf)
+        lo = np.where((d == 0) & ((o < 0) | (o > top)), np.inf, lo)
+        t0, t1 = lo.max(), hi.min()
+        if t1 - t0 > 1.0:
+            r = Ray(0, 0, 0, 0, 0, 0, o[0], o[1], o[2], d[0], d[1], d[2], t0, t1, 0.0, 1, 0, 1, 0.0)
+            return r, t0, t1
+
+
+def _dense_blocks(r, t0, t1):
+    """The blocks a dense sampling of the ray meets, in order."""
+    t = np.linspace(t0, t1, 20001)[1:-1]
+    p = np.stack([r.ok + t * r.dk, r.oj + t * r.dj, r.oi + t * r.di], 1)
+    b = np.clip((p // BLOCK).astype(int), 0, np.array(GRID) - 1)
+    keep = np.r_[True, (np.diff(b, axis=0) != 0).any(1)]
+    return [tuple(v) for v in b[keep]]
+
+
+def test_the_walk_visits_exactly_the_blocks_the_ray_passes_through():
+    rng = np.random.default_rng(7)
+    a, s = _Arrays(np.zeros(GRID, np.uint8)), _Settings(BLOCK)
+    out = np.zeros((200, 4))
+    for _ in range(300):
+        r, t0, t1 = _ray(rng)
+        n = _walk_all(r, a, s, t0 + 1e-9, 1, out)
+        rows = out[:n][out[:n, 3] < t1]  # the walk stops where the ray leaves the volume
+        walked = [tuple(int(v) for v in row[:3]) for row in rows]
+        dense = _dense_blocks(r, t0, t1)
+        assert [b for b in walked if b in set(dense)] == dense  # every block met, in order, none twice
+        exits = np.r_[rows[1:, 3], t1]
+        assert np.all(np.diff(rows[:, 3]) > 0)
+        for (bk, bj, bi), ta, tb in zip(walked, rows[:, 3], exits):
+            tm = 0.5 * (ta + min(tb, t1))  # the ray's own interval in the block lies in it
+            p = np.array([r.ok + tm * r.dk, r.oj + tm * r.dj, r.oi + tm * r.di])
+            lo = np.array([bk, bj, bi]) * BLOCK
+            assert np.all(p >= lo - 1e-9) and np.all(p <= lo + BLOCK + 1e-9), (walked, p)
+
+
+def test_a_jump_leaves_the_ray_on_the_far_face_of_the_cube_of_empty_blocks():
+    rng = np.random.default_rng(11)
+    a, s = _Arrays(np.zeros(GRID, np.uint8)), _Settings(BLOCK)
+    jumps = 0
+    for _ in range(300):
+        r, t0, t1 = _ray(rng)
+        b = np.array(enter(r, a, s, t0 + 1e-9))
+        bk, bj, bi, te = _past(r, a, s, *[int(v) for v in b], 2)
+        if te >= t1:
+            continue  # the ray leaves the volume inside the cube
+        jumps += 1
+        p = np.array([r.ok + te * r.dk, r.oj + te * r.dj, r.oi + te * r.di])
+        lo, hi = (b - 1) * BLOCK, (b + 2) * BLOCK  # the cube of radius 2: blocks b - 1 .. b + 1
+        assert np.all(p >= lo - 1e-9) and np.all(p <= hi + 1e-9)
+        assert np.isclose(np.minimum(np.abs(p - lo), np.abs(p - hi)), 0, atol=1e-9).any()  # on a face
+        step = np.abs(np.array([bk, bj, bi]) - b)
+        assert step.max() == 2  # the exit axis moved by the radius, past the cube
+    assert jumps > 100
+

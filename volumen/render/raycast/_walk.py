@@ -1,0 +1,120 @@
+"""Empty-space skipping: a walk through the skipping grid's blocks along the ray (3-D DDA).
+
+The walk keeps the block it stands in as three integers and the ray parameter ``tc`` at which the ray enters it.
+At each block it asks the mode's ``radius`` (``_pieces``: composite -- no visible value in the block's range,
+else the Chebyshev distance in blocks to the nearest block that can contribute; isosurface -- threshold outside
+the range; mip / minip -- the block cannot beat the running max / min):
+
+* a block that can contribute is sampled: the first sample of the ray's grid at or past ``tc`` is returned if
+  it lies in the block, with the ray parameter at which the ray leaves the block (under adaptive sampling, the
+  cube of coarse blocks around it, ``Arrays.bcoarse``); else the walk goes on;
+* a block that cannot is passed over: with radius 1 to the neighbour across the nearest face (integer steps, the
+  faces' parameters from the indices: no division, no float-to-int conversion), with a larger radius past the
+  whole cube of empty blocks around it.
+
+A sample lies in the block whose parameter interval holds it, up to rounding at a face; every block's range is
+taken over its voxels dilated by one (``_precompute.build_blocks``), so a sample within rounding of a face is
+also bounded by the block on the other side, and skipping changes no pixel. The walk leaves the grid where the
+ray leaves the volume: past the grid's last block on an axis the samples read the clamped border voxels of that
+block, so that block's exit on the axis is taken as never.
+
+Modes that are not ``eager`` (pre-integration, the projections) need the sample before a skipped run: the first
+sample in a block that cannot contribute is still returned when the sample before it was taken.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ._frame import FAR
+from ._pieces import eager, radius
+
+__all__ = ["enter", "walk"]
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _cell(o, d, t, inv_b, g):
+    """The block index (clamped to ``0 .. g - 1``) on one axis at ray parameter ``t``."""
+    return min(max(int((o + t * d) * inv_b), 0), g - 1)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def enter(r, a, s, t):
+    """The block ``(bk, bj, bi)`` holding the point of the ray at parameter ``t``."""
+    gz, gy, gx = a.bflag.shape
+    inv_b = 1.0 / s.block
+    return _cell(r.ok, r.dk, t, inv_b, gz), _cell(r.oj, r.dj, t, inv_b, gy), _cell(r.oi, r.di, t, inv_b, gx)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _face(o, d, b, rad, size, g):
+    """The ray parameter at which the ray leaves blocks ``b - rad + 1 .. b + rad - 1`` on one axis (the index ray
+    ``o + t d``); ``FAR`` where it does not, or leaves the grid there."""
+    if d > 0.0:
+        return FAR if b + rad >= g else ((b + rad) * size - o) / d
+    if d < 0.0:
+        return FAR if b - rad < 0 else ((b - rad + 1) * size - o) / d
+    return FAR
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _past(r, a, s, bk, bj, bi, rad):
+    """``(bk, bj, bi, t)``: the block past the cube of ``rad`` blocks around block ``(bk, bj, bi)``, and the ray
+    parameter ``t`` at which the ray enters it (``FAR``: it never does)."""
+    gz, gy, gx = a.bflag.shape
+    b = s.block
+    fi = _face(r.oi, r.di, bi, rad, b, gx)
+    fj = _face(r.oj, r.dj, bj, rad, b, gy)
+    fk = _face(r.ok, r.dk, bk, rad, b, gz)
+    if fi <= fj and fi <= fk:
+        te = fi
+        bi += rad if r.di > 0.0 else -rad
+        if rad > 1:
+            bj = _cell(r.oj, r.dj, te, 1.0 / b, gy)
+            bk = _cell(r.ok, r.dk, te, 1.0 / b, gz)
+    elif fj <= fk:
+        te = fj
+        bj += rad if r.dj > 0.0 else -rad
+        if rad > 1:
+            bi = _cell(r.oi, r.di, te, 1.0 / b, gx)
+            bk = _cell(r.ok, r.dk, te, 1.0 / b, gz)
+    else:
+        te = fk
+        bk += rad if r.dk > 0.0 else -rad
+        if rad > 1:
+            bi = _cell(r.oi, r.di, te, 1.0 / b, gx)
+            bj = _cell(r.oj, r.dj, te, 1.0 / b, gy)
+    return bk, bj, bi, te
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _first(r, s, k, tc):
+    """The first sample of the ray's grid at or past parameter ``tc``, not before sample ``k`` (``k`` itself when
+    it is past ``tc``: rounding in the division never passes over it)."""
+    if r.t0 + (k + r.jit) * s.ds >= tc:
+        return k
+    return max(k, int(math.ceil((tc - r.t0) / s.ds - r.jit)))
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip):
+    """From sample ``k`` and the block ``(bk, bj, bi)`` the ray enters at ``tc``, to the next sample to take:
+    ``(k, t_check, coarse, bk, bj, bi, tc, prev_skip)`` -- the sample (``r.k1``: none is left), the parameter past
+    which the walk must be asked again, whether the sample stands in a cube of coarse blocks, the walk's next
+    block and its entry, and whether the sample lies in a block that cannot contribute."""
+    while tc < r.t1:
+        rad = radius(mode, a, st, bk, bj, bi)
+        if rad > 0 and not (prev_skip or eager(mode)):
+            kk = _first(r, s, k, tc)  # the sample before a skipped run is taken (it stays in this block)
+            return kk, r.t0 + (kk + r.jit) * s.ds, False, bk, bj, bi, tc, True
+        coarse = rad <= 0 and s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
+        r1 = max(int(a.bcoarse[bk, bj, bi]) if coarse else rad, 1)
+        nk, nj, ni, te = _past(r, a, s, bk, bj, bi, r1)
+        if rad <= 0:
+            kk = _first(r, s, k, tc)
+            if kk < r.k1 and r.t0 + (kk + r.jit) * s.ds < te:
+                return kk, te, coarse, nk, nj, ni, te, False
+        bk, bj, bi, tc = nk, nj, ni, te
+    return r.k1, FAR, False, bk, bj, bi, tc, True

@@ -82,7 +82,7 @@ def test_the_walk_visits_exactly_the_blocks_the_ray_passes_through():
         assert [b for b in walked if b in set(dense)] == dense  # every block met, in order, none twice
         exits = np.r_[rows[1:, 3], t1]
         assert np.all(np.diff(rows[:, 3]) > 0)
-        for (bk, bj, bi), ta, tb in zip(walked, rows[:, 3], exits):
+        for (bk, bj, bi), ta, tb in zip(walked, rows[:, 3], exits, strict=True):
             tm = 0.5 * (ta + min(tb, t1))  # the ray's own interval in the block lies in it
             p = np.array([r.ok + tm * r.dk, r.oj + tm * r.dj, r.oi + tm * r.di])
             lo = np.array([bk, bj, bi]) * BLOCK

@@ -1,7 +1,7 @@
 """The block walk of empty-space skipping (``raycast._walk``, issue 27 item 2), a 3-D DDA through the skipping
-grid: on random rays it visits, in order, exactly the blocks the ray passes through, each over the ray's own
-interval in it, and a jump past a cube of empty blocks leaves the ray on the cube's face. That skipping changes no
-picture is ``test_acceleration``'s."""
+grid: on random rays it visits, in order, every block a dense sampling of the ray meets, and each block it visits
+holds the ray over the interval it gives it (no block the ray misses); a jump past a cube of empty blocks leaves
+the ray on the cube's face. That skipping changes no picture, for every mode, is ``test_acceleration``'s."""
 
 from __future__ import annotations
 

@@ -17,8 +17,9 @@ exact exit.
 Empty-space skipping (``Settings.skip``): the walk of :mod:`._walk` goes through the skipping grid's blocks along
 the ray and hands the loop the next sample in a block that can contribute (the mode's ``radius``: composite -- a
 visible value in the block's range; isosurface -- the threshold in it; mip / minip -- a value past the running max
-/ min), with the parameter past which it must be asked again; the samples in between are passed over, on the same
-sample grid, so skipping changes no pixel. Under adaptive sampling, a sample in a cube of coarse blocks stands
+/ min; the modes that need the sample before a skipped run also get the first sample of each run), with the
+parameter past which it must be asked again; the samples in between are passed over, on the same sample grid,
+so skipping changes no pixel. Under adaptive sampling, a sample in a cube of coarse blocks stands
 for up to ``Settings.stride`` grid steps (``_span``).
 
 Pre-classified cells (post-classified composite, ``Settings.cells``): inside a block that must be sampled, a
@@ -39,7 +40,7 @@ from ._cells import cell_visible
 from ._frame import FAR
 from ._pieces import finish, init, step
 from ._ray import begin_ray, sample_at
-from ._walk import enter, walk
+from ._walk import enter, sample_t, walk
 
 __all__ = ["trace_pixel", "render_tiles"]
 
@@ -111,10 +112,10 @@ def trace_pixel(px, py, a, s, out, mode, light):
     prev_skip = coarse = False
     t_check = r.t0 - 1.0
     k = r.k0
-    tc = r.t0 + (k + r.jit - 1.0) * s.ds  # a step before the first sample: the walk starts in its block
+    tc = sample_t(r, s, k) - s.ds  # a step before the first sample: the walk starts in its block
     bk, bj, bi = enter(r, a, s, tc + s.ds)
     while k < r.k1 and not done:
-        t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
+        t = sample_t(r, s, k)
         if s.skip and t >= t_check:
             kk, t_check, coarse, bk, bj, bi, tc, prev_skip = walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip)
             if kk != k:
@@ -122,7 +123,7 @@ def trace_pixel(px, py, a, s, out, mode, light):
                 k = kk
                 if k >= r.k1:
                     break
-                t = min(r.t0 + (k + r.jit) * s.ds, r.t1)
+                t = sample_t(r, s, k)
         span = _span(r, s, k, t, t_check) if coarse else 1
         if s.cells and not cell_visible(a, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk):
             have = False  # a transparent cell: the sample (and the steps it stands for) would add nothing

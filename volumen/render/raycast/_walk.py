@@ -9,8 +9,8 @@ the range; mip / minip -- the block cannot beat the running max / min):
   it lies in the block, with the ray parameter at which the ray leaves the block (under adaptive sampling, the
   cube of coarse blocks around it, ``Arrays.bcoarse``); else the walk goes on;
 * a block that cannot is passed over: with radius 1 to the neighbour across the nearest face (integer steps, the
-  faces' parameters from the indices: no division, no float-to-int conversion), with a larger radius past the
-  whole cube of empty blocks around it.
+  faces' parameters from the indices: no float-to-int conversion), with a larger radius past the whole cube of
+  empty blocks around it.
 
 A sample lies in the block whose parameter interval holds it, up to rounding at a face; every block's range is
 taken over its voxels dilated by one (``_precompute.build_blocks``), so a sample within rounding of a face is
@@ -18,8 +18,13 @@ also bounded by the block on the other side, and skipping changes no pixel. The 
 ray leaves the volume: past the grid's last block on an axis the samples read the clamped border voxels of that
 block, so that block's exit on the axis is taken as never.
 
-Modes that are not ``eager`` (pre-integration, the projections) need the sample before a skipped run: the first
-sample in a block that cannot contribute is still returned when the sample before it was taken.
+Modes that are not ``eager`` (pre-integration, the projections) need the sample before a skipped run: after a
+taken sample, the walk goes on block by block and returns the first sample in a block that cannot contribute;
+only the samples after it are passed over.
+
+Samples are placed by their parameter as the loop takes them (:func:`sample_t`, at most the ray's exit ``t1``),
+and a block entered exactly at ``t1`` is still asked: a ray leaving the volume on a face of the grid keeps its
+last sample there.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ from numba import njit
 from ._frame import FAR
 from ._pieces import eager, radius
 
-__all__ = ["enter", "walk"]
+__all__ = ["enter", "walk", "sample_t"]
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -90,10 +95,17 @@ def _past(r, a, s, bk, bj, bi, rad):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def sample_t(r, s, k):
+    """The ray parameter of sample ``k``, as the loop takes it: at most ``r.t1`` (the last sample of a ray can
+    lie a little past its exit; it is taken at the exit)."""
+    return min(r.t0 + (k + r.jit) * s.ds, r.t1)
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def _first(r, s, k, tc):
-    """The first sample of the ray's grid at or past parameter ``tc``, not before sample ``k`` (``k`` itself when
+    """The first sample at or past parameter ``tc`` (``tc <= r.t1``), not before sample ``k`` (``k`` itself when
     it is past ``tc``: rounding in the division never passes over it)."""
-    if r.t0 + (k + r.jit) * s.ds >= tc:
+    if sample_t(r, s, k) >= tc:
         return k
     return max(k, int(math.ceil((tc - r.t0) / s.ds - r.jit)))
 
@@ -103,18 +115,22 @@ def walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip):
     """From sample ``k`` and the block ``(bk, bj, bi)`` the ray enters at ``tc``, to the next sample to take:
     ``(k, t_check, coarse, bk, bj, bi, tc, prev_skip)`` -- the sample (``r.k1``: none is left), the parameter past
     which the walk must be asked again, whether the sample stands in a cube of coarse blocks, the walk's next
-    block and its entry, and whether the sample lies in a block that cannot contribute."""
-    while tc < r.t1:
+    block and its entry, and whether the sample lies in a block that cannot contribute. A sample belongs to the
+    block whose interval ``[entry, exit)`` holds its parameter (:func:`sample_t`); a block entered at ``r.t1``
+    still holds the last sample."""
+    while tc <= r.t1:
         rad = radius(mode, a, st, bk, bj, bi)
-        if rad > 0 and not (prev_skip or eager(mode)):
-            kk = _first(r, s, k, tc)  # the sample before a skipped run is taken (it stays in this block)
-            return kk, r.t0 + (kk + r.jit) * s.ds, False, bk, bj, bi, tc, True
+        take_empty = rad > 0 and not (prev_skip or eager(mode))  # the first sample of a skipped run is taken
         coarse = rad <= 0 and s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
-        r1 = max(int(a.bcoarse[bk, bj, bi]) if coarse else rad, 1)
+        r1 = 1 if take_empty else max(int(a.bcoarse[bk, bj, bi]) if coarse else rad, 1)
         nk, nj, ni, te = _past(r, a, s, bk, bj, bi, r1)
-        if rad <= 0:
+        if rad <= 0 or take_empty:
             kk = _first(r, s, k, tc)
-            if kk < r.k1 and r.t0 + (kk + r.jit) * s.ds < te:
+            if kk >= r.k1:
+                break
+            if sample_t(r, s, kk) < te:
+                if take_empty:  # asked again at the next sample, from this block
+                    return kk, sample_t(r, s, kk), False, bk, bj, bi, tc, True
                 return kk, te, coarse, nk, nj, ni, te, False
         bk, bj, bi, tc = nk, nj, ni, te
     return r.k1, FAR, False, bk, bj, bi, tc, True

@@ -40,7 +40,7 @@ __all__ = ["enter", "walk", "sample_t"]
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _cell(o, d, t, inv_b, g):
+def _block_index(o, d, t, inv_b, g):
     """The block index (clamped to ``0 .. g - 1``) on one axis at ray parameter ``t``."""
     return min(max(int((o + t * d) * inv_b), 0), g - 1)
 
@@ -50,7 +50,8 @@ def enter(r, a, s, t):
     """The block ``(bk, bj, bi)`` holding the point of the ray at parameter ``t``."""
     gz, gy, gx = a.bflag.shape
     inv_b = 1.0 / s.block
-    return _cell(r.ok, r.dk, t, inv_b, gz), _cell(r.oj, r.dj, t, inv_b, gy), _cell(r.oi, r.di, t, inv_b, gx)
+    return (_block_index(r.ok, r.dk, t, inv_b, gz), _block_index(r.oj, r.dj, t, inv_b, gy),
+            _block_index(r.oi, r.di, t, inv_b, gx))
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -67,31 +68,19 @@ def _face(o, d, b, rad, size, g):
 @njit(cache=True, fastmath=True, inline="always")
 def _past(r, a, s, bk, bj, bi, rad):
     """``(bk, bj, bi, t)``: the block past the cube of ``rad`` blocks around block ``(bk, bj, bi)``, and the ray
-    parameter ``t`` at which the ray enters it (``FAR``: it never does)."""
+    parameter ``t`` at which the ray enters it (``FAR``: it never does). The exit axis moves by ``rad`` (integer
+    steps: the walk always gets on); with ``rad > 1`` the other two come from the ray's point there."""
     gz, gy, gx = a.bflag.shape
-    b = s.block
-    fi = _face(r.oi, r.di, bi, rad, b, gx)
-    fj = _face(r.oj, r.dj, bj, rad, b, gy)
-    fk = _face(r.ok, r.dk, bk, rad, b, gz)
-    if fi <= fj and fi <= fk:
-        te = fi
-        bi += rad if r.di > 0.0 else -rad
-        if rad > 1:
-            bj = _cell(r.oj, r.dj, te, 1.0 / b, gy)
-            bk = _cell(r.ok, r.dk, te, 1.0 / b, gz)
-    elif fj <= fk:
-        te = fj
-        bj += rad if r.dj > 0.0 else -rad
-        if rad > 1:
-            bi = _cell(r.oi, r.di, te, 1.0 / b, gx)
-            bk = _cell(r.ok, r.dk, te, 1.0 / b, gz)
-    else:
-        te = fk
-        bk += rad if r.dk > 0.0 else -rad
-        if rad > 1:
-            bi = _cell(r.oi, r.di, te, 1.0 / b, gx)
-            bj = _cell(r.oj, r.dj, te, 1.0 / b, gy)
-    return bk, bj, bi, te
+    fi = _face(r.oi, r.di, bi, rad, s.block, gx)
+    fj = _face(r.oj, r.dj, bj, rad, s.block, gy)
+    fk = _face(r.ok, r.dk, bk, rad, s.block, gz)
+    te = min(fi, fj, fk)
+    ek, ej, ei = enter(r, a, s, te) if rad > 1 else (bk, bj, bi)
+    if fi == te:
+        return ek, ej, bi + (rad if r.di > 0.0 else -rad), te
+    if fj == te:
+        return ek, bj + (rad if r.dj > 0.0 else -rad), ei, te
+    return bk + (rad if r.dk > 0.0 else -rad), ej, ei, te
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -21,8 +21,8 @@ warm-up frame (which compiles the kernels and builds the volumes).
 Last, CTs (:func:`real_ct_rows`): the VMTK aorta resampled to about
 366x303x336, and the whole-abdomen CT built for the purpose at that size, at 782x415
 with the default sample rate, in two presets: the command line's default for a CT (``ct-skin-bone``,
-translucent skin and soft tissue) and the sweeps' ``ct-bone`` (issue 27 measured its baseline, 15.0 / 8.3 /
-5.1 fps, in the seeds' setting, and asks for twice that). Phong and shadows with
+translucent skin and soft tissue) and the sweeps' ``ct-bone`` (the seeds' preset: issue 27 gives its baseline,
+15.0 / 8.3 / 5.1 fps, at the seeds' viewport without naming a preset, and asks for twice that). Phong and shadows with
 one light and scattering with three, the camera orbiting, from the default
 view and zoomed until the scan fills the picture (the phantom is mostly
 empty space and flatters), each at full rate and with adaptive sampling
@@ -255,10 +255,10 @@ def _ct_rows(table, render, kind, loaded, size, repeat, progress) -> None:
         body = ray_shares(vol, offset, cams[0], size).get("body", float("nan"))
         for preset in REAL_CT["presets"]:
             _preset_rows(table, render, kind, preset, loaded, cams,
-                         f"CT, {view} (zoom {zoom:.2f}, body on {body:.0%} of rays", size, repeat, progress)
+                         f"CT, {view}", f"zoom {zoom:.2f}, body on {body:.0%} of rays", size, repeat, progress)
 
 
-def _preset_rows(table, render, kind, preset, loaded, cams, where, size, repeat, progress) -> None:
+def _preset_rows(table, render, kind, preset, loaded, cams, view, about, size, repeat, progress) -> None:
     """The rows of one CT in one preset from one view: the three models, full rate
     and adaptive, a new camera of ``cams`` each frame (the first one warms up)."""
     from dataclasses import replace
@@ -277,6 +277,6 @@ def _preset_rows(table, render, kind, preset, loaded, cams, where, size, repeat,
         frames = iter(cams[1:])  # a new view each frame: nothing of the last frame is reused
         ms = median_time(lambda s=scene, f=frames: render(s, next(f), size), repeat=repeat, warmup=0) * 1e3
         bar, label = REAL_CT["bars"][shading], shading + (" adaptive" if adaptive else "")
-        table.add(sweep=f"{where}, step {step:.2f} mm)", volume=name, viewport=iname, distance="-", lights=n,
+        table.add(sweep=f"{view} ({about}, step {step:.2f} mm)", volume=name, viewport=iname, distance="-", lights=n,
                   shading=label, ms=ms, fps=1e3 / ms, bar_fps=f">= {bar:g}" + ("" if 1e3 / ms >= bar else " (not met)"))
-        progress(f"  {name} {where}): {label} {n} light(s): {ms:.1f} ms ({1e3 / ms:.1f} fps; bar {bar:g})")
+        progress(f"  {name} {view}: {label} {n} light(s): {ms:.1f} ms ({1e3 / ms:.1f} fps; bar {bar:g})")

@@ -43,7 +43,7 @@ def _slab_closed_form(L, mu, sigma_a, sigma_s, g, ka, kd, E, offset):
 @pytest.mark.parametrize("g", [0.0, -0.4, 0.5])
 def test_homogeneous_slab_matches_closed_form(method, g):
     nz = 40
-    vol = Volume(np.full((nz, 12, 12), 100.0, np.float32), spacing=(1.0, 1.0, 1.0))
+    vol = Volume(np.full((nz, 12, 12), 100, np.int16), spacing=(1.0, 1.0, 1.0))  # int16: the phantoms' kernel
     cam, size = axis_camera(vol, "superior")
     tf = TransferFunction(color=((0, *COLOR), (200, *COLOR)), opacity=((0, A0), (200, A0)))
     light = Light(position=(5.5, 5.5, 1e4), intensity=0.3)  # far above the eye, on the view axis

@@ -78,7 +78,8 @@ def _sphere_over_slab(n=64, centre=(40.0, 34.0, 36.0), radius=7.0, top=14.0):
     z, y, x = np.mgrid[:n, :n, :n].astype(np.float64)
     r = np.sqrt((x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2)
     inside = np.maximum(0.5 * (1 - np.tanh((r - radius) / 0.7)), 0.5 * (1 - np.tanh((z - top) / 0.7)) * (z > 4))
-    return Volume((-1000 + 2000 * inside).astype(np.float32), spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
+    data = np.rint(-1000 + 2000 * inside).astype(np.int16)  # HU as CT stores them: the phantoms' int16 kernels
+    return Volume(data, spacing=(1.0, 1.0, 1.0), modality="CT", units="HU")
 
 
 OPAQUE = TransferFunction(color=((-1000, 0.9, 0.9, 0.9), (1000, 0.9, 0.9, 0.9)),

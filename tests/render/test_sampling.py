@@ -23,7 +23,7 @@ def _slab_scene(vol, spv, jitter=False, preintegrate=False):
 @pytest.mark.parametrize("jitter", [False, True])
 def test_homogeneous_slab_matches_beer_lambert(spv, jitter):
     # a homogeneous block seen along z: thickness L = (nz - 1) * dz between the first and last voxel centres
-    vol = Volume(np.full((30, 12, 10), 100.0, np.float32), spacing=(1.5, 1.5, 1.5))
+    vol = Volume(np.full((30, 12, 10), 100, np.int16), spacing=(1.5, 1.5, 1.5))
     cam, size = axis_camera(vol, "superior")
     im = render(_slab_scene(vol, spv, jitter), cam, size)
     ds0 = 1.5
@@ -39,7 +39,7 @@ def test_picture_independent_of_step():
     # a smooth blob: 0.5 and 2 samples per voxel agree within 1 % of full opacity
     z, y, x = np.mgrid[:32, :32, :32].astype(np.float32)
     data = 200 * np.exp(-((x - 15.5) ** 2 + (y - 15.5) ** 2 + (z - 15.5) ** 2) / (2 * 6.0**2))
-    vol = Volume(data.astype(np.float32))
+    vol = Volume(np.rint(data).astype(np.int16))
     cam, size = axis_camera(vol, "anterior")
     tf = TransferFunction(color=((0, 1, 1, 1), (200, 1, 0.6, 0.3)), opacity=((0, 0), (200, 0.15)))
     ims = [render(Scene(volume=vol, transfer=tf, shading=Shading(mode="none"),
@@ -53,7 +53,7 @@ def test_preintegration_beats_post_classification_at_low_rate():
     # some rays (slab artifacts); pre-integration integrates the spike between samples
     z, y, x = np.mgrid[:48, :24, :24].astype(np.float32)
     data = z * 10.0 + x * 3.1 + y * 1.7  # 0 .. ~580, oblique iso-planes
-    vol = Volume(data.astype(np.float32))
+    vol = Volume(np.rint(data).astype(np.int16))
     tf = TransferFunction(color=((0, 1, 0.8, 0.6), (600, 1, 0.8, 0.6)),
                           opacity=((0, 0), (240, 0), (250, 0.6), (260, 0), (600, 0)))
     cam, size = axis_camera(vol, "superior")

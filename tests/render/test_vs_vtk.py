@@ -16,7 +16,7 @@ def _blob_volume(n=48):
     z, y, x = (np.mgrid[0:n, 0:n, 0:n].astype(np.float32) - (n - 1) / 2)
     r = np.sqrt(x * x + 1.3 * y * y + 0.8 * z * z)
     data = 1000.0 * np.tanh((16.0 - r) / 2.5) + 200.0 * np.sin(x / 5.0)
-    return Volume(data.astype(np.float32), spacing=(1.2, 1.0, 0.9), affine=np.diag([0.9, 1.0, 1.2, 1.0]))
+    return Volume(np.rint(data).astype(np.int16), spacing=(1.2, 1.0, 0.9), affine=np.diag([0.9, 1.0, 1.2, 1.0]))
 
 
 @pytest.mark.parametrize("shading, tol", [("none", 0.01), ("headlight", 0.03)])

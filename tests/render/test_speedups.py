@@ -25,7 +25,7 @@ from volumen.render.raycast._cpu import TILE, frame_tiles
 from volumen.render.raycast._frame import Outputs
 from volumen.render.raycast._geometry import footprint
 from volumen.render.raycast._march import render_tiles
-from volumen.render.raycast._normals import DIRS, _encode, encode_normals
+from volumen.render.raycast._normals import DIR_HALF, DIRS, _decode_table, _encode, encode_normals, unpack
 from volumen.render.raycast._pack import pack_frame
 from volumen.render.raycast._precompute import normal_params
 
@@ -36,12 +36,26 @@ def test_every_direction_comes_back_within_the_grid_bound():
     v /= np.linalg.norm(v, axis=1, keepdims=True)
     v = np.vstack([v, np.eye(3), -np.eye(3)])  # the octahedron's corners, where the fold is
     codes = np.array([_encode(x, y, z, 1.0) for x, y, z in v])
-    back = DIRS[codes].astype(np.float64)
+    exact = _decode_table()
+    back = exact[codes]
     angle = np.degrees(np.arccos(np.clip(np.sum(back * v, axis=1), -1.0, 1.0)))
     print(f"octahedral codes: worst angular error {angle.max():.3f} deg, mean {angle.mean():.3f} deg")
     assert angle.max() < 1.0 and angle.mean() < 0.35
-    assert np.allclose(np.linalg.norm(DIRS[1:], axis=1), 1.0, atol=1e-6)
-    assert _encode(0.0, 0.0, 0.0, 0.0) == 0 and not DIRS[0].any()
+    assert np.allclose(np.linalg.norm(exact[1:], axis=1), 1.0, atol=1e-6)
+    assert _encode(0.0, 0.0, 0.0, 0.0) == 0 and not exact[0].any()
+
+
+def test_packed_directions_are_the_decoded_ones_to_half_a_level():
+    """The kernels' table (one uint32 per code, 10 bits a component) against the float decode: every component
+    within half a level (1 / (2 DIR_HALF)), code 0 exactly the zero vector."""
+    exact, packed = _decode_table(), unpack(DIRS)
+    err = np.abs(packed - exact).max()
+    angle = np.degrees(np.arccos(np.clip(np.sum(packed[1:] * exact[1:], axis=1)
+                                         / np.linalg.norm(packed[1:], axis=1), -1.0, 1.0)))
+    print(f"packed directions: largest component error {err:.2e}, worst angle {angle.max():.3f} deg")
+    assert DIRS.dtype == np.uint32 and DIRS.shape == (len(exact),)
+    assert err <= 0.5 / DIR_HALF + 1e-12
+    assert not packed[0].any()
 
 
 def test_sphere_normals_are_radial():
@@ -56,7 +70,7 @@ def test_sphere_normals_are_radial():
     codes, mags = encode_normals(vol.data, nrm, False)
     assert mags.shape == (1, 1, 1)  # magnitudes only when asked for
     shell = np.abs(r - 16.0) < 0.5
-    got = DIRS[codes[shell]].astype(np.float64)  # (gx, gy, gz) world
+    got = unpack(DIRS[codes[shell]])  # (gx, gy, gz) world
     want = -np.stack([x[shell] - c[2], y[shell] - c[1], z[shell] - c[0]], axis=1) / r[shell][:, None]
     angle = np.degrees(np.arccos(np.clip(np.sum(got * want, axis=1), -1, 1)))
     print(f"sphere shell ({shell.sum()} voxels): normal error mean {angle.mean():.2f} deg, p99 "

@@ -45,7 +45,7 @@ class Arrays(NamedTuple):
     nrm: np.ndarray     #: gradient matrix and 1 / gmax (4, 3) float64 (``_precompute.normal_params``)
     ncode: np.ndarray   #: normal direction code per voxel [z, y, x] uint16 (``_normals``), (1, 1, 1) when unused
     gcode: np.ndarray   #: gradient-magnitude code per voxel [z, y, x] uint8, (1, 1, 1) when unused
-    ndir: np.ndarray    #: direction code -> unit vector (``_normals.DIRS``)
+    ndir: np.ndarray    #: direction code -> unit vector, packed in a uint32 (``_normals.DIRS``)
     lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
     pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
     glut: np.ndarray    #: gradient-opacity factor per magnitude code (128,)

@@ -1,10 +1,13 @@
 """Pictures as 8-bit PNG content before the display transform (issue 24): ``--tonemap linear`` must give them
 back bit for bit.
 
-``python linear_scenes.py OUT.npz`` renders every scene of :func:`scenes` on the CPU and stores each picture's
-``Image.to_uint8`` over two backgrounds (black, and a grey with ``encoding="srgb"``) as uint8 arrays.
-``linear_pictures.npz`` beside this file was written by the code of commit acb0293, before the display
-transform, the environment light and the studio rig existed (``test_display.py`` compares). The path tracer is
+``python linear_scenes.py OUT.npz`` renders every scene of :func:`scenes` on the CPU (:func:`render_linear`) and
+stores each picture's ``Image.to_uint8`` over two backgrounds (black, and a grey with ``encoding="srgb"``) as
+uint8 arrays. ``linear_pictures.npz`` beside this file was written by the code of commit acb0293, before the
+display transform, the environment light and the studio rig existed (``test_display.py`` compares), and
+re-written once since, when the normals' direction table was packed into 10-bit components (issue 27): of the
+6912 bytes of each shaded picture, 13-41 moved, by 1 (5 in a specular highlight of ``composite/phong/light``);
+the unshaded pictures and the MIP kept every byte. The path tracer is
 left out: its estimator changed in the same issue (another sampler, the majorant grid), so its noise differs by
 design; ``test_pathtrace.py`` checks that it converges to the same pictures.
 """
@@ -52,7 +55,14 @@ def pictures(render, scenes_) -> dict:
     return out
 
 
-if __name__ == "__main__":
+def render_linear(scene, cam, size):
+    """The picture with ``tonemap="linear"`` and the uniform environment: the pictures of before the display
+    transform."""
+    from volumen.core import Display, Environment
     from volumen.render import render
 
-    np.savez_compressed(sys.argv[1], **pictures(render, scenes()))
+    return render(scene.with_(display=Display(tonemap="linear"), environment=Environment(kind="uniform")), cam, size)
+
+
+if __name__ == "__main__":
+    np.savez_compressed(sys.argv[1], **pictures(render_linear, scenes()))

@@ -9,7 +9,7 @@ import linear_scenes
 import numpy as np
 import pytest
 
-from volumen.core import Display, Environment, Image
+from volumen.core import Display, Image
 from volumen.core._tonemap import MIDDLE_GREY, aces, aces_inverse, meter, srgb_encode
 from volumen.render import render
 
@@ -70,14 +70,10 @@ def golden():
     return dict(np.load(GOLDEN))
 
 
-def _render_linear(scene, cam, size):
-    return render(scene.with_(display=Display(tonemap="linear"), environment=Environment(kind="uniform")), cam, size)
-
-
 def test_linear_display_gives_the_pictures_of_before_bit_for_bit(golden):
     """Every shading (with and without lights), isosurface and MIP: ``tonemap="linear"`` with the uniform
     environment of before writes the same bytes as the code before the display transform (commit acb0293)."""
-    new = linear_scenes.pictures(_render_linear, linear_scenes.scenes())
+    new = linear_scenes.pictures(linear_scenes.render_linear, linear_scenes.scenes())
     assert set(new) == set(golden)
     for name, pic in new.items():
         np.testing.assert_array_equal(pic, golden[name], err_msg=name)

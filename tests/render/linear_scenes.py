@@ -6,8 +6,8 @@ stores each picture's ``Image.to_uint8`` over two backgrounds (black, and a grey
 uint8 arrays. ``linear_pictures.npz`` beside this file was written by the code of commit acb0293, before the
 display transform, the environment light and the studio rig existed (``test_display.py`` compares), and
 re-written once since, when the normals' direction table was packed into 10-bit components (issue 27): of the
-6912 bytes of each shaded picture, 13-41 moved, by 1 (5 in a specular highlight of ``composite/phong/light``);
-the unshaded pictures and the MIP kept every byte. The path tracer is
+6912 bytes of each picture that reads normals (headlight; Phong, shadows and isosurface with a light), 13-41
+moved, by 1 (5 in a specular highlight of ``composite/phong/light``); the others kept every byte. The path tracer is
 left out: its estimator changed in the same issue (another sampler, the majorant grid), so its noise differs by
 design; ``test_pathtrace.py`` checks that it converges to the same pictures.
 """

@@ -66,8 +66,8 @@ def unpack(p: np.ndarray) -> np.ndarray:
 
 #: code -> unit direction (world), packed: one uint32 per code (1 + Q^2,), three 10-bit components (:func:`unpack`;
 #: largest error 1e-3 per component, 0.06 degree, against the codes' own 0.93). A third of a float32 table's
-#: 780 KiB, and one load per voxel: the ray caster reads it at random, and at 366x303x336 a lit frame took
-#: 0.84-0.95x the time of the float table's (``issue 27``, paired)
+#: 780 KiB, and one load per voxel: the ray caster reads it at random, and on 366x303x336 CTs headlight frames
+#: took 0.84-0.95x the time of the float table's (issue 27, paired in one process)
 DIRS = _packed(_decode_table())
 #: the placeholder of a frame that reads no codes: one object, so a device keeps it between frames
 NO_CODES = np.zeros((1, 1, 1), np.uint16)
@@ -121,6 +121,12 @@ def _component(p):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def _direction(qx, qy, qz):
+    """The direction of components ``q`` (or of a weighted sum of components whose weights sum to 1)."""
+    return qx * (1.0 / DIR_HALF) - 1.0, qy * (1.0 / DIR_HALF) - 1.0, qz * (1.0 / DIR_HALF) - 1.0
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
     """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of ``a.ncode`` (decoded
     by ``a.ndir``) when ``want_dir`` and magnitude codes of ``a.gcode`` when ``want_mag`` (0 otherwise)."""
@@ -131,8 +137,8 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
         j = min(max(int(y + 0.5), 0), ny - 1)
         k = min(max(int(z + 0.5), 0), nz - 1)
         if want_dir:
-            gx, gy, gz = _component(a.ndir[a.ncode[k, j, i]])
-            gx, gy, gz = gx * (1.0 / DIR_HALF) - 1.0, gy * (1.0 / DIR_HALF) - 1.0, gz * (1.0 / DIR_HALF) - 1.0
+            qx, qy, qz = _component(a.ndir[a.ncode[k, j, i]])
+            gx, gy, gz = _direction(qx, qy, qz)
         if want_mag:
             gm = np.float64(a.gcode[k, j, i])
         return gx, gy, gz, gm
@@ -151,7 +157,7 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
             gz += w * qz
         if want_mag:
             gm += w * a.gcode[k, j, i]
-    if want_dir:  # the weights sum to 1: the offset is subtracted once
-        gx, gy, gz = gx * (1.0 / DIR_HALF) - 1.0, gy * (1.0 / DIR_HALF) - 1.0, gz * (1.0 / DIR_HALF) - 1.0
+    if want_dir:  # the trilinear weights sum to 1: the components' offset is taken off once
+        gx, gy, gz = _direction(gx, gy, gz)
     return gx, gy, gz, gm
 

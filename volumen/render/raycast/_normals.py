@@ -35,6 +35,10 @@ Q = 255
 #: a packed direction's components are ``q / DIR_HALF - 1``, ``q`` in ``0 .. 2 DIR_HALF`` (10 bits; 0 exactly at
 #: ``q = DIR_HALF``, so code 0 decodes to the zero vector)
 DIR_HALF = 511
+#: bits of a packed component, and where x and y start (z in the lowest bits)
+_BITS = 10
+_MASK = (1 << _BITS) - 1
+_SX, _SY = 2 * _BITS, _BITS
 
 
 def _decode_table() -> np.ndarray:
@@ -54,13 +58,13 @@ def _decode_table() -> np.ndarray:
 def _packed(dirs: np.ndarray) -> np.ndarray:
     """Directions (n, 3) as three 10-bit components in one uint32 each: x in bits 20-29, y in 10-19, z in 0-9."""
     q = np.rint((dirs + 1.0) * DIR_HALF).astype(np.uint32)
-    return (q[:, 0] << 20) | (q[:, 1] << 10) | q[:, 2]
+    return (q[:, 0] << _SX) | (q[:, 1] << _SY) | q[:, 2]
 
 
 def unpack(p: np.ndarray) -> np.ndarray:
     """The directions (n, 3) float64 of packed codes ``p`` (:data:`DIRS` rows)."""
     p = np.asarray(p, np.uint32)
-    q = np.stack([(p >> 20) & 1023, (p >> 10) & 1023, p & 1023], axis=-1)
+    q = np.stack([(p >> _SX) & _MASK, (p >> _SY) & _MASK, p & _MASK], axis=-1)
     return q / DIR_HALF - 1.0
 
 
@@ -117,7 +121,7 @@ def encode_normals(u: np.ndarray, nrm: np.ndarray, sobel: bool, *, directions=Tr
 @njit(cache=True, fastmath=True, inline="always")
 def _component(p):
     """The three 10-bit components ``q`` of packed direction ``p``, as floats (``q / DIR_HALF - 1`` each)."""
-    return np.float64((p >> 20) & 1023), np.float64((p >> 10) & 1023), np.float64(p & 1023)
+    return np.float64((p >> _SX) & _MASK), np.float64((p >> _SY) & _MASK), np.float64(p & _MASK)
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -25,7 +25,7 @@ def _pair(scene, camera, size):
     return render(scene, camera, size), render(adaptive, camera, size)
 
 
-def test_coarse_blocks_are_visible_faint_blocks_with_their_distance_to_the_rest():
+def test_coarse_blocks_are_visible_faint_blocks_with_the_cubes_of_them_ahead_per_octant():
     alpha = np.zeros(4096, np.float32)
     alpha[1000:2000] = np.linspace(0.0, 2 * ADAPTIVE_ALPHA, 1000)  # reaches ADAPTIVE_ALPHA at entry 1500
     bmin = np.array([0.0, 500.0, 1200.0, 1200.0, 2500.0]).reshape(1, 1, 5)
@@ -35,10 +35,14 @@ def test_coarse_blocks_are_visible_faint_blocks_with_their_distance_to_the_rest(
     lo, hi = np.full((5, 5, 5), 1200.0), np.full((5, 5, 5), 1400.0)
     hi[2, 2, 2] = 1800.0
     lo[0, 0, 0] = hi[0, 0, 0] = 10.0
-    d = coarse_blocks(alpha, lo, hi)
+    sides = coarse_blocks(alpha, lo, hi)
+    d = sides.min(axis=0)  # the least over the octants: the Chebyshev distance to a block that is not coarse
     assert d[2, 2, 2] == 0 and d[0, 0, 0] == 0  # full rate there; skipping jumps the empty block
     assert d[1, 2, 2] == d[1, 1, 1] == 1 and d[4, 4, 4] == d[0, 2, 4] == 2
     assert d[0, 0, 1] == 1  # next to the empty block
+    # per octant, only the blocks ahead count: from (3, 3, 3) the opaque block lies ahead of a ray going to lower
+    # indices on every axis (octant 7), behind one going to higher (octant 0), whose cube leaves the grid
+    assert sides[7, 3, 3, 3] == 1 and sides[0, 3, 3, 3] == 255 and sides[0, 1, 1, 1] == 1
 
 
 def test_a_translucent_slab_keeps_beer_lambert_with_a_quarter_of_the_samples():

@@ -1,7 +1,9 @@
 """The block walk of empty-space skipping (``raycast._walk``, issue 27 item 2), a 3-D DDA through the skipping
 grid: on random rays it visits, in order, every block a dense sampling of the ray meets, and each block it visits
 holds the ray over the interval it gives it (no block the ray misses); a jump past a cube of empty blocks leaves
-the ray on the cube's face. That skipping changes no picture, for every mode, is ``test_acceleration``'s."""
+the ray on the cube's face; the octant skip sides (``raycast._octants``) are the largest empty cubes ahead of the
+ray, and a jump by one passes over no block that can contribute. That skipping changes no picture, for every
+mode, is ``test_acceleration``'s."""
 
 from __future__ import annotations
 
@@ -9,8 +11,10 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+from scipy import ndimage
 
 from volumen.render.raycast._frame import FAR
+from volumen.render.raycast._octants import octant_sides, tiled
 from volumen.render.raycast._ray import Ray
 from volumen.render.raycast._walk import _past, enter
 
@@ -19,7 +23,7 @@ GRID = (7, 6, 5)  # blocks along z, y, x
 
 
 class _Arrays(NamedTuple):
-    bflag: np.ndarray
+    bmin: np.ndarray
 
 
 class _Settings(NamedTuple):
@@ -108,3 +112,64 @@ def test_a_jump_leaves_the_ray_on_the_far_face_of_the_cube_of_empty_blocks():
         assert step.max() == 2  # the exit axis moved by the radius, past the cube
     assert jumps > 100
 
+
+
+def _largest_empty_cube(flags, b, signs):
+    """Brute force: the side of the largest cube of blocks with no flag set that starts at block ``b`` and
+    extends the ``signs`` way, blocks past the grid counting as empty (capped at 255)."""
+    side = 0
+    while side < 255:
+        lo = [c if s > 0 else c - side for c, s in zip(b, signs, strict=True)]
+        box = tuple(slice(max(a, 0), max(a + side + 1, 0)) for a in lo)
+        if flags[box].any():
+            break
+        side += 1
+        if all((a + side > g if s > 0 else a - 1 < 0) for a, s, g in zip(lo, signs, flags.shape, strict=True)):
+            return 255  # the cube has left the grid on every axis: nothing ahead can stop it
+    return side
+
+
+def test_octant_sides_are_the_largest_empty_cubes_ahead_and_their_least_is_the_chebyshev_distance():
+    rng = np.random.default_rng(5)
+    for density in (0.02, 0.15):
+        flags = (rng.random((9, 7, 11)) < density).astype(np.uint8)
+        sides = octant_sides(flags)
+        chebyshev = np.minimum(ndimage.distance_transform_cdt(flags == 0, metric="chessboard"), 255)
+        assert np.array_equal(sides.min(axis=0), chebyshev)
+        for o in range(8):
+            signs = (-1 if o & 4 else 1, -1 if o & 2 else 1, -1 if o & 1 else 1)
+            for b in np.ndindex(flags.shape):
+                assert sides[(o, *b)] == _largest_empty_cube(flags, b, signs), (o, b)
+
+
+def test_an_octant_jump_passes_over_no_block_that_can_contribute():
+    rng = np.random.default_rng(13)
+    flags = (rng.random(GRID) < 0.08).astype(np.uint8)
+    sides = octant_sides(flags)
+    a, s = _Arrays(np.zeros(GRID, np.float32)), _Settings(BLOCK)
+    jumps = 0
+    for _ in range(400):
+        r, t0, t1 = _ray(rng)
+        o = (4 if r.dk < 0 else 0) + (2 if r.dj < 0 else 0) + (1 if r.di < 0 else 0)
+        t = t0 + 1e-9
+        b = enter(r, a, s, t)
+        while t < t1:
+            rad = int(sides[(o, *b)])
+            *nb, te = _past(r, a, s, *b, max(rad, 1))
+            if rad > 1:
+                jumps += 1
+                seg = np.linspace(t, min(te, t1), 2002)[1:-1]  # inside the interval: its ends lie on faces
+                p = np.stack([r.ok + seg * r.dk, r.oj + seg * r.dj, r.oi + seg * r.di], 1)
+                met = np.clip((p // BLOCK).astype(int), 0, np.array(GRID) - 1)
+                assert not flags[tuple(met.T)].any()
+            b, t = tuple(int(v) for v in nb), te
+    assert jumps > 200
+
+
+def test_the_gl_texture_holds_each_octant_at_its_offset():
+    sides = np.random.default_rng(3).integers(0, 256, (8, 3, 4, 5)).astype(np.uint8)
+    t = tiled(sides)
+    assert t.shape == (6, 8, 10)
+    for o in range(8):
+        dz, dy, dx = (3 if o & 4 else 0), (4 if o & 2 else 0), (5 if o & 1 else 0)
+        assert np.array_equal(t[dz:dz + 3, dy:dy + 4, dx:dx + 5], sides[o])

@@ -64,6 +64,7 @@ def web_frame(volume, scene_dict: dict, camera_dict: dict, size) -> tuple[dict, 
     """
     from volumen.render.raster._rc_uniforms import frame_uniforms, variant
     from volumen.render.raycast import pack_frame
+    from volumen.render.raycast._octants import tiled
 
     w, h = (int(v) for v in size)
     if not (1 <= w <= 8192 and 1 <= h <= 8192):
@@ -74,6 +75,7 @@ def web_frame(volume, scene_dict: dict, camera_dict: dict, size) -> tuple[dict, 
     f = pack_frame(scene, camera, (w, h))
     arrays = {name: np.ascontiguousarray(getattr(f.arrays, name)) for name in FRAME_ARRAYS}
     arrays["lvd"] = arrays["lvd"].astype(np.float32, copy=False).ravel()
+    arrays["bflag"] = tiled(arrays["bflag"])  # the octants' grids side by side, as the gl device's texture
     header = {"defines": variant(f), "uniforms": {k: _plain(v) for k, v in frame_uniforms(f).items()},
               "display": scene.display.resolved(scene.shading.mode, scene.mode).to_dict(),
               "lights_built": int(f.light_volumes_built),

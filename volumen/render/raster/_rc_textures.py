@@ -5,7 +5,8 @@
 * no normals: the shader computes them from ``vol`` where it needs them, as the CPU does
   (``_sample.sample_normal``);
 * ``rgb``: 3-D RGB8 (normalized) of a colour volume's voxel colours (``raycast._color``), trilinear;
-* ``bflag`` (R8UI), ``bmin``, ``bmax`` (R32F): the block grids of empty-space skipping, read per texel;
+* ``bflag`` (R8UI, the eight octants' skip sides side by side: ``raycast._octants.tiled``), ``bmin``, ``bmax``
+  (R32F): the block grids of empty-space skipping, read per texel;
 * ``lut``, ``sig``, ``glut``: one-row 2-D tables read at the nearest entry, ``pre``: the
   pre-integrated table (x: back value, y: front value);
 * ``lvd``: the illumination volumes' flat buffer (every light's lattice of light rays,
@@ -79,7 +80,10 @@ def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     if name == "rgb":  # uint8 read as normalized [0, 1]
         d = np.ascontiguousarray(x, np.uint8)
         return _filtered(ctx.texture3d(d.shape[2::-1], 3, d.tobytes(), dtype="f1", alignment=1), True)
-    if name == "bflag":
+    if name == "bflag":  # the octants' grids side by side
+        from ..raycast._octants import tiled  # the raycast package (Numba) loads with the frame
+
+        x = tiled(x)
         return _filtered(ctx.texture3d(x.shape[::-1], 1, np.ascontiguousarray(x, np.uint8).tobytes(),
                                        dtype="u1", alignment=1), False)
     if name in ("bmin", "bmax"):

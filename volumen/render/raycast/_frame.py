@@ -49,10 +49,10 @@ class Arrays(NamedTuple):
     lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
     pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
     glut: np.ndarray    #: gradient-opacity factor per magnitude code (128,)
-    bflag: np.ndarray   #: skip distance per block (uint8, Chebyshev radius in blocks)
+    bflag: np.ndarray   #: skip side per ray octant and block (8, gz, gy, gx) uint8 (``_octants``); (1, 1, 1, 1) off
     bmin: np.ndarray    #: block minima (normalized units)
     bmax: np.ndarray    #: block maxima
-    bcoarse: np.ndarray  #: adaptive sampling: distance to a non-coarse block (``_tables.coarse_blocks``); (1, 1, 1) off
+    bcoarse: np.ndarray  #: adaptive sampling: octant sides of coarse blocks (``_tables``); (1, 1, 1, 1) off
     cells: np.ndarray   #: a bit per cell that can hold a visible sample (``_cells``); (1, 1, 1) off
     lights: np.ndarray  #: packed lights (n, NLCOL) (``_shade``)
     lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)

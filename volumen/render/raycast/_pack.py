@@ -22,6 +22,7 @@ from ._labelled import label_blocks, label_table, packed_labels, solid_rows
 from ._lightvol import NMETA, light_volumes
 from ._medium import Medium, label_scale
 from ._normals import DIRS, NO_CODES
+from ._octants import octant_sides
 from ._pieces import LIGHT_TAGS, MODE_TAGS, RECON_TAGS
 from ._precompute import NLUT
 from ._scatter import medium
@@ -38,7 +39,6 @@ from ._tables import (
     iso_extinction_table,
     iso_visibility,
     preintegrated_table,
-    skip_distance,
 )
 
 __all__ = ["pack_frame", "LIT_SHADINGS", "MODELS"]
@@ -93,25 +93,25 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     smp, mode = scene.sampling, scene.mode
     if not (smp.skip_empty and mode != "average"):
         z = np.zeros((1, 1, 1), np.float32)
-        return False, np.zeros((1, 1, 1), np.uint8), z, z
+        return False, np.zeros((1, 1, 1, 1), np.uint8), z, z
     bmin, bmax = prep.blocks(smp.block_size)
     if mode == "composite" and lab is not None:  # the scan's visible blocks and the solid structures'
         vis = block_visibility(lut[:, 3], bmin, bmax) | label_blocks(lab[0], lab[1], smp.block_size)
-        bflag = skip_distance(vis)
+        bflag = octant_sides(vis)
     elif mode == "composite":  # depends only on which table entries are visible: kept while the camera moves
         bflag = prep.memo(("skip", smp.block_size, (lut[:, 3] > 0).tobytes()),
-                          lambda: skip_distance(block_visibility(lut[:, 3], bmin, bmax)))
+                          lambda: octant_sides(block_visibility(lut[:, 3], bmin, bmax)))
     elif mode == "isosurface":
         bflag = prep.memo(("skip-iso", smp.block_size, u_iso),
-                          lambda: skip_distance(iso_visibility(u_iso, bmin, bmax)))
+                          lambda: octant_sides(iso_visibility(u_iso, bmin, bmax)))
     else:  # mip / minip decide per ray from bmin / bmax
-        bflag = np.zeros(bmin.shape, np.uint8)
+        bflag = np.zeros((1, 1, 1, 1), np.uint8)
     return True, bflag, bmin, bmax
 
 
 def _coarse_table(scene, prep, lut, lab):
     """``Arrays.bcoarse``: the blocks adaptive sampling takes longer steps in (post-classified composite without
-    labels, with skipping), else a (1, 1, 1) zero placeholder."""
+    labels, with skipping), else a (1, 1, 1, 1) zero placeholder."""
     smp = scene.sampling
     if not (smp.adaptive and smp.skip_empty and scene.mode == "composite" and lab is None and not smp.preintegrate):
         return _NO_COARSE
@@ -122,7 +122,7 @@ def _coarse_table(scene, prep, lut, lab):
 
 
 #: the placeholder of a frame without adaptive sampling
-_NO_COARSE = np.zeros((1, 1, 1), np.uint8)
+_NO_COARSE = np.zeros((1, 1, 1, 1), np.uint8)
 
 
 def _cell_table(scene, prep, lut, lab, skip):

@@ -83,19 +83,19 @@ def _finish_average(light, r, a, s, st, taken, have, out, px, py):
 
 @radius.register(Mip)
 @njit(cache=True, fastmath=True, inline="always")
-def _radius_mip(a, st, bk, bj, bi):
+def _radius_mip(a, st, o, bk, bj, bi):
     return 1 if a.bmax[bk, bj, bi] <= st[0] else 0
 
 
 @radius.register(Minip)
 @njit(cache=True, fastmath=True, inline="always")
-def _radius_minip(a, st, bk, bj, bi):
+def _radius_minip(a, st, o, bk, bj, bi):
     return 1 if a.bmin[bk, bj, bi] >= st[0] else 0
 
 
 @radius.register(Average)
 @njit(cache=True, inline="always")
-def _radius_none(a, st, bk, bj, bi):
+def _radius_none(a, st, o, bk, bj, bi):
     return 0
 
 

@@ -10,7 +10,7 @@
   weighted by extinction (no self-attenuation inside the segment).
 * block visibility ``uint8`` per block: 1 where some value in the block's
   ``[min, max]`` has non-zero opacity, from prefix sums of the table's
-  ``alpha > 0``; turned into skip distances by :func:`skip_distance`.
+  ``alpha > 0``; turned into skip sides by :func:`~._octants.octant_sides`.
 * gradient-opacity table ``(128,)``: factor per magnitude code.
 * optical-depth table ``(NLUT,)``: ``-ln(1 - alpha)`` of the uncorrected
   opacity, per reference step (:func:`volumen.render.optics.optical_depth`):
@@ -23,10 +23,11 @@ import numpy as np
 from numba import njit
 
 from ..optics import correct_opacity, optical_depth
+from ._octants import octant_sides
 from ._precompute import NLUT
 
 __all__ = ["NPRE", "entry_prefix", "color_table", "extinction_table", "preintegrated_table", "block_visibility",
-           "iso_visibility", "skip_distance", "gradient_table", "coarse_blocks", "ADAPTIVE_ALPHA", "ADAPTIVE_STRIDE"]
+           "iso_visibility", "gradient_table", "coarse_blocks", "ADAPTIVE_ALPHA", "ADAPTIVE_STRIDE"]
 
 #: side of the pre-integrated table
 NPRE = 512
@@ -163,24 +164,10 @@ def faint_blocks(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> n
 
 
 def coarse_blocks(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
-    """uint8 per block: 0 where adaptive sampling keeps the full rate (the block holds a value at or above
-    :data:`ADAPTIVE_ALPHA`, or nothing visible: skipping jumps over it); in a block that is visible and faint
-    throughout (:func:`faint_blocks`), the Chebyshev distance in blocks to the nearest block that is not (capped
-    at 255): the cube of blocks within that distance less one is faint and visible, one span of coarse steps.
-    That is :func:`skip_distance` of the blocks that are not coarse."""
+    """uint8 ``(8, gz, gy, gx)``: 0 where adaptive sampling keeps the full rate (the block holds a value at or
+    above :data:`ADAPTIVE_ALPHA`, or nothing visible: skipping jumps over it); in a block that is visible and
+    faint throughout (:func:`faint_blocks`), per octant of ray directions the side in blocks of the largest cube
+    of such blocks that starts at it and extends the octant's way (capped at 255): one span of coarse steps for
+    a ray of that octant. That is :func:`~._octants.octant_sides` of the blocks that are not coarse."""
     coarse = (faint_blocks(lut_alpha, bmin, bmax) > 0) & (block_visibility(lut_alpha, bmin, bmax) > 0)
-    return skip_distance((~coarse).astype(np.uint8))
-
-
-def skip_distance(flags: np.ndarray) -> np.ndarray:
-    """uint8 per block: 0 where ``flags`` (1 = can contribute) is set, else the Chebyshev distance in blocks
-    to the nearest such block (capped at 255; 255 when there is none)."""
-    from scipy import ndimage
-
-    empty = flags == 0
-    if not empty.any():
-        return np.zeros(flags.shape, np.uint8)
-    if empty.all():
-        return np.full(flags.shape, 255, np.uint8)
-    d = ndimage.distance_transform_cdt(empty, metric="chessboard")
-    return np.clip(d, 0, 255).astype(np.uint8)
+    return octant_sides((~coarse).astype(np.uint8))

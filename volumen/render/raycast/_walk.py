@@ -2,15 +2,16 @@
 
 The walk keeps the block it stands in as three integers and the ray parameter ``tc`` at which the ray enters it.
 At each block it asks the mode's ``radius`` (``_pieces``: composite -- no visible value in the block's range,
-else the Chebyshev distance in blocks to the nearest block that can contribute; isosurface -- threshold outside
-the range; mip / minip -- the block cannot beat the running max / min):
+else the side of the largest empty cube of blocks that starts at the block and extends the way the ray goes, the
+ray's octant's row of ``Arrays.bflag`` (``_octants``); isosurface -- the same of the blocks the threshold is
+outside the range of; mip / minip -- the block cannot beat the running max / min):
 
 * a block that can contribute is sampled: the first sample of the ray's grid at or past ``tc`` is returned if
   it lies in the block, with the ray parameter at which the ray leaves the block (under adaptive sampling, the
-  cube of coarse blocks around it, ``Arrays.bcoarse``); else the walk goes on;
+  cube of coarse blocks ahead of it, ``Arrays.bcoarse``, per octant as well); else the walk goes on;
 * a block that cannot is passed over: with radius 1 to the neighbour across the nearest face (integer steps, the
-  faces' parameters from the indices: no float-to-int conversion), with a larger radius past the whole cube of
-  empty blocks around it.
+  faces' parameters from the indices: no float-to-int conversion), with a larger one past the whole cube of
+  empty blocks ahead (its far faces are those of the cube of that radius less one around the block).
 
 A sample lies in the block whose parameter interval holds it, up to rounding at a face; every block's range is
 taken over its voxels dilated by one (``_precompute.build_blocks``), so a sample within rounding of a face is
@@ -34,6 +35,7 @@ import math
 from numba import njit
 
 from ._frame import FAR
+from ._octants import octant
 from ._pieces import eager, radius
 
 __all__ = ["enter", "walk", "sample_t"]
@@ -48,7 +50,7 @@ def _block_index(o, d, t, inv_b, g):
 @njit(cache=True, fastmath=True, inline="always")
 def enter(r, a, s, t):
     """The block ``(bk, bj, bi)`` holding the point of the ray at parameter ``t``."""
-    gz, gy, gx = a.bflag.shape
+    gz, gy, gx = a.bmin.shape  # the block grid (bflag: octants first, a placeholder in mip)
     inv_b = 1.0 / s.block
     return (_block_index(r.ok, r.dk, t, inv_b, gz), _block_index(r.oj, r.dj, t, inv_b, gy),
             _block_index(r.oi, r.di, t, inv_b, gx))
@@ -70,7 +72,7 @@ def _past(r, a, s, bk, bj, bi, rad):
     """``(bk, bj, bi, t)``: the block past the cube of ``rad`` blocks around block ``(bk, bj, bi)``, and the ray
     parameter ``t`` at which the ray enters it (``FAR``: it never does). The exit axis moves by ``rad`` (integer
     steps: the walk always gets on); with ``rad > 1`` the other two come from the ray's point there."""
-    gz, gy, gx = a.bflag.shape
+    gz, gy, gx = a.bmin.shape  # the block grid (bflag: octants first, a placeholder in mip)
     fi = _face(r.oi, r.di, bi, rad, s.block, gx)
     fj = _face(r.oj, r.dj, bj, rad, s.block, gy)
     fk = _face(r.ok, r.dk, bk, rad, s.block, gz)
@@ -107,11 +109,12 @@ def walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip):
     block and its entry, and whether the sample lies in a block that cannot contribute. A sample belongs to the
     block whose interval ``[entry, exit)`` holds its parameter (:func:`sample_t`); a block entered at ``r.t1``
     still holds the last sample."""
+    o = octant(r)
     while tc <= r.t1:
-        rad = radius(mode, a, st, bk, bj, bi)
+        rad = radius(mode, a, st, o, bk, bj, bi)
         take_empty = rad > 0 and not (prev_skip or eager(mode))  # the first sample of a skipped run is taken
-        coarse = rad <= 0 and s.stride > 1 and a.bcoarse[bk, bj, bi] > 0
-        r1 = 1 if take_empty else max(int(a.bcoarse[bk, bj, bi]) if coarse else rad, 1)
+        coarse = rad <= 0 and s.stride > 1 and a.bcoarse[o, bk, bj, bi] > 0
+        r1 = 1 if take_empty else max(int(a.bcoarse[o, bk, bj, bi]) if coarse else rad, 1)
         nk, nj, ni, te = _past(r, a, s, bk, bj, bi, r1)
         if rad <= 0 or take_empty:
             kk = _first(r, s, k, tc)

@@ -2,7 +2,8 @@
 //   vol    3-D R16F, trilinear, clamped (the served volume: volumen/web/_served.py; table units through
 //          u_vol_map); texel centres are voxel centres
 //   rgb    3-D RGB8 placeholder (colour volumes are not served)
-//   bflag  3-D R8UI, bmin / bmax 3-D R32F: the empty-space skipping grids, read per texel
+//   bflag  3-D R8UI (the eight octants' skip sides side by side), bmin / bmax 3-D R32F: the empty-space
+//          skipping grids, read per texel
 //   lut    (NLUT x 1) RGBA32F, sig (NLUT x 1) R32F, glut (128 x 1) R32F, pre (NPRE x NPRE) RGBA32F
 //   lvd    the illumination volumes' buffer as rows of `lvdWidth` R32F values
 // Only the frame's tables change between frames; the volume is uploaded once.

@@ -112,15 +112,21 @@ void step_mode(int k, float t, float v) {
 #endif
 }
 
+int octant_side(ivec3 b) {   // _octants.tiled: the ray's octant's grid in the (2 gz, 2 gy, 2 gx) texture
+    ivec3 g = textureSize(u_bmin, 0);
+    return int(texelFetch(u_bflag, b + ivec3(R.di.x < 0.0 ? g.x : 0, R.di.y < 0.0 ? g.y : 0,
+                                             R.di.z < 0.0 ? g.z : 0), 0).r);
+}
+
 int radius_mode(ivec3 b) {
 #if MODE == MODE_COMPOSITE || MODE == MODE_PREINT
-    return int(texelFetch(u_bflag, b, 0).r);
+    return octant_side(b);
 #elif MODE == MODE_MIP
     return texelFetch(u_bmax, b, 0).r <= S_v ? 1 : 0;
 #elif MODE == MODE_MINIP
     return texelFetch(u_bmin, b, 0).r >= S_v ? 1 : 0;
 #elif MODE == MODE_ISO
-    return S_side > 0.0 ? int(texelFetch(u_bflag, b, 0).r) : 0;
+    return S_side > 0.0 ? octant_side(b) : 0;
 #else
     return 0;
 #endif
@@ -142,7 +148,7 @@ int jump(int k, float t, inout bool prev_skip, out bool jumped) {   // per sampl
     jumped = false;
     vec3 x = R.oi + t * R.di;
     float size = float(u_block);
-    ivec3 b = clamp(ivec3(x / size), ivec3(0), textureSize(u_bflag, 0) - 1);
+    ivec3 b = clamp(ivec3(x / size), ivec3(0), textureSize(u_bmin, 0) - 1);
     int rad = radius_mode(b);
     if (rad <= 0) { prev_skip = false; return k; }
     if (!(prev_skip || EAGER)) { prev_skip = true; return k; }

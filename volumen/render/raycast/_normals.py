@@ -131,6 +131,25 @@ def _direction(qx, qy, qz):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def _weight(fx, fy, fz, n):
+    """The trilinear weight of corner ``n`` of a cell (bits: the upper voxel along z, y, x)."""
+    return (fz if n & 4 else 1.0 - fz) * (fy if n & 2 else 1.0 - fy) * (fx if n & 1 else 1.0 - fx)
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _corner(a, k, j, i, fx, fy, fz, n):
+    """Corner ``n`` of a cell, voxel ``[k, j, i]``: its direction's components ``q`` times its trilinear weight."""
+    w = _weight(fx, fy, fz, n)
+    qx, qy, qz = _component(a.ndir[a.ncode[k, j, i]])
+    return w * qx, w * qy, w * qz
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _add(p, q):
+    return p[0] + q[0], p[1] + q[1], p[2] + q[2]
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
     """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of ``a.ncode`` (decoded
     by ``a.ndir``) when ``want_dir`` and magnitude codes of ``a.gcode`` when ``want_mag`` (0 otherwise)."""
@@ -149,19 +168,14 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
     k0, k1, fz = _cell(z, nz)
-    for n in range(8):
-        k = k1 if n & 4 else k0
-        j = j1 if n & 2 else j0
-        i = i1 if n & 1 else i0
-        w = (fz if n & 4 else 1.0 - fz) * (fy if n & 2 else 1.0 - fy) * (fx if n & 1 else 1.0 - fx)
-        if want_dir:
-            qx, qy, qz = _component(a.ndir[a.ncode[k, j, i]])
-            gx += w * qx
-            gy += w * qy
-            gz += w * qz
-        if want_mag:
-            gm += w * a.gcode[k, j, i]
-    if want_dir:  # the trilinear weights sum to 1: the components' offset is taken off once
-        gx, gy, gz = _direction(gx, gy, gz)
+    if want_dir:  # summed as a tree of the 8 weighted corners (a shorter chain of dependent adds than in turn)
+        gx, gy, gz = _add(_add(_add(_corner(a, k0, j0, i0, fx, fy, fz, 0), _corner(a, k0, j0, i1, fx, fy, fz, 1)),
+                               _add(_corner(a, k0, j1, i0, fx, fy, fz, 2), _corner(a, k0, j1, i1, fx, fy, fz, 3))),
+                          _add(_add(_corner(a, k1, j0, i0, fx, fy, fz, 4), _corner(a, k1, j0, i1, fx, fy, fz, 5)),
+                               _add(_corner(a, k1, j1, i0, fx, fy, fz, 6), _corner(a, k1, j1, i1, fx, fy, fz, 7))))
+        gx, gy, gz = _direction(gx, gy, gz)  # the trilinear weights sum to 1: the offset is taken off once
+    if want_mag:
+        for n in range(8):
+            gm += _weight(fx, fy, fz, n) * a.gcode[k1 if n & 4 else k0, j1 if n & 2 else j0, i1 if n & 1 else i0]
     return gx, gy, gz, gm
 

@@ -113,7 +113,6 @@ def test_a_jump_leaves_the_ray_on_the_far_face_of_the_cube_of_empty_blocks():
     assert jumps > 100
 
 
-
 def _largest_empty_cube(flags, b, signs):
     """Brute force: the side of the largest cube of blocks with no flag set that starts at block ``b`` and
     extends the ``signs`` way, blocks past the grid counting as empty (capped at 255)."""

@@ -48,7 +48,7 @@ __all__ = ["trace_pixel", "render_tiles"]
 @njit(cache=True, fastmath=True, inline="always")
 def _span(r, s, k, t, t_check):
     """Grid steps sample ``k`` (at ``t``) stands for in a coarse block: at most ``s.stride``, every one of them
-    before the far side ``t_check`` of the cube of coarse blocks around it and on the ray."""
+    before the far side ``t_check`` of the cube of coarse blocks ahead of it and on the ray."""
     steps = (t_check - t) / s.ds  # FAR / ds where the cube reaches the grid's end: compared before converting
     return max(min(s.stride if steps >= s.stride else int(math.ceil(steps)), r.k1 - k), 1)
 

@@ -81,8 +81,8 @@ def octant(r):
 def tiled(side: np.ndarray) -> np.ndarray:
     """The eight octants' grids of ``side`` ``(8, gz, gy, gx)`` as one ``(2 gz, 2 gy, 2 gx)`` grid, octant ``o`` at
     the offset ``(gz if o & 4, gy if o & 2, gx if o & 1)``: the gl ray caster's texture (``raycast_modes.glsl``),
-    no side longer than the volume's half. A placeholder ``(1, 1, 1, 1)`` (no skipping, or a mode that reads none)
-    stays one texel."""
+    each side twice the block grid's (at most the volume's side plus one). A placeholder ``(1, 1, 1, 1)`` (no
+    skipping, or a mode that reads none) stays one texel."""
     g = side.shape[1:]
     if side.shape[0] == 1:
         return side.reshape(g)

@@ -258,7 +258,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
         sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", recon=RECON_TAGS[smp.interpolation](), jitter=bool(smp.jitter),
         lattice=smp.lattice, seed=int(smp.seed),
-        skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"].size > 1 else 1, cells=t["cells"].size > 1,
+        skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"] is not _NO_COARSE else 1, cells=t["cells"].size > 1,
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,

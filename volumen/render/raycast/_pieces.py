@@ -145,7 +145,7 @@ init = piece("init", "light, r, a, s", "-> (state, samples taken, done, previous
 step = piece("step", "light, r, a, s, st, k, t, v, have, span",
              "-> (state, extra samples taken, done); span: grid steps the sample stands for (adaptive sampling)")
 finish = piece("finish", "light, r, a, s, st, taken, have, out, px, py", "write the pixel")
-radius = piece("radius", "a, st, o, bk, bj, bi", "-> skip radius in blocks (0: take the sample); o: the ray's octant")
+radius = piece("radius", "a, st, o, bk, bj, bi", "-> blocks to jump (0: take the sample); o: the ray's octant")
 eager = piece("eager", "", "-> True when one skippable block suffices to jump")
 shade = piece("shade", "a, s, n, v, w", "-> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")
 uses_normals = piece("uses_normals", "", "-> whether shading reads the gradient")

@@ -69,8 +69,9 @@ def _face(o, d, b, rad, size, g):
 
 @njit(cache=True, fastmath=True, inline="always")
 def _past(r, a, s, bk, bj, bi, rad):
-    """``(bk, bj, bi, t)``: the block past the cube of ``rad`` blocks around block ``(bk, bj, bi)``, and the ray
-    parameter ``t`` at which the ray enters it (``FAR``: it never does). The exit axis moves by ``rad`` (integer
+    """``(bk, bj, bi, t)``: the block past the cube of ``rad`` blocks from block ``(bk, bj, bi)`` the way the ray
+    goes (its far faces: those of the cube of radius ``rad - 1`` around the block), and the ray parameter ``t`` at
+    which the ray enters it (``FAR``: it never does). The exit axis moves by ``rad`` (integer
     steps: the walk always gets on); with ``rad > 1`` the other two come from the ray's point there."""
     gz, gy, gx = a.bmin.shape  # the block grid (bflag: octants first, a placeholder in mip)
     fi = _face(r.oi, r.di, bi, rad, s.block, gx)

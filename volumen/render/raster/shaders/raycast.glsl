@@ -46,7 +46,7 @@ uniform sampler2D u_lut;      // (NLUT x 1) straight rgb, alpha per step
 uniform sampler2D u_pre;      // (NPRE x NPRE) pre-integrated, x = back value, y = front value
 uniform sampler2D u_glut;     // (128 x 1) gradient-opacity factor
 uniform sampler2D u_sig;      // (NLUT x 1) optical depth per reference step
-uniform usampler3D u_bflag;   // skip radius per block
+uniform usampler3D u_bflag;   // skip side per block and ray octant, the 8 grids 2x2x2 (_octants.tiled)
 uniform sampler3D u_bmin;
 uniform sampler3D u_bmax;
 uniform sampler2D u_lvd;      // illumination-volume buffer, row-major rows of LVD_W values

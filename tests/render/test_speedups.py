@@ -25,7 +25,15 @@ from volumen.render.raycast._cpu import TILE, frame_tiles
 from volumen.render.raycast._frame import Outputs
 from volumen.render.raycast._geometry import footprint
 from volumen.render.raycast._march import render_tiles
-from volumen.render.raycast._normals import DIR_HALF, DIRS, _decode_table, _encode, encode_normals, unpack
+from volumen.render.raycast._normals import (
+    DIR_HALF,
+    DIRS,
+    NO_CODES,
+    _decode_table,
+    _encode,
+    encode_normals,
+    unpack,
+)
 from volumen.render.raycast._pack import pack_frame
 from volumen.render.raycast._precompute import normal_params
 
@@ -56,6 +64,23 @@ def test_packed_directions_are_the_decoded_ones_to_half_a_level():
     assert DIRS.dtype == np.uint32 and DIRS.shape == (len(exact),)
     assert err <= 0.5 / DIR_HALF + 1e-12
     assert not packed[0].any()
+
+
+def test_a_single_slice_volume_writes_only_the_codes_asked_for():
+    """A single-slice volume has as many planes as the (1, 1, 1) placeholder of the codes not asked for: the
+    kernel is told which to write (it wrote both, past the placeholder's end, when it guessed from the shapes:
+    pydicom's CT_small.dcm then crashed the renderer). The slice's codes are those of the middle plane of three
+    copies of it (the gradient along z is zero in both)."""
+    x = np.arange(40, dtype=np.float64)
+    plane = (10.0 * x[None, :] + 3.0 * x[:, None] ** 1.5).astype(np.int16)[None]  # (1, 40, 40)
+    nrm, _ = normal_params(plane, np.eye(4), 1.0, False)
+    codes, mags = encode_normals(plane, nrm, False, directions=True, magnitudes=False)
+    assert mags.shape == (1, 1, 1) and not mags.any()
+    stack = np.repeat(plane, 3, axis=0)
+    want, _ = encode_normals(stack, normal_params(stack, np.eye(4), 1.0, False)[0], False)
+    np.testing.assert_array_equal(codes[0], want[1])
+    none, mags = encode_normals(plane, nrm, False, directions=False, magnitudes=True)
+    assert none is NO_CODES and not NO_CODES.any() and mags.shape == plane.shape
 
 
 def test_sphere_normals_are_radial():

@@ -92,11 +92,11 @@ def _encode(gx, gy, gz, g):
 
 
 @njit(cache=True, fastmath=True, nogil=True)
-def _encode_kernel(part, parts, u, m, sobel, inv_gmax, dirs, mags):
-    """Planes of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``)."""
+def _encode_kernel(part, parts, u, m, sobel, inv_gmax, dirs, mags, want_dir, want_mag):
+    """Planes of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``); ``dirs`` / ``mags`` written
+    where ``want_dir`` / ``want_mag`` (said, not guessed from the arrays' shapes: a single-slice volume's planes
+    are as many as a placeholder's)."""
     nz, ny, nx = u.shape
-    want_dir = dirs.shape[0] == nz
-    want_mag = mags.shape[0] == nz
     for k in range(part * nz // parts, (part + 1) * nz // parts):
         for j in range(ny):
             for i in range(nx):
@@ -114,7 +114,7 @@ def encode_normals(u: np.ndarray, nrm: np.ndarray, sobel: bool, *, directions=Tr
     mags = np.empty(u.shape, np.uint8) if magnitudes else np.zeros((1, 1, 1), np.uint8)
     if directions or magnitudes:
         run_parts(_encode_kernel, u.shape[0], u, np.ascontiguousarray(nrm[:3]), bool(sobel), float(nrm[3, 0]),
-                    dirs, mags)
+                    dirs, mags, bool(directions), bool(magnitudes))
     return dirs, mags
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from volumen.core import VIEWS, Camera, Volume
+from volumen.core import VIEWS, Camera, Volume, default_view
 
 EXPECTED = {  # view -> (unit vector centre -> eye, up, image right)  in RAS+
     "anterior": ((0, 1, 0), (0, 0, 1), (-1, 0, 0)),   # facing the patient: their left on the image right
@@ -95,3 +95,21 @@ def test_validation_and_json():
         Camera.anatomical(Volume(np.zeros((2, 2, 2))), "front")
     with pytest.raises(ValueError, match="unknown"):
         Camera.from_dict({"position": [0, 1, 0], "zoom": 2})
+
+
+@pytest.mark.parametrize(("shape", "view"), [((20, 30, 40), "anterior"), ((1, 30, 40), "inferior"),
+                                              ((20, 1, 40), "anterior"), ((20, 30, 1), "left"),
+                                              ((1, 1, 1), "anterior")])
+def test_default_view_faces_a_single_slice(shape, view):
+    """Anterior, unless a voxel axis holds one sample: then the view that faces the slice as radiology shows it
+    (axial from the feet, coronal from the front, sagittal from the left), not one that sees it edge-on."""
+    vol = Volume(np.zeros(shape, np.int16), spacing=(5.0, 0.7, 0.7))
+    assert default_view(vol) == view
+    assert Camera.orbit(vol) == Camera.anatomical(vol) == Camera.orbit(vol, view=view)
+
+
+def test_default_view_follows_the_slice_normal_in_the_world():
+    """A slice stored with its k axis along anterior-posterior (a coronal image in an oblique-free affine) is
+    seen from the front: the choice follows the affine, not the array axis."""
+    affine = np.array([[0.7, 0, 0, 0], [0, 0, -5.0, 0], [0, 0.7, 0, 0], [0, 0, 0, 1.0]])  # i->x, j->z, k->-y
+    assert default_view(Volume(np.zeros((1, 30, 40), np.int16), affine=affine)) == "anterior"

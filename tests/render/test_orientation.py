@@ -84,3 +84,33 @@ def test_head_phantom_anterior_view(render_dir):
     mirror = np.nanmax(im.value[rm - 1:rm + 2, cm - 1:cm + 2])
     bead = float(vol.meta["truth"].get("marker_hu", 2000.0))
     assert win > 0.6 * bead and mirror < win - 500, (win, mirror)
+
+
+def test_a_single_slice_is_drawn_face_on_as_the_slab_it_stands_for():
+    """One axial slice (5 mm thick) opens face-on (from the feet, :func:`default_view`) and is drawn as its 5 mm
+    slab: the same pictures as six copies of it 1 mm apart, built by hand (MIP exactly; composite within mean
+    |diff| 1e-3, whose edge pixels differ by one step's entry). Drawn alone, the one sample spanned nothing: every
+    pixel was empty, and the anterior view saw it edge-on. Patient's right on the image left, anterior on top."""
+    j, i = np.mgrid[:40, :40].astype(float)
+    x, y = i - 19.5, j - 19.5  # RAS mm
+    plane = 100 + 900 * np.exp(-((x - 12) ** 2 + y ** 2) / 8) + 600 * np.exp(-(x ** 2 + (y - 12) ** 2) / 8)
+    plane = np.round(plane).astype(np.int16)
+    one = Volume(plane[None], affine=np.array([[1.0, 0, 0, -19.5], [0, 1, 0, -19.5], [0, 0, 5, 0], [0, 0, 0, 1]]))
+    six = Volume(np.repeat(plane[None], 6, axis=0),
+                 affine=np.array([[1.0, 0, 0, -19.5], [0, 1, 0, -19.5], [0, 0, 1, -2.5], [0, 0, 0, 1]]))
+    cam = Camera.anatomical(six, "inferior", projection="orthographic")
+    assert Camera.anatomical(one).position[2] < 0  # from the feet
+    pictures = {}
+    for mode, tf in (("mip", TransferFunction.preset("mip-gray", value_range=(0, 1000))),
+                     ("composite", TransferFunction(opacity=((0, 0.0), (1000, 0.3))))):
+        a, b = (render(Scene(volume=v, mode=mode, transfer=tf, sampling=Sampling(jitter=False)), cam, SIZE)
+                for v in (one, six))
+        diff = np.abs(a.rgba - b.rgba).mean()
+        print(f"{mode}: largest alpha {a.rgba[..., 3].max():.3f}, mean |diff| from the stack {diff:.1e}")
+        assert a.rgba[..., 3].max() > 0.5 and diff <= (0.0 if mode == "mip" else 1e-3)
+        pictures[mode] = a
+    value = pictures["mip"].value
+    (cr, rr), _ = cam.project((12.0, 0.0, 0.0), SIZE)
+    (ca, ra), _ = cam.project((0.0, 12.0, 0.0), SIZE)
+    assert cr < SIZE[0] / 2 - 4 and ra < SIZE[1] / 2 - 4
+    assert value[int(rr), int(cr)] > 900 and value[int(ra), int(ca)] > 650

@@ -135,7 +135,7 @@ class AppState:
             tf = transfer if transfer is not None else default_transfer(volume, "composite")
             self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf,
                                  clipping=replace(self.scene.clipping, crop=None))
-            self.camera = camera if camera is not None else Camera.anatomical(volume, "anterior")
+            self.camera = camera if camera is not None else Camera.anatomical(volume)
             self.crosshair = np.asarray(volume.center, float)
             self.window = default_window(volume)
             self.mask = self.mask_canonical = None

@@ -5,7 +5,7 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 (:mod:`volumen.notebook.pictures`, registered by the root package: :mod:`._repr`)."""
 
 from . import gestures
-from ._camera import VIEWS, Camera
+from ._camera import VIEWS, Camera, default_view
 from ._ct import is_ct
 from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
@@ -39,6 +39,7 @@ __all__ = [
     "is_chunked",
     "Camera",
     "VIEWS",
+    "default_view",
     "TransferFunction",
     "PRESETS",
     "default_preset",

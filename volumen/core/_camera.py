@@ -26,7 +26,7 @@ import numpy as np
 
 from ._jsondata import JsonData
 
-__all__ = ["Camera", "Projection", "View", "VIEWS"]
+__all__ = ["Camera", "Projection", "View", "VIEWS", "default_view"]
 
 Projection = Literal["perspective", "orthographic"]
 View = Literal["anterior", "posterior", "left", "right", "superior", "inferior"]
@@ -41,6 +41,21 @@ _VIEW_DIRS = {
     "superior": ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
     "inferior": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
 }
+
+
+#: the view facing a single-slice volume, by the world axis its slice normal is nearest: radiology's display of an
+#: axial image (seen from the feet, anterior up), a coronal one (from the front) and a sagittal one (from the left)
+_FACING = ("left", "anterior", "inferior")
+
+
+def default_view(volume) -> View:
+    """The anatomical view a volume opens with: ``"anterior"``, unless a voxel axis holds one sample (a single
+    slice: seen from the side it is a line), then the view facing that slice (:data:`_FACING`)."""
+    thin = [a for a, n in enumerate(volume.shape) if n == 1]  # array axes (z, y, x)
+    if not thin or len(thin) == 3:
+        return "anterior"
+    normal = np.asarray(volume.direction, dtype=float)[:, 2 - thin[0]]  # the thin axis's voxel direction, world
+    return _FACING[int(np.argmax(np.abs(normal)))]
 
 
 def _vec3(name: str, v) -> tuple[float, float, float]:
@@ -178,7 +193,7 @@ class Camera(JsonData):
 
     # -- framing a volume ---------------------------------------------------
     @classmethod
-    def anatomical(cls, volume, view: View = "anterior", *, projection: Projection = "perspective",
+    def anatomical(cls, volume, view: View | None = None, *, projection: Projection = "perspective",
                    fov: float = 30.0, zoom: float = 1.0) -> Camera:
         """The camera of one of the six anatomical views, framing the whole volume.
 
@@ -186,8 +201,9 @@ class Camera(JsonData):
         ----------
         volume : Volume
             Framed by its voxel-centre bounding sphere (world RAS+).
-        view : {"anterior", "posterior", "left", "right", "superior", "inferior"}
-            The side of the patient the eye is on. Lateral, anterior and
+        view : {"anterior", "posterior", "left", "right", "superior", "inferior"} or None
+            The side of the patient the eye is on (None: :func:`default_view`, anterior unless the volume is a
+            single slice). Lateral, anterior and
             posterior views have superior (+z) up; superior and inferior views
             have anterior (+y) up.
         projection, fov :
@@ -199,11 +215,11 @@ class Camera(JsonData):
 
     @classmethod
     def orbit(cls, volume, *, azimuth: float = 0.0, elevation: float = 0.0, zoom: float = 1.0,
-              view: View = "anterior", projection: Projection = "perspective",
+              view: View | None = None, projection: Projection = "perspective",
               fov: float = 30.0) -> Camera:
         """A camera on a sphere around the volume's centre, starting from an anatomical view.
 
-        The eye starts on the ``view`` side (see :meth:`anatomical`); then
+        The eye starts on the ``view`` side (see :meth:`anatomical`; None: :func:`default_view`); then
         ``azimuth`` (degrees) rotates it about the view's up axis through the
         centre, counter-clockwise seen from above (right-hand rule: from the
         anterior view, azimuth 90 puts the eye on the patient's left, -90 on
@@ -216,6 +232,7 @@ class Camera(JsonData):
         projection ``parallel_scale`` is the sphere's radius. Both are divided
         by ``zoom``.
         """
+        view = default_view(volume) if view is None else view
         _check_choice("view", view, VIEWS)
         _check_choice("projection", projection, get_args(Projection))
         if not zoom > 0:

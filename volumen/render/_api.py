@@ -5,6 +5,8 @@ from __future__ import annotations
 import warnings
 import weakref
 
+import numpy as np
+
 from ..core import (
     Camera,
     Image,
@@ -13,6 +15,7 @@ from ..core import (
     Scene,
     Shading,
     TransferFunction,
+    Volume,
     default_preset,
     is_chunked,
     is_ct,
@@ -115,6 +118,8 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     if chunked:
         image = _out_of_core(scene, camera, (w, h), device, technique, memory, brick)
     else:
+        if 1 in scene.volume.shape:
+            scene = scene.with_(volume=_slab_volume(scene.volume))
         if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
             scene = scene.with_(volume=_luminance_volume(scene.volume))
         image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
@@ -153,6 +158,7 @@ def _out_of_core(scene, camera, size, device, technique, memory, brick) -> Image
 
 
 _LUMINANCE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_SLABS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _luminance_volume(volume):
@@ -164,6 +170,23 @@ def _luminance_volume(volume):
     return kept[1]
 
 
+def _slab_volume(volume):
+    """A volume with one sample along an axis (a single slice) as the slab it stands for: that sample twice, half
+    its spacing (the slice thickness) either side of it. Drawn between their voxel centres, as every volume is,
+    the slab is as thick as the slice; the one sample alone spans nothing, and a ray through it composites
+    nothing. Kept while the volume and its data live."""
+    kept = _SLABS.get(volume)
+    if kept is None or kept[0] is not volume.data:
+        data, affine = volume.data, volume.affine.copy()
+        for axis in (a for a, n in enumerate(volume.shape) if n == 1):  # array axes (z, y, x)
+            data = np.repeat(data, 2, axis=axis)
+            affine[:3, 3] -= affine[:3, 2 - axis] / 2  # voxel axis k, j, i: back by half a spacing
+        kept = (volume.data, Volume(data, affine=affine, modality=volume.modality, units=volume.units,
+                                    name=volume.name, meta=dict(volume.meta)))
+        _SLABS[volume] = kept
+    return kept[1]
+
+
 def default_transfer(volume, mode: Mode) -> TransferFunction:
     """The transfer function ``render_volume`` uses when none is named (:func:`volumen.core.default_preset`): gray
     ramp over the data range for projections, ``ct-skin-bone`` for CT (on its stored values), ``mr-default``
@@ -171,7 +194,7 @@ def default_transfer(volume, mode: Mode) -> TransferFunction:
     return default_preset(volume, mode)
 
 
-def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View = "anterior",
+def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View | None = None,
                   mode: Mode = "composite", projection: Projection = "perspective",
                   size: tuple[int, int] = (512, 512), shading: ShadingMode = "headlight", azimuth: float = 0.0,
                   elevation: float = 0.0, zoom: float = 1.0, samples_per_voxel: float = 1.0,

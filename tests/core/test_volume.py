@@ -110,3 +110,20 @@ def test_derived_volumes_do_not_share_warnings():
     c = v.crop(z=(0, 2))
     c.meta["warnings"].append("cropped")
     assert v.meta["warnings"] == ["from the file"] and c.meta["warnings"] == ["from the file", "cropped"]
+
+
+def test_a_single_slice_is_drawn_as_its_slab():
+    """A sample alone along an axis becomes two, half its spacing either side of it (any axis, any affine): the
+    voxel-centre box is as thick as the slice and centred on it; a volume with no such axis is itself."""
+    aff = np.array([[0.0, 0.7, 0, 10.0], [0, 0, -5.0, 20.0], [0.7, 0, 0, 30.0], [0, 0, 0, 1]])  # oblique-free, permuted
+    one = Volume(np.arange(12, dtype=np.int16).reshape(1, 3, 4), affine=aff, modality="CT", units="HU")
+    slab = one.slab()
+    assert slab.shape == (2, 3, 4) and np.array_equal(slab.data[0], one.data[0]) and np.array_equal(slab.data[1],
+                                                                                                     one.data[0])
+    assert np.allclose(slab.extent, [(4 - 1) * 0.7, (3 - 1) * 0.7, 5.0]) and np.allclose(slab.center, one.center)
+    assert np.allclose(slab.index_to_world([0, 0, 0]), one.index_to_world([0, 0, -0.5]))
+    assert (slab.modality, slab.units, slab.spacing) == ("CT", "HU", one.spacing)
+    thick = Volume(np.zeros((3, 3, 4), np.int16))
+    assert thick.slab() is thick
+    line = Volume(np.zeros((1, 1, 4), np.float32)).slab()
+    assert line.shape == (2, 2, 4) and np.allclose(line.extent, [3, 1, 1])

@@ -103,3 +103,11 @@ def test_both_dialects_come_from_the_same_files():
     assert desktop.split("\n", 1)[0] == "#version 330 core" and es.split("\n", 1)[0] == "#version 300 es"
     assert desktop.split("\n", 1)[1] == es.split("\n", 1)[1]
     assert "precision highp sampler3D;" in es and "#if defined GL_ES" in es
+
+
+def test_a_single_slice_is_served_as_its_slab():
+    """The page draws a single slice as the slab it stands for (``Volume.slab``), not a box of no thickness."""
+    one = Volume(np.arange(400, dtype=np.int16).reshape(1, 20, 20), spacing=(5.0, 0.7, 0.7))
+    served = ServedVolume(one)
+    assert served.volume.shape == (2, 20, 20) and np.isclose(served.volume.extent[2], 5.0)
+    assert served.info()["source_shape"] == [1, 20, 20]

@@ -248,6 +248,20 @@ class Volume:
             raise ValueError(f"new data grid {np.asarray(data).shape[:3]} differs from {self.shape}")
         return Volume(data, **kw)
 
+    def slab(self) -> Volume:
+        """The volume as it is drawn in 3-D: itself, or where an axis holds one sample (a single slice) that sample
+        twice, half its spacing (the slice thickness) either side of it. A volume is drawn between its voxel
+        centres, so one sample alone spans nothing (a ray through it composites nothing); the slab is as thick as
+        the slice. The data is a copy."""
+        data, affine = self.data, self.affine.copy()
+        for axis in (a for a, n in enumerate(self.shape) if n == 1):  # array axes (z, y, x)
+            data = np.repeat(data, 2, axis=axis)
+            affine[:3, 3] -= affine[:3, 2 - axis] / 2  # voxel axis k, j, i: back by half a spacing
+        if data is self.data:
+            return self
+        return Volume(data, affine=affine, modality=self.modality, units=self.units, name=self.name,
+                      meta=dict(self.meta))
+
     def crop(self, z: slice | tuple = slice(None), y: slice | tuple = slice(None),
              x: slice | tuple = slice(None)) -> Volume:
         """Sub-volume by index ranges ``[z, y, x]`` (slices or ``(start, stop)``); the affine is shifted

@@ -5,8 +5,6 @@ from __future__ import annotations
 import warnings
 import weakref
 
-import numpy as np
-
 from ..core import (
     Camera,
     Image,
@@ -15,7 +13,6 @@ from ..core import (
     Scene,
     Shading,
     TransferFunction,
-    Volume,
     default_preset,
     is_chunked,
     is_ct,
@@ -171,18 +168,10 @@ def _luminance_volume(volume):
 
 
 def _slab_volume(volume):
-    """A volume with one sample along an axis (a single slice) as the slab it stands for: that sample twice, half
-    its spacing (the slice thickness) either side of it. Drawn between their voxel centres, as every volume is,
-    the slab is as thick as the slice; the one sample alone spans nothing, and a ray through it composites
-    nothing. Kept while the volume and its data live."""
+    """:meth:`Volume.slab` of a single slice, kept while the volume and its data live."""
     kept = _SLABS.get(volume)
     if kept is None or kept[0] is not volume.data:
-        data, affine = volume.data, volume.affine.copy()
-        for axis in (a for a, n in enumerate(volume.shape) if n == 1):  # array axes (z, y, x)
-            data = np.repeat(data, 2, axis=axis)
-            affine[:3, 3] -= affine[:3, 2 - axis] / 2  # voxel axis k, j, i: back by half a spacing
-        kept = (volume.data, Volume(data, affine=affine, modality=volume.modality, units=volume.units,
-                                    name=volume.name, meta=dict(volume.meta)))
+        kept = (volume.data, volume.slab())
         _SLABS[volume] = kept
     return kept[1]
 

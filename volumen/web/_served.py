@@ -99,7 +99,7 @@ class ServedVolume:
     def __post_init__(self):
         if self.source.is_color:
             raise ValueError("the browser viewer draws scalar volumes; this one holds colours")
-        self.volume, self.factor = fit_volume(self.source, int(self.max_3d), int(self.budget_mb * 2 ** 20))
+        self.volume, self.factor = fit_volume(self.source.slab(), int(self.max_3d), int(self.budget_mb * 2 ** 20))
         if self.factor > 1.0:
             z, y, x = self.source.shape
             nz, ny, nx = self.volume.shape

@@ -127,3 +127,11 @@ def test_a_single_slice_is_drawn_as_its_slab():
     assert thick.slab() is thick
     line = Volume(np.zeros((1, 1, 4), np.float32)).slab()
     assert line.shape == (2, 2, 4) and np.allclose(line.extent, [3, 1, 1])
+
+
+def test_big_endian_samples_are_kept_in_this_machines_byte_order():
+    """A big-endian array (pydicom's MR_small_bigendian.dcm gives one) is converted: the compiled kernels take only
+    native arrays, and rendering one failed with a Numba typing error."""
+    values = np.arange(-30, 30, dtype=np.int16).reshape(3, 4, 5)
+    vol = Volume(values.astype(">i2"))
+    assert vol.data.dtype.isnative and vol.data.dtype == np.int16 and np.array_equal(vol.data, values)

@@ -419,3 +419,17 @@ def test_patient_identity_never_leaks(tmp_path):
     for text in texts:
         for secret in secrets:
             assert secret not in text, f"{secret!r} leaked into {text[:80]!r}"
+
+
+@pytest.mark.parametrize("name", ["MR_small_bigendian.dcm", "MR_small_expb.dcm"])
+def test_a_big_endian_file_renders_as_its_little_endian_twin(name):
+    """pydicom's big-endian MR_small files hold the samples of MR_small.dcm in the other byte order: they load as
+    the same native int16 volume and draw the same picture (rendering them failed with a Numba typing error)."""
+    from pydicom.data import get_testdata_file
+
+    from volumen.render import render_volume
+
+    big, little = (volumen.load(get_testdata_file(f)) for f in (name, "MR_small.dcm"))
+    assert big.data.dtype.isnative and np.array_equal(big.data, little.data)
+    a, b = (render_volume(v, size=(32, 32)).rgba for v in (big, little))
+    assert a[..., 3].max() > 0.1 and np.array_equal(a, b)

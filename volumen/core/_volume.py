@@ -76,7 +76,8 @@ class Volume:
     data : (nz, ny, nx) or (nz, ny, nx, 3) array
         Samples indexed ``[z, y, x]``; kept C-contiguous (copied only if it is not).
         A lazy chunked array (``is_chunked``, e.g. an OME-Zarr level) is kept
-        as it is: slices read only the chunks they need.
+        as it is: slices read only the chunks they need. Samples stored in the
+        other byte order (big-endian files) are converted to this machine's.
         A trailing axis of 3 holds colour (R, G, B; channel last): see ``is_color``.
     spacing : (3,) float, mm, or None
         ``(dz, dy, dx)``. Must agree with the column lengths of ``affine``; None (the
@@ -111,6 +112,8 @@ class Volume:
             raise ValueError(f"Volume data has an empty axis: shape {data.shape}")
         if data.dtype == np.bool_:
             data = data.view(np.uint8)
+        if not (is_chunked(data) or data.dtype.isnative):  # big-endian samples (a DICOM file's, a raw file's)
+            data = data.astype(data.dtype.newbyteorder("="))
         self.data = data if is_chunked(data) else np.ascontiguousarray(data)
         aff = None if self.affine is None else np.array(self.affine, dtype=float)
         if aff is not None:

@@ -70,7 +70,7 @@ def register(sub):
                    "the subject with aces, 0 with linear)")
     c = p.add_argument_group("camera")
     c.add_argument("--view", choices=VIEWS,
-                   help="anatomical view (default anterior; a single slice: the view facing it)")
+                   help="anatomical view (default anterior; a slab or single slice: the view facing it)")
     c.add_argument("--azimuth", type=float, help="degrees about the view's up axis")
     c.add_argument("--elevation", type=float, help="degrees above the view")
     c.add_argument("--zoom", type=float, help="> 1 moves closer")

@@ -50,8 +50,8 @@ def register(sub):
                    "and scattering, linear otherwise), linear, aces")
     p.add_argument("--exposure", type=float, help="stops (EV) before the tone curve (default: metered on each "
                    "picture with aces, 0 with linear)")
-    p.add_argument("--view", choices=VIEWS, help="anatomical view to open with (default anterior; a single slice: the "
-                   "view facing it)")
+    p.add_argument("--view", choices=VIEWS, help="anatomical view to open with (default anterior; a slab or single "
+                   "slice: the view facing it)")
     p.add_argument("--azimuth", type=float, default=0.0, help="degrees about the view's up axis")
     p.add_argument("--elevation", type=float, default=0.0, help="degrees above the view")
     p.add_argument("--zoom", type=float, default=1.0, help="> 1 moves closer")

@@ -43,18 +43,22 @@ _VIEW_DIRS = {
 }
 
 
-#: the view facing a single-slice volume, by the world axis its slice normal is nearest: radiology's display of an
-#: axial image (seen from the feet, anterior up), a coronal one (from the front) and a sagittal one (from the left)
+#: the view facing a slab, by the world axis its normal is nearest: radiology's display of an axial image (seen from
+#: the feet, anterior up), a coronal one (from the front) and a sagittal one (from the left)
 _FACING = ("left", "anterior", "inferior")
+#: a volume at most this fraction as thick along one voxel axis as along the next thinnest is a slab
+SLAB = 0.25
 
 
 def default_view(volume) -> View:
-    """The anatomical view a volume opens with: ``"anterior"``, unless a voxel axis holds one sample (a single
-    slice: seen from the side it is a line), then the view facing that slice (:data:`_FACING`)."""
-    thin = [a for a, n in enumerate(volume.shape) if n == 1]  # array axes (z, y, x)
-    if not thin or len(thin) == 3:
+    """The anatomical view a volume opens with: ``"anterior"``, unless it is a slab (a single slice, a few frames:
+    along one voxel axis at most :data:`SLAB` as thick, samples times spacing, as along the next thinnest), whose
+    side shows a sliver or a line: then the view facing it (:data:`_FACING`)."""
+    thick = np.asarray(volume.shape[:3], dtype=float) * np.asarray(volume.spacing)  # array axes (z, y, x), mm
+    order = np.argsort(thick, kind="stable")
+    if not thick[order[0]] <= SLAB * thick[order[1]]:
         return "anterior"
-    normal = np.asarray(volume.direction, dtype=float)[:, 2 - thin[0]]  # the thin axis's voxel direction, world
+    normal = np.asarray(volume.direction, dtype=float)[:, 2 - order[0]]  # the thin axis's voxel direction, world
     return _FACING[int(np.argmax(np.abs(normal)))]
 
 
@@ -203,7 +207,7 @@ class Camera(JsonData):
             Framed by its voxel-centre bounding sphere (world RAS+).
         view : {"anterior", "posterior", "left", "right", "superior", "inferior"} or None
             The side of the patient the eye is on (None: :func:`default_view`, anterior unless the volume is a
-            single slice). Lateral, anterior and
+            slab such as a single slice). Lateral, anterior and
             posterior views have superior (+z) up; superior and inferior views
             have anterior (+y) up.
         projection, fov :

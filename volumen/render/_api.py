@@ -115,11 +115,7 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     if chunked:
         image = _out_of_core(scene, camera, (w, h), device, technique, memory, brick)
     else:
-        if 1 in scene.volume.shape:
-            scene = scene.with_(volume=_slab_volume(scene.volume))
-        if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
-            scene = scene.with_(volume=_luminance_volume(scene.volume))
-        image = technique.spec.draw(scene, camera, (w, h), device, technique.options)
+        image = technique.spec.draw(_drawn(scene, technique), camera, (w, h), device, technique.options)
     image.stats["renderer"] = {"device": device, "technique": technique.name}
     image.display = scene.display.resolved(scene.shading.mode, scene.mode)
     return image
@@ -165,6 +161,16 @@ def _luminance_volume(volume):
         kept = (volume.data, volume.with_data(volume.luminance()))
         _LUMINANCE[volume] = kept
     return kept[1]
+
+
+def _drawn(scene, technique):
+    """The scene with its volume as ``technique`` draws it: a single slice as its slab, a colour volume's luminance
+    for slicing and mesh."""
+    if 1 in scene.volume.shape:
+        scene = scene.with_(volume=_slab_volume(scene.volume))
+    if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
+        scene = scene.with_(volume=_luminance_volume(scene.volume))
+    return scene
 
 
 def _slab_volume(volume):

@@ -164,3 +164,20 @@ def test_lit_shading_without_lights_warns_only_when_nothing_but_the_ambient_term
     assert "warning" not in capsys.readouterr().err
     assert main([*argv, "--environment", "uniform"]) == 0
     assert "only the ambient term lights the picture" in capsys.readouterr().err
+
+
+def test_a_single_dicom_slice_is_drawn_face_on_as_its_mip_and_says_so(tmp_path, capsys):
+    """pydicom's CT_small.dcm, one axial slice, with no flags: seen from the feet (``default_view``) as a thin-slab
+    MIP (``default_mode``: its 5 mm composite is faint and dark), the mode's choice named on the summary line. The
+    picture is the slice itself: more than a quarter of its pixels lit, its bone near white."""
+    from pydicom.data import get_testdata_file
+
+    out = tmp_path / "slice.png"
+    assert main(["render", get_testdata_file("CT_small.dcm"), "-o", str(out), "--size", "64x64"]) == 0
+    assert "mip (chosen for a slab)" in capsys.readouterr().out
+    grey = _png(out).astype(float).mean(axis=2)
+    print(f"lit share {np.mean(grey > 20):.2f}, mean {grey.mean():.1f}")
+    assert np.mean(grey > 20) > 0.25 and grey.max() > 200
+    assert main(["render", get_testdata_file("CT_small.dcm"), "-o", str(out), "--size", "64x64",
+                 "--mode", "composite"]) == 0
+    assert "(chosen for a slab)" not in capsys.readouterr().out

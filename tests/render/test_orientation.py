@@ -7,7 +7,7 @@ import pytest
 
 from volumen.core import Camera, Sampling, Scene, TransferFunction, Volume
 from volumen.data import phantom
-from volumen.render import render
+from volumen.render import default_mode, render, render_volume
 
 SIZE = (64, 64)
 
@@ -114,3 +114,13 @@ def test_a_single_slice_is_drawn_face_on_as_the_slab_it_stands_for():
     (ca, ra), _ = cam.project((0.0, 12.0, 0.0), SIZE)
     assert cr < SIZE[0] / 2 - 4 and ra < SIZE[1] / 2 - 4
     assert value[int(rr), int(cr)] > 900 and value[int(ra), int(ca)] > 650
+
+
+def test_a_slab_is_drawn_as_its_mip_by_default():
+    """With no mode named (``render_volume``, the command line, the browser viewer), a slab is drawn as its MIP:
+    a single slice's is the image itself; a whole volume is composited."""
+    one = Volume(np.arange(1600, dtype=np.int16).reshape(1, 40, 40), spacing=(5.0, 1.0, 1.0))
+    assert default_mode(one) == "mip" and default_mode(phantom("head", size=(24, 24, 24))) == "composite"
+    image = render_volume(one, size=SIZE, projection="orthographic")
+    inside = np.isfinite(image.value)
+    assert inside.mean() > 0.3 and np.nanmax(image.value) > 1500 and np.nanmin(image.value) < 100

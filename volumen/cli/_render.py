@@ -38,7 +38,8 @@ def register(sub):
     g = p.add_argument_group("look")
     g.add_argument("--preset", choices=PRESETS, help="transfer function preset")
     g.add_argument("--tf", help="transfer function JSON file (TransferFunction.to_json)")
-    g.add_argument("--mode", choices=MODES, help="composite (default), mip, minip, average, isosurface")
+    g.add_argument("--mode", choices=MODES, help="composite (default; a single slice or thin slab "
+                   "with no --tf or --preset: mip), mip, minip, average, isosurface")
     g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
     g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
     g.add_argument("--shading", choices=SHADINGS, help=f"{', '.join(SHADINGS)} (default headlight; the lit models "
@@ -156,6 +157,7 @@ def build(args, base: dict | None, volume):
     from dataclasses import replace
 
     from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Sampling, Scene, TransferFunction
+    from volumen.render import default_mode, default_transfer
 
     scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
     scene = replace(scene, volume_ref=_volume_ref(args, base))
@@ -166,12 +168,11 @@ def build(args, base: dict | None, volume):
             raise ValueError(f"{args.tf}: not a transfer function JSON file ({exc})") from None
     elif args.preset:
         scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
-    elif not base:
-        from volumen.render import default_transfer
-
-        scene = replace(scene, transfer=default_transfer(volume, args.mode or "composite"))
-    if args.mode:
-        scene = replace(scene, mode=args.mode)
+    mode = args.mode or (None if base or args.tf or args.preset else default_mode(volume))
+    if not (args.tf or args.preset or base):
+        scene = replace(scene, transfer=default_transfer(volume, mode))
+    if mode:
+        scene = replace(scene, mode=mode)
     if args.iso is not None or args.iso_color or (not base and scene.mode == "isosurface"):
         iso = scene.isosurface
         value = args.iso if args.iso is not None else (iso.value if base else _default_iso(volume))
@@ -366,7 +367,8 @@ def run(args):
     look = f", preset {scene.transfer.name}{chosen}" if scene.transfer.name and scene.mode == "composite" else ""
     spp = f", {image.stats['spp']} samples/pixel{' denoised' if image.stats.get('denoised') else ''}" \
         if "spp" in image.stats else ""
-    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}, shading {scene.shading.mode}{look}{spp}, "
+    why = " (chosen for a slab)" if not (args.mode or base) and scene.mode != "composite" else ""
+    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}{why}, shading {scene.shading.mode}{look}{spp}, "
           f"display {image.display.tonemap if image.display else 'linear'}) in {dt * 1000:.0f} ms")
     if args.save_settings:
         load_opts = {k: getattr(args, k) for k in ("series", "resample", "nonfinite", "shape", "dtype", "spacing",

@@ -61,7 +61,7 @@ def register(sub):
 
 def _scene_and_camera(args, volume):
     from volumen.core import Camera, Display, Scene, Shading, TransferFunction
-    from volumen.render import default_transfer
+    from volumen.render import default_mode, default_transfer
 
     if args.settings:
         try:
@@ -71,7 +71,8 @@ def _scene_and_camera(args, volume):
         except (OSError, KeyError, json.JSONDecodeError) as exc:
             raise ValueError(f"cannot read settings {args.settings}: {exc}") from None
     else:
-        scene = Scene(volume=volume, transfer=default_transfer(volume, "composite"))
+        mode = "composite" if args.preset else default_mode(volume)
+        scene = Scene(volume=volume, transfer=default_transfer(volume, mode), mode=mode)
         camera = Camera.orbit(volume, view=args.view, azimuth=args.azimuth, elevation=args.elevation, zoom=args.zoom)
     if args.preset:
         scene = scene.with_(transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))

@@ -46,19 +46,15 @@ _VIEW_DIRS = {
 #: the view facing a slab, by the world axis its normal is nearest: radiology's display of an axial image (seen from
 #: the feet, anterior up), a coronal one (from the front) and a sagittal one (from the left)
 _FACING = ("left", "anterior", "inferior")
-#: a volume at most this fraction as thick along one voxel axis as along the next thinnest is a slab
-SLAB = 0.25
 
 
 def default_view(volume) -> View:
     """The anatomical view a volume opens with: ``"anterior"``, unless it is a slab (a single slice, a few frames:
-    along one voxel axis at most :data:`SLAB` as thick, samples times spacing, as along the next thinnest), whose
-    side shows a sliver or a line: then the view facing it (:data:`_FACING`)."""
-    thick = np.asarray(volume.shape[:3], dtype=float) * np.asarray(volume.spacing)  # array axes (z, y, x), mm
-    order = np.argsort(thick, kind="stable")
-    if not thick[order[0]] <= SLAB * thick[order[1]]:
+    :attr:`Volume.thin_axis`), whose side shows a sliver or a line: then the view facing it (:data:`_FACING`)."""
+    thin = volume.thin_axis
+    if thin is None:
         return "anterior"
-    normal = np.asarray(volume.direction, dtype=float)[:, 2 - order[0]]  # the thin axis's voxel direction, world
+    normal = np.asarray(volume.direction, dtype=float)[:, 2 - thin]  # the thin axis's voxel direction, world
     return _FACING[int(np.argmax(np.abs(normal)))]
 
 

@@ -54,6 +54,11 @@ def axis_codes(affine: np.ndarray) -> str:
     return "".join(codes)
 
 
+#: a volume at most this fraction as thick along one voxel axis as along the next thinnest is a slab
+#: (:attr:`Volume.thin_axis`)
+SLAB = 0.25
+
+
 def _default_affine(spacing) -> np.ndarray:
     dz, dy, dx = (float(s) for s in spacing)
     return np.diag([dx, dy, dz, 1.0])
@@ -206,6 +211,15 @@ class Volume:
         """Physical size ``(x, y, z)`` in mm of the voxel-centre box along voxel axes i, j, k."""
         nz, ny, nx = self.shape
         return np.array([(nx - 1) * self.spacing[2], (ny - 1) * self.spacing[1], (nz - 1) * self.spacing[0]])
+
+    @property
+    def thin_axis(self) -> int | None:
+        """The array axis (0 = z, 1 = y, 2 = x) along which the volume is a slab (a single slice, a few frames):
+        at most :data:`SLAB` as thick, samples times spacing, as along the next thinnest; None for a volume that
+        is no slab."""
+        thick = np.asarray(self.shape[:3], dtype=float) * np.asarray(self.spacing)
+        order = np.argsort(thick, kind="stable")
+        return int(order[0]) if thick[order[0]] <= SLAB * thick[order[1]] else None
 
     @property
     def diagonal(self) -> float:

@@ -22,7 +22,7 @@ from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
 from ._techniques import Technique, legacy_backend, resolve_device
 
-__all__ = ["render", "render_volume", "clear_cache"]
+__all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer"]
 
 
 def _choose(device, technique, options, backend) -> tuple[str, Technique]:
@@ -182,6 +182,14 @@ def _slab_volume(volume):
     return kept[1]
 
 
+def default_mode(volume) -> Mode:
+    """The mode a volume is drawn in when neither a mode nor a transfer function is named: ``"composite"``, or
+    ``"mip"`` for a scalar slab (a single slice, a few frames: :attr:`Volume.thin_axis`), whose few millimetres of
+    tissue composite to a faint, dark picture where its MIP is the image itself (a thin-slab MIP). A colour slab is
+    composited: its MIP would project the luminance, grey."""
+    return "mip" if volume.thin_axis is not None and not volume.is_color else "composite"
+
+
 def default_transfer(volume, mode: Mode) -> TransferFunction:
     """The transfer function ``render_volume`` uses when none is named (:func:`volumen.core.default_preset`): gray
     ramp over the data range for projections, ``ct-skin-bone`` for CT (on its stored values), ``mr-default``
@@ -190,7 +198,7 @@ def default_transfer(volume, mode: Mode) -> TransferFunction:
 
 
 def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View | None = None,
-                  mode: Mode = "composite", projection: Projection = "perspective",
+                  mode: Mode | None = None, projection: Projection = "perspective",
                   size: tuple[int, int] = (512, 512), shading: ShadingMode = "headlight", azimuth: float = 0.0,
                   elevation: float = 0.0, zoom: float = 1.0, samples_per_voxel: float = 1.0,
                   iso_value: float | None = None, device: str | None = None,
@@ -205,7 +213,8 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
         None picks :func:`default_transfer`.
     view, azimuth, elevation, zoom, projection :
         As in :meth:`volumen.core.Camera.orbit`.
-    mode : {"composite", "mip", "minip", "average", "isosurface"}
+    mode : {"composite", "mip", "minip", "average", "isosurface"} or None
+        None: composite, or with no ``preset`` :func:`default_mode` (MIP for a scalar slab).
     size : (width, height), pixels
     shading : {"none", "headlight", "phong", "shadows", "scattering", "pathtrace"}
         ("phong" and the lit models without lights show ambient light only.)
@@ -216,6 +225,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     device, technique, **options :
         As in :func:`render`.
     """
+    mode = (default_mode(volume) if preset is None else "composite") if mode is None else mode
     if isinstance(preset, TransferFunction):
         tf = preset
     elif preset is None:

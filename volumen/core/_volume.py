@@ -269,7 +269,7 @@ class Volume:
         """The volume as it is drawn in 3-D: itself, or where an axis holds one sample (a single slice) that sample
         twice, half its spacing (the slice thickness) either side of it. A volume is drawn between its voxel
         centres, so one sample alone spans nothing (a ray through it composites nothing); the slab is as thick as
-        the slice. The data is a copy."""
+        the slice. Its data is a copy; a volume with no single-sample axis is returned as it is."""
         data, affine = self.data, self.affine.copy()
         for axis in (a for a, n in enumerate(self.shape) if n == 1):  # array axes (z, y, x)
             data = np.repeat(data, 2, axis=axis)

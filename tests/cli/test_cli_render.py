@@ -181,3 +181,20 @@ def test_a_single_dicom_slice_is_drawn_face_on_as_its_mip_and_says_so(tmp_path, 
     assert main(["render", get_testdata_file("CT_small.dcm"), "-o", str(out), "--size", "64x64",
                  "--mode", "composite"]) == 0
     assert "(chosen for a slab)" not in capsys.readouterr().out
+
+
+def test_labels_on_a_single_slice_are_composited_not_dropped(tmp_path, capsys):
+    """``--labels`` asks for a composite (the labels colour it): a slab's default MIP drew none of them."""
+    import nibabel as nib
+
+    j, i = np.mgrid[:32, :32]
+    scan = np.where(np.hypot(i - 15.5, j - 15.5) < 8, 300, -100).astype(np.int16)[None]  # (1, 32, 32) [z, y, x]
+    for name, arr in (("ct", scan), ("seg", (scan > 0).astype(np.uint8))):
+        nib.save(nib.Nifti1Image(arr.transpose(2, 1, 0), np.diag([1.0, 1.0, 5.0, 1.0])), str(tmp_path / f"{name}.nii"))
+    out = tmp_path / "labels.png"
+    assert main(["render", str(tmp_path / "ct.nii"), "--labels", str(tmp_path / "seg.nii"), "-o", str(out),
+                 "--size", "48x48"]) == 0
+    line = capsys.readouterr().out
+    assert ", composite," in line and "chosen for a slab" not in line
+    rgb = _png(out)[..., :3].astype(int)
+    assert (rgb.max(axis=-1) - rgb.min(axis=-1) > 60).mean() > 0.05, "no label colour drawn"

@@ -102,12 +102,12 @@ def test_validation_and_json():
     ((20, 1, 40), (5.0, 0.7, 0.7), "anterior"), ((20, 30, 1), (5.0, 0.7, 0.7), "left"),
     ((1, 1, 1), (5.0, 0.7, 0.7), "anterior"), ((2, 100, 100), (1.0, 1.0, 1.0), "inferior"),
     ((34, 393, 157), (1.5, 0.88, 0.88), "anterior"), ((10, 512, 512), (5.0, 0.7, 0.7), "inferior"),
-    ((60, 512, 512), (5.0, 0.7, 0.7), "anterior")])
+    ((60, 512, 512), (5.0, 0.7, 0.7), "anterior"), ((64, 256, 256), (1.0, 1.0, 1.0), "anterior")])
 def test_default_view_faces_a_slab(shape, spacing, view):
     """Anterior, unless the volume is a slab (a single slice, two frames, ten 5 mm slices of a 36 cm field: along
-    one axis at most a quarter as thick as along the next thinnest): then the view that faces it as radiology
+    one axis less than a quarter as thick as along the next thinnest): then the view that faces it as radiology
     shows it (axial from the feet, coronal from the front, sagittal from the left), not one that sees it edge-on.
-    VMTK's aorta (51 x 345 x 138 mm) and a 60-slice CT are no slabs."""
+    VMTK's aorta (51 x 345 x 138 mm), a 60-slice CT and 64 mm of a 256 mm field (a quarter) are no slabs."""
     vol = Volume(np.zeros(shape, np.int16), spacing=spacing)
     assert default_view(vol) == view
     assert Camera.orbit(vol) == Camera.anatomical(vol) == Camera.orbit(vol, view=view)

@@ -124,3 +124,48 @@ def test_a_slab_is_drawn_as_its_mip_by_default():
     image = render_volume(one, size=SIZE, projection="orthographic")
     inside = np.isfinite(image.value)
     assert inside.mean() > 0.3 and np.nanmax(image.value) > 1500 and np.nanmin(image.value) < 100
+
+
+def _slice_and_stack():
+    """A 40 x 40 axial slice (5 mm) with a bright disc and a ring, and six copies of it 1 mm apart (its slab)."""
+    j, i = np.mgrid[:40, :40].astype(float)
+    r = np.hypot(i - 19.5, j - 19.5)
+    plane = np.where(r < 8, 900, np.where(r < 14, 400, 0)).astype(np.int16)
+    one = Volume(plane[None], affine=np.array([[1.0, 0, 0, -19.5], [0, 1, 0, -19.5], [0, 0, 5, 0], [0, 0, 0, 1]]))
+    six = Volume(np.repeat(plane[None], 6, axis=0),
+                 affine=np.array([[1.0, 0, 0, -19.5], [0, 1, 0, -19.5], [0, 0, 1, -2.5], [0, 0, 0, 1]]))
+    return one, six, plane
+
+
+def test_a_single_slice_keeps_its_labels_and_crop_on_its_slab():
+    """Labels on the slice's grid and a crop box in its voxel indices follow it onto the slab: a label layer drew
+    an error (the labels' grid (1, 40, 40) against the slab's (2, 40, 40)), and the crop z = 0 .. 0, the whole
+    slice, cut the slab to its back face (an empty picture). Against the six-slice stack with its own labels and
+    the crop z = 0 .. 5: within mean |diff| 1e-3 (the stack test's bound)."""
+    from volumen.core import Clipping, LabelLayer, LabelMap
+
+    one, six, plane = _slice_and_stack()
+    cam = Camera.anatomical(six, "inferior", projection="orthographic")
+    tf = TransferFunction(opacity=((0, 0.0), (1000, 0.3)))
+
+    def drawn(v, z1):
+        labels = LabelMap((v.data > 500).astype(np.uint8), v.spacing, v.affine, {1: "disc"}, {1: (1.0, 0.0, 0.0)})
+        scene = Scene(volume=v, transfer=tf, sampling=Sampling(jitter=False), labels=LabelLayer(labels),
+                      clipping=Clipping(crop=(0, 39, 0, 39, 0, z1)))
+        return render(scene, cam, SIZE).rgba
+
+    a, b = drawn(one, 0), drawn(six, 5)
+    disc = a[SIZE[1] // 2, SIZE[0] // 2]
+    print(f"mean |diff| {np.abs(a - b).mean():.1e}; the disc's pixel {disc.round(3)}")
+    assert np.abs(a - b).mean() <= 1e-3 and disc[3] > 0.5 and disc[0] > 3 * disc[1]
+
+
+def test_the_path_tracer_draws_a_single_slice():
+    """The progressive path tracer (the app's CPU cinematic view) draws the slab too: it drew nothing."""
+    from volumen.render import PathTracer
+
+    one, _, _ = _slice_and_stack()
+    scene = Scene(volume=one, transfer=TransferFunction(opacity=((0, 0.0), (1000, 0.3))))
+    tracer = PathTracer(scene, Camera.anatomical(one, projection="orthographic"), (16, 16))
+    tracer.step(2)
+    assert tracer.coverage.max() > 0.3

@@ -38,8 +38,8 @@ def register(sub):
     g = p.add_argument_group("look")
     g.add_argument("--preset", choices=PRESETS, help="transfer function preset")
     g.add_argument("--tf", help="transfer function JSON file (TransferFunction.to_json)")
-    g.add_argument("--mode", choices=MODES, help="composite (default; a single slice or thin slab "
-                   "with no --tf or --preset: mip), mip, minip, average, isosurface")
+    g.add_argument("--mode", choices=MODES, help="composite (default; a single slice or two frames "
+                   "with no --tf, --preset or --labels: mip), mip, minip, average, isosurface")
     g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
     g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
     g.add_argument("--shading", choices=SHADINGS, help=f"{', '.join(SHADINGS)} (default headlight; the lit models "
@@ -168,7 +168,8 @@ def build(args, base: dict | None, volume):
             raise ValueError(f"{args.tf}: not a transfer function JSON file ({exc})") from None
     elif args.preset:
         scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
-    mode = args.mode or (None if base or args.tf or args.preset else default_mode(volume))
+    named = base or args.tf or args.preset or getattr(args, "labels", None)  # the labels composite
+    mode = args.mode or (None if named else default_mode(volume))
     if not (args.tf or args.preset or base):
         scene = replace(scene, transfer=default_transfer(volume, mode))
     if mode:

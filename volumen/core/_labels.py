@@ -113,6 +113,14 @@ class LabelMap:
         voxel_ml = float(abs(np.linalg.det(self.affine[:3, :3]))) / 1000.0
         return {v: n * voxel_ml for v, n in self.counts().items()}
 
+    def slab(self) -> LabelMap:
+        """The labels on the grid of :meth:`Volume.slab <volumen.core.Volume.slab>` (itself without an axis of one
+        sample)."""
+        from ._volume import slab_grid
+
+        data, affine = slab_grid(self.data, self.affine)
+        return self if data is self.data else self.with_data(data, self.spacing, affine)
+
     def with_data(self, data: np.ndarray, spacing, affine) -> LabelMap:
         """The same names and colours on another grid."""
         return LabelMap(data, spacing, affine, dict(self.names), dict(self.colors), dict(self.meta))

@@ -59,6 +59,16 @@ def axis_codes(affine: np.ndarray) -> str:
 SLAB = 0.25
 
 
+def slab_grid(data, affine: np.ndarray):
+    """``(data, affine)`` of a grid whose axes with one sample (array axes z, y, x) hold it twice, half a spacing
+    either side of it (``data`` itself where no axis has one sample): the slab a single slice stands for."""
+    affine = np.array(affine, dtype=float)
+    for axis in (a for a, n in enumerate(np.shape(data)[:3]) if n == 1):
+        data = np.repeat(data, 2, axis=axis)
+        affine[:3, 3] -= affine[:3, 2 - axis] / 2  # voxel axis k, j, i: back by half a spacing
+    return data, affine
+
+
 def _default_affine(spacing) -> np.ndarray:
     dz, dy, dx = (float(s) for s in spacing)
     return np.diag([dx, dy, dz, 1.0])
@@ -215,11 +225,11 @@ class Volume:
     @property
     def thin_axis(self) -> int | None:
         """The array axis (0 = z, 1 = y, 2 = x) along which the volume is a slab (a single slice, a few frames):
-        at most :data:`SLAB` as thick, samples times spacing, as along the next thinnest; None for a volume that
+        less than :data:`SLAB` as thick, samples times spacing, as along the next thinnest; None for a volume that
         is no slab."""
         thick = np.asarray(self.shape[:3], dtype=float) * np.asarray(self.spacing)
         order = np.argsort(thick, kind="stable")
-        return int(order[0]) if thick[order[0]] <= SLAB * thick[order[1]] else None
+        return int(order[0]) if thick[order[0]] < SLAB * thick[order[1]] else None
 
     @property
     def diagonal(self) -> float:
@@ -270,10 +280,7 @@ class Volume:
         twice, half its spacing (the slice thickness) either side of it. A volume is drawn between its voxel
         centres, so one sample alone spans nothing (a ray through it composites nothing); the slab is as thick as
         the slice. Its data is a copy; a volume with no single-sample axis is returned as it is."""
-        data, affine = self.data, self.affine.copy()
-        for axis in (a for a, n in enumerate(self.shape) if n == 1):  # array axes (z, y, x)
-            data = np.repeat(data, 2, axis=axis)
-            affine[:3, 3] -= affine[:3, 2 - axis] / 2  # voxel axis k, j, i: back by half a spacing
+        data, affine = slab_grid(self.data, self.affine)
         if data is self.data:
             return self
         return Volume(data, affine=affine, modality=self.modality, units=self.units, name=self.name,

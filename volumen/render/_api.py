@@ -20,6 +20,7 @@ from ..core import (
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
+from ._slab import slabbed
 from ._techniques import Technique, legacy_backend, resolve_device
 
 __all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer"]
@@ -151,7 +152,6 @@ def _out_of_core(scene, camera, size, device, technique, memory, brick) -> Image
 
 
 _LUMINANCE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-_SLABS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _luminance_volume(volume):
@@ -164,30 +164,22 @@ def _luminance_volume(volume):
 
 
 def _drawn(scene, technique):
-    """The scene with its volume as ``technique`` draws it: a single slice as its slab, a colour volume's luminance
-    for slicing and mesh."""
-    if 1 in scene.volume.shape:
-        scene = scene.with_(volume=_slab_volume(scene.volume))
+    """The scene as ``technique`` draws it: a single slice as its slab (:func:`._slab.slabbed`), a colour volume's
+    luminance for slicing and mesh."""
+    scene = slabbed(scene)
     if scene.volume.is_color and technique.name != "raycast":  # slicing and mesh draw the luminance
         scene = scene.with_(volume=_luminance_volume(scene.volume))
     return scene
 
 
-def _slab_volume(volume):
-    """:meth:`Volume.slab` of a single slice, kept while the volume and its data live."""
-    kept = _SLABS.get(volume)
-    if kept is None or kept[0] is not volume.data:
-        kept = (volume.data, volume.slab())
-        _SLABS[volume] = kept
-    return kept[1]
-
-
 def default_mode(volume) -> Mode:
-    """The mode a volume is drawn in when neither a mode nor a transfer function is named: ``"composite"``, or
-    ``"mip"`` for a scalar slab (a single slice, a few frames: :attr:`Volume.thin_axis`), whose few millimetres of
-    tissue composite to a faint, dark picture where its MIP is the image itself (a thin-slab MIP). A colour slab is
-    composited: its MIP would project the luminance, grey."""
-    return "mip" if volume.thin_axis is not None and not volume.is_color else "composite"
+    """The mode a volume is drawn in when neither a mode nor a transfer function nor labels are named:
+    ``"composite"``, or ``"mip"`` for a scalar slab of one or two samples (a single slice, two frames:
+    :attr:`Volume.thin_axis`), whose few millimetres of tissue composite to a faint, dark picture where its MIP is
+    the image itself. A thicker slab (a stack of slices) is composited, and so is a colour slab: its MIP would
+    project the luminance, grey."""
+    thin = volume.thin_axis
+    return "mip" if thin is not None and volume.shape[thin] <= 2 and not volume.is_color else "composite"
 
 
 def default_transfer(volume, mode: Mode) -> TransferFunction:

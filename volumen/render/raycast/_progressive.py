@@ -14,6 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...jit import run_claiming
+from .._slab import slabbed
 from ._denoise import denoise
 from ._majorant import MAJ_BLOCK, majorant_grid
 from ._medium import depth_bound, label_scale
@@ -81,7 +82,7 @@ class PathTracer:
     def __init__(self, scene, camera, size):
         if scene.mode != "composite":
             raise ValueError(f"path tracing needs mode 'composite', got {scene.mode!r}")
-        scene = replace(scene, shading=replace(scene.shading, mode="pathtrace"))
+        scene = replace(slabbed(scene), shading=replace(scene.shading, mode="pathtrace"))
         f = pack_frame(scene, camera, size)
         arrays = f.arrays._replace(maj=_majorants(f), nrm=_gradient_matrix(scene.volume))
         self.frame = replace(f, arrays=arrays, settings=f.settings._replace(mblock=MAJ_BLOCK))

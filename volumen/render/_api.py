@@ -20,7 +20,7 @@ from ..core import (
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
-from ._slab import slabbed
+from ._slab import kept_for, slabbed
 from ._techniques import Technique, legacy_backend, resolve_device
 
 __all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer"]
@@ -156,11 +156,7 @@ _LUMINANCE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 def _luminance_volume(volume):
     """The scalar volume of a colour volume's luminance (kept while the colour volume and its data live)."""
-    kept = _LUMINANCE.get(volume)
-    if kept is None or kept[0] is not volume.data:
-        kept = (volume.data, volume.with_data(volume.luminance()))
-        _LUMINANCE[volume] = kept
-    return kept[1]
+    return kept_for(_LUMINANCE, volume, lambda v: v.with_data(v.luminance()))
 
 
 def _drawn(scene, technique):

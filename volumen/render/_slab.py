@@ -13,7 +13,7 @@ from dataclasses import replace
 
 from ..core import is_chunked
 
-__all__ = ["slabbed"]
+__all__ = ["slabbed", "kept_for"]
 
 _SLABS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -34,13 +34,19 @@ def slabbed(scene):
     return scene.with_(**changes)
 
 
+def kept_for(store: weakref.WeakKeyDictionary, volume, make):
+    """``make(volume)``, a volume derived from ``volume``, kept in ``store`` while the volume and its data live
+    (made again when its data array is replaced)."""
+    kept = store.get(volume)
+    if kept is None or kept[0] is not volume.data:
+        kept = (volume.data, make(volume))
+        store[volume] = kept
+    return kept[1]
+
+
 def _slab_volume(volume):
     """:meth:`Volume.slab` of a single slice, kept while the volume and its data live."""
-    kept = _SLABS.get(volume)
-    if kept is None or kept[0] is not volume.data:
-        kept = (volume.data, volume.slab())
-        _SLABS[volume] = kept
-    return kept[1]
+    return kept_for(_SLABS, volume, lambda v: v.slab())
 
 
 def _slab_crop(crop, shape):

@@ -64,6 +64,22 @@ def test_slices_read_only_their_chunks(tmp_path):
     assert w.data.stats["chunk_reads"] < 5 * 5 * 4
 
 
+def test_an_axis_of_one_sample_repeats_lazily(tmp_path):
+    """``np.repeat`` of a chunked plane's axis of one sample (``Volume.slab``) is a lazy view: nothing is read
+    until it is, then it is NumPy's repeat, whole or sliced; another axis is a one-line error."""
+    v = Volume(np.arange(2 * 30 * 20, dtype=np.int16).reshape(2, 30, 20), spacing=(5.0, 0.5, 0.5))
+    volumen.save(v, tmp_path / "p.ome.zarr", chunks=8)
+    plane = volumen.load(tmp_path / "p.ome.zarr").data[1:2]
+    twice = np.repeat(plane, 2, axis=0)
+    assert twice.shape == (2, 30, 20) and plane.stats["chunk_reads"] == 0
+    ref = np.repeat(v.data[1:2], 2, axis=0)
+    np.testing.assert_array_equal(np.asarray(twice), ref)
+    np.testing.assert_array_equal(twice[:, 3:17, 5:].read(), ref[:, 3:17, 5:])
+    np.testing.assert_array_equal(twice.transpose(2, 1, 0).read(), ref.transpose(2, 1, 0))
+    with pytest.raises(ValueError, match="axis of one sample"):
+        np.repeat(plane, 2, axis=1)
+
+
 def test_not_zarr_is_a_typed_error(tmp_path):
     p = tmp_path / "bad.zarr"
     p.mkdir()

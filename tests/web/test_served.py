@@ -111,3 +111,12 @@ def test_a_single_slice_is_served_as_its_slab():
     served = ServedVolume(one)
     assert served.volume.shape == (2, 20, 20) and np.isclose(served.volume.extent[2], 5.0)
     assert served.info()["source_shape"] == [1, 20, 20]
+
+
+def test_a_single_slice_fitted_to_the_texture_keeps_its_slab():
+    """A slice too large for the client's 3-D texture is coarsened in plane only: its slab keeps two samples (the
+    thickness), where a coarser grid along it left one (a box of no thickness, an empty 3-D view)."""
+    one = Volume(np.arange(90 * 60, dtype=np.int16).reshape(1, 90, 60), spacing=(5.0, 0.7, 0.7))
+    served = ServedVolume(one, max_3d=32)
+    assert served.factor > 2 and served.volume.shape[0] == 2 and max(served.volume.shape) <= 32
+    assert np.isclose(served.volume.extent[2], 5.0) and np.allclose(served.volume.extent[:2], one.extent[:2], rtol=0.05)

@@ -107,6 +107,16 @@ class ChunkedArray:
         return ChunkedArray(self.source, [self.perm[a] for a in axes], [self.start[a] for a in axes],
                             [self.step[a] for a in axes], [self.shape[a] for a in axes], self.stats, self.ranges)
 
+    def repeat(self, repeats: int, axis: int) -> ChunkedArray:
+        """A lazy view holding the sample of an axis of one ``repeats`` times (``np.repeat`` calls it: a single
+        plane's slab, :func:`volumen.core.slab_grid`); nothing is read."""
+        axis = int(axis) % self.ndim
+        if self.shape[axis] != 1:
+            raise ValueError(f"a ChunkedArray repeats an axis of one sample, axis {axis} has {self.shape[axis]}")
+        step, shape = list(self.step), list(self.shape)
+        step[axis], shape[axis] = 0, int(repeats)
+        return ChunkedArray(self.source, self.perm, self.start, step, shape, self.stats, self.ranges)
+
     def __getitem__(self, key):
         key = key if isinstance(key, tuple) else (key,)
         if any(k is Ellipsis for k in key):
@@ -160,10 +170,11 @@ class ChunkedArray:
         # pick the view's samples in source order, then put the axes in view order
         sel = [slice(None)] * self.ndim
         for a in range(self.ndim):
-            s0 = self.start[a] - rng[self.perm[a]][0]
-            stop = s0 + self.step[a] * self.shape[a]
-            sel[self.perm[a]] = slice(s0, stop if stop >= 0 else None, self.step[a])
-        return np.ascontiguousarray(np.transpose(box[tuple(sel)], self.perm))
+            s0, step = self.start[a] - rng[self.perm[a]][0], self.step[a] or 1  # step 0: one sample, repeated
+            stop = s0 + step * (self.shape[a] if self.step[a] else 1)
+            sel[self.perm[a]] = slice(s0, stop if stop >= 0 else None, step)
+        view = np.transpose(box[tuple(sel)], self.perm)
+        return np.ascontiguousarray(np.broadcast_to(view, self.shape))
 
     # -- reductions the Volume uses (streamed chunk by chunk) ------------------
     def _reduce(self, name):

@@ -114,7 +114,7 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
     device, technique = _choose(device, technique, options, backend)
     w, h = _checked(scene, camera, size)
     if chunked:
-        image = _out_of_core(scene, camera, (w, h), device, technique, memory, brick)
+        image = _out_of_core(slabbed(scene), camera, (w, h), device, technique, memory, brick)
     else:
         image = technique.spec.draw(_drawn(scene, technique), camera, (w, h), device, technique.options)
     image.stats["renderer"] = {"device": device, "technique": technique.name}

@@ -11,18 +11,16 @@ from __future__ import annotations
 import weakref
 from dataclasses import replace
 
-from ..core import is_chunked
-
 __all__ = ["slabbed", "kept_for"]
 
 _SLABS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def slabbed(scene):
-    """``scene`` with a single slice's volume, labels and voxel crop on its slab's grid; ``scene`` itself for a
-    volume with no axis of one sample (and for a chunked one, drawn out of core as it is)."""
+    """``scene`` with a single slice's volume, labels and voxel crop on its slab's grid (a chunked plane's a lazy
+    view, read as the plane); ``scene`` itself for a volume with no axis of one sample."""
     vol = scene.volume
-    if vol is None or is_chunked(vol.data) or 1 not in vol.shape:
+    if vol is None or 1 not in vol.shape:
         return scene
     changes = {"volume": _slab_volume(vol)}
     layer = scene.labels

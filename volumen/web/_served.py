@@ -37,7 +37,8 @@ HALF_EXACT = 2048
 
 def fit_volume(volume, max_3d: int, budget_bytes: int):
     """``(volume, factor)``: ``volume`` itself (factor 1.0), or resampled on a grid ``factor`` times coarser
-    along every axis so no axis is past ``max_3d`` voxels and 2 bytes per voxel fit ``budget_bytes``.
+    along every axis of more than two samples (a slab's thin axis keeps its samples) so no axis is past
+    ``max_3d`` voxels and 2 bytes per voxel fit ``budget_bytes``.
 
     The data is box-filtered over the new spacing before it is resampled (trilinear) onto the new grid,
     whose first voxel centre is the old one's (``Volume.resample``).
@@ -45,22 +46,23 @@ def fit_volume(volume, max_3d: int, budget_bytes: int):
     from scipy import ndimage
 
     shape = np.array(volume.shape, float)
+    coarse = shape > 2
     factor = max(1.0, float((shape.max() - 1) / (max_3d - 1)) if shape.max() > max_3d else 1.0,
                  float((2.0 * shape.prod() / budget_bytes) ** (1 / 3)))
     if factor <= 1.0:
         return volume, 1.0
     while True:  # the resampled grid rounds its sizes; grow the factor until it fits
-        n = np.floor((shape - 1) / factor + 1e-6) + 1
+        n = np.where(coarse, np.floor((shape - 1) / factor + 1e-6) + 1, shape)
         if n.max() <= max_3d and 2.0 * n.prod() <= budget_bytes:
             break
         factor *= 1.01
-    size = max(1, int(round(factor)))
+    size = np.where(coarse, max(1, int(round(factor))), 1)
     data = volume.data
-    smooth = ndimage.uniform_filter(data.astype(np.float32), size=(size, size, size) + (1,) * (data.ndim - 3),
-                                     mode="nearest") if size > 1 else data
+    smooth = ndimage.uniform_filter(data.astype(np.float32), size=tuple(size) + (1,) * (data.ndim - 3),
+                                     mode="nearest") if size.max() > 1 else data
     if data.dtype.kind in "iu":
         smooth = np.rint(smooth).astype(data.dtype)
-    out = volume.with_data(smooth).resample(tuple(s * factor for s in volume.spacing))
+    out = volume.with_data(smooth).resample(tuple(np.where(coarse, factor, 1.0) * volume.spacing))
     return out, factor
 
 

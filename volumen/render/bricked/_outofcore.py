@@ -26,7 +26,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ...core import Image, is_chunked
+from ...core import Image, is_chunked, studio_lights
 from ..raycast import TILE, pack_geometry, prepared_volumes, render_part
 from ._bricks import (
     brick_clipping,
@@ -187,6 +187,16 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
     return src, vr, bricks
 
 
+def whole_rig(scene, camera):
+    """The scene with the studio rig's lights (its lights when it has none, lit by the studio environment) placed
+    for the whole volume: each brick, a Volume of its own, would place them about its own centre."""
+    env = scene.environment.resolved(bool(scene.lights))
+    if scene.lights or env.kind != "studio":
+        return scene
+    vol = scene.volume
+    return scene.with_(lights=studio_lights(camera, vol.center, vol.diagonal, env.intensity), environment=env)
+
+
 def _draw_all(src, data, bricks, scene, camera, size, vr, cache, tally):
     """The bricks drawn front to back and composited: ``(Partial, bricks drawn)``; composite carries each
     ray's opacity from brick to brick (:func:`~._composite.add_carried`), so rays stop where the whole ray
@@ -242,6 +252,7 @@ def render_bricked(scene, camera, size=(512, 512), *, memory=MEMORY, brick: int 
     data = scene.volume.data
     if brick is None and is_chunked(data):
         brick = default_brick(data.chunks[0], room=ROOM * data.nbytes <= parse_bytes(memory))
+    scene = whole_rig(scene, camera)
     src, vr, bricks = plan(scene.volume, scene, camera, brick=brick, value_range=value_range)
     data, cache = src.data, None
     if is_chunked(data):

@@ -85,3 +85,24 @@ def test_series_reference_round_trips_through_resolve_volume(tmp_path):
     odd = tmp_path / "odd?series=x"  # a real path that looks like a reference is never split
     odd.mkdir()
     assert split_series_ref(str(odd)) == (str(odd), None)
+
+
+def test_a_single_slice_opens_face_on_as_its_mip_and_a_volume_composited(make_window, head64):
+    """A single slice (pydicom's CT_small.dcm) opens as the command line draws it: from the feet, as its MIP
+    (the mode box says so), the slice bright in the 3-D view; the next whole volume is composited again."""
+
+    import volumen
+
+    win = make_window()
+    win.state.update_scene(mode="isosurface")
+    one = volumen.load(get_testdata_file("CT_small.dcm"))
+    win.set_volume(one, "CT_small.dcm")
+    assert win.wait_for_final(60) and win.last_error is None, win.last_error
+    state = win.state
+    assert state.scene.mode == "mip" and win.render_panel.mode.currentData() == "mip"
+    assert state.camera.position[2] < one.center[2]  # from the feet
+    rgb = win.view3d.frame.rgb.astype(int).sum(axis=2)
+    print(f"lit {(rgb > 30).mean():.2f} of the view, brightest {rgb.max() / 3:.0f}")
+    assert (rgb > 30).mean() > 0.2 and rgb.max() > 3 * 200
+    win.set_volume(head64, "phantom:head?size=64")
+    assert win.wait_for_final(60) and state.scene.mode == "composite"

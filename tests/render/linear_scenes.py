@@ -9,9 +9,9 @@ re-written once since, when the normals' direction table was packed into 10-bit 
 6912 bytes of each picture that reads normals (headlight; Phong, shadows and isosurface with a light), 13-41
 moved, by 1 (5 in a specular highlight of ``composite/phong/light``); the others kept every byte. Re-written a
 second time when two-sided lighting came to light both sides of a normal near right angles to the view
-(``core.TWO_SIDED``): the 10 pictures with a headlight or a light moved in 3-261 bytes each, by 1 with the
-headlight and the isosurface, by up to 19 on the silhouettes of the composites with Phong and shadows; the 14
-others kept every byte. The path tracer is
+(``core.TWO_SIDED``): the 10 pictures with a headlight or a light moved in 39-419 bytes each, by 1-2 with the
+headlight, by up to 31 (composite) and 65 (isosurface) on the silhouettes with Phong and shadows; the 14 others
+kept every byte. The path tracer is
 left out: its estimator changed in the same issue (another sampler, the majorant grid), so its noise differs by
 design; ``test_pathtrace.py`` checks that it converges to the same pictures.
 """

@@ -7,11 +7,7 @@ uint8 arrays. ``linear_pictures.npz`` beside this file was written by the code o
 display transform, the environment light and the studio rig existed (``test_display.py`` compares), and
 re-written once since, when the normals' direction table was packed into 10-bit components (issue 27): of the
 6912 bytes of each picture that reads normals (headlight; Phong, shadows and isosurface with a light), 13-41
-moved, by 1 (5 in a specular highlight of ``composite/phong/light``); the others kept every byte. Re-written a
-second time when two-sided lighting came to light both sides of a normal near right angles to the view
-(``core.TWO_SIDED``): the 10 pictures with a headlight or a light moved in 39-419 bytes each, by 1-2 with the
-headlight, by up to 31 (composite) and 65 (isosurface) on the silhouettes with Phong and shadows; the 14 others
-kept every byte. The path tracer is
+moved, by 1 (5 in a specular highlight of ``composite/phong/light``); the others kept every byte. The path tracer is
 left out: its estimator changed in the same issue (another sampler, the majorant grid), so its noise differs by
 design; ``test_pathtrace.py`` checks that it converges to the same pictures.
 """

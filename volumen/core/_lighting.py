@@ -13,21 +13,13 @@ import numpy as np
 
 from ._jsondata import JsonData, _choice, _nonneg, _vec
 
-__all__ = ["TWO_SIDED", "Light", "LightKind", "LIGHT_KINDS", "Shading", "ShadingMode", "SHADINGS", "PhongSettings",
+__all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "ShadingMode", "SHADINGS", "PhongSettings",
            "ShadowSettings", "ScatterSettings", "PathTraceSettings"]
 
 ShadingMode = Literal["none", "headlight", "phong", "shadows", "scattering", "pathtrace"]
 LightKind = Literal["point", "spot", "headlight"]
 SHADINGS: tuple[str, ...] = get_args(ShadingMode)
 LIGHT_KINDS: tuple[str, ...] = get_args(LightKind)
-#: two-sided lighting near the silhouette: a sample is lit as its unit normal N turned toward the viewer V with
-#: weight w and as -N with 1 - w, w rising from 1/2 where ``|N.V| <= TWO_SIDED[0]`` to 1 at ``TWO_SIDED[1]``
-#: (``render.optics.facing_weight``). A normal at right angles to the view (the edges of a slab seen face-on, of
-#: anything constant along the view) is lit from both sides alike: its 16-bit code misses that plane by up to
-#: 0.93 degree (sin 0.016) either way, which turned it one way or the other sample by sample (a speckle of lit
-#: and unlit edges), and across the silhouette the light changes smoothly, so normals computed two ways (codes,
-#: the gl shader's float gradients) give the same light
-TWO_SIDED = (0.02, 0.1)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -12,9 +12,7 @@ kernels call the same source.
   with ``I_l`` the light's colour x intensity x spot factor and ``v_l`` its
   visibility (1 until shadows arrive). Two-sided: the normal is flipped
   toward the viewer before lighting, so either side of a boundary is lit the
-  same way, and a light behind the visible side lights nothing; near the
-  silhouette the light of -N is blended in (:func:`facing_weight`,
-  ``core.TWO_SIDED``): both sides alike at right angles to the view.
+  same way, and a light behind the visible side lights nothing.
 * Spot factor: ``max(dot(L, D), 0) ** exponent`` with ``L`` the unit vector
   from the light to the sample, ``D`` the spot direction; exponent 0 is a
   point light (factor 1).
@@ -34,11 +32,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core import TWO_SIDED
 from ._kernel_sources import SOURCES  # noqa: F401 - first: the Numba cache stamp, before any compiled function
 
 __all__ = ["correct_opacity", "composite", "spot_factor", "phong_terms", "power", "optical_depth", "hg_phase",
-           "REFERENCE_STEP_VOXELS", "MAX_OPACITY", "facing_weight", "two_sided_terms"]
+           "REFERENCE_STEP_VOXELS", "MAX_OPACITY"]
 
 #: the transfer function's opacity is given per this many voxels (the smallest spacing)
 REFERENCE_STEP_VOXELS = 1.0
@@ -115,29 +112,6 @@ def phong_terms(nx, ny, nz, lx, ly, lz, vx, vy, vz, shininess):
     if rdv <= 0.0:
         return ndl, 0.0
     return ndl, power(rdv, shininess)
-
-
-_SIDE_LO, _SIDE_HI = (float(x) for x in TWO_SIDED)
-
-
-@njit(cache=True, fastmath=True)
-def facing_weight(d):
-    """The weight of the normal turned toward the viewer, ``d = |N.V|`` (``-N`` takes the rest): 1/2 up to
-    ``TWO_SIDED[0]``, rising linearly to 1 at ``TWO_SIDED[1]`` (``core.TWO_SIDED``)."""
-    return 0.5 + 0.5 * min(max((d - _SIDE_LO) / (_SIDE_HI - _SIDE_LO), 0.0), 1.0)
-
-
-@njit(cache=True, fastmath=True)
-def two_sided_terms(nx, ny, nz, w, lx, ly, lz, vx, vy, vz, shininess):
-    """:func:`phong_terms` of the unit normal N (turned toward the viewer) weighted ``w`` and of ``-N`` weighted
-    ``1 - w`` (:func:`facing_weight`): only the side with ``N.L > 0`` is lit, and both reflect L alike."""
-    diff, spec = phong_terms(nx, ny, nz, lx, ly, lz, vx, vy, vz, shininess)
-    if w >= 1.0:
-        return diff, spec
-    if diff > 0.0:
-        return w * diff, w * spec
-    diff, spec = phong_terms(-nx, -ny, -nz, lx, ly, lz, vx, vy, vz, shininess)
-    return (1.0 - w) * diff, (1.0 - w) * spec
 
 
 @njit(cache=True, fastmath=True)

@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core import TWO_SIDED
-
 __all__ = ["MAX_LIGHTS", "MAX_PLANES", "MODES", "LIGHTS", "variant", "frame_uniforms", "CAMERA_UNIFORMS",
            "LIGHT_UNIFORMS"]
 
@@ -31,11 +29,9 @@ LIGHT_UNIFORMS = ("u_nlights", "u_lpos", "u_ldir", "u_lcol", "u_lexp")
 
 
 def variant(frame) -> dict:
-    """The ``#define`` s of the frame's program: ``{"MODE": int, "LIGHT": int, "MAX_LIGHTS": .., "MAX_PLANES": ..,
-    "TWO_SIDED_LO" / "_HI": float}`` (``core.TWO_SIDED``)."""
+    """The ``#define`` s of the frame's program: ``{"MODE": int, "LIGHT": int, "MAX_LIGHTS": .., "MAX_PLANES": ..}``."""
     return {"MODE": MODES[type(frame.mode).__name__], "LIGHT": LIGHTS[type(frame.light).__name__],
-            "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES,
-            "TWO_SIDED_LO": repr(float(TWO_SIDED[0])), "TWO_SIDED_HI": repr(float(TWO_SIDED[1]))}
+            "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES}
 
 
 def _vec3s(rows: np.ndarray, cap: int) -> np.ndarray:

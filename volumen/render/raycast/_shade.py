@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from ...core import Light
-from ..optics import facing_weight, power, spot_factor, two_sided_terms
+from ..optics import phong_terms, power, spot_factor
 from ._environment import sh_irradiance, sh_phase
 from ._geometry import to_index
 from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
@@ -113,19 +113,17 @@ def light_visibility(li, w, lv, dist, a, s):
 
 @njit(cache=True, fastmath=True, inline="always")
 def _unit_facing(n, v):
-    """``(nx, ny, nz, w, flat)``: the unit normal turned toward the viewer ``v`` and its side's weight ``w``
-    (``optics.facing_weight``; ``-N`` takes ``1 - w``); flat (weight 1) where the gradient vanishes."""
+    """``(nx, ny, nz, flat)``: the unit normal turned toward the viewer ``v``; flat where the gradient vanishes."""
     gx, gy, gz = n
     gl = math.sqrt(gx * gx + gy * gy + gz * gz)
     if gl < 1e-3:
-        return 0.0, 0.0, 0.0, 1.0, True
+        return 0.0, 0.0, 0.0, True
     nx = gx / gl
     ny = gy / gl
     nz = gz / gl
-    d = nx * v[0] + ny * v[1] + nz * v[2]
-    if d < 0.0:
-        return -nx, -ny, -nz, facing_weight(-d), False
-    return nx, ny, nz, facing_weight(d), False
+    if nx * v[0] + ny * v[1] + nz * v[2] < 0.0:
+        return -nx, -ny, -nz, False
+    return nx, ny, nz, False
 
 
 #: fraction of light ``li`` reaching the world point ``w``, per light tag: a piece, so a kernel of the unshadowed
@@ -146,24 +144,19 @@ def _visible_shadowed(li, w, lv, dist, a, s):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _ambient(a, s, nx, ny, nz, w):
+def _ambient(a, s, nx, ny, nz):
     """The Phong models' ambient term: ``ka`` (uniform environment) or the environment's irradiance / pi about the
-    unit normal n, weighted ``w``, and about -n, ``1 - w`` ((0, 0, 0) where the gradient vanishes: the mean
-    radiance)."""
+    unit normal n ((0, 0, 0) where the gradient vanishes: the mean radiance)."""
     if s.envmode == 0:
         return s.ka, s.ka, s.ka
-    fr, fg, fb = sh_irradiance(a, nx, ny, nz)
-    if w >= 1.0:
-        return fr, fg, fb
-    br, bg, bb = sh_irradiance(a, -nx, -ny, -nz)
-    return w * fr + (1.0 - w) * br, w * fg + (1.0 - w) * bg, w * fb + (1.0 - w) * bb
+    return sh_irradiance(a, nx, ny, nz)
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def _phong(light, a, s, n, v, w):
     """Phong over the lights, each weighted by its :data:`visibility` under the light tag."""
-    nx, ny, nz, side, flat = _unit_facing(n, v)
-    fr, fg, fb = _ambient(a, s, nx, ny, nz, side)
+    nx, ny, nz, flat = _unit_facing(n, v)
+    fr, fg, fb = _ambient(a, s, nx, ny, nz)
     sr = sg = sb = 0.0
     for li in range(s.nlights):
         lx, ly, lz, dist, spot = light_vector(a.lights, li, w[0], w[1], w[2])
@@ -171,7 +164,7 @@ def _phong(light, a, s, n, v, w):
             continue
         diff, spec = 1.0, 0.0
         if not flat:
-            diff, spec = two_sided_terms(nx, ny, nz, side, lx, ly, lz, v[0], v[1], v[2], s.shine)
+            diff, spec = phong_terms(nx, ny, nz, lx, ly, lz, v[0], v[1], v[2], s.shine)
         if diff <= 0.0:
             continue
         wt = spot * visibility(light, li, w, (lx, ly, lz), dist, a, s)
@@ -190,18 +183,16 @@ def _phong(light, a, s, n, v, w):
 @njit(cache=True, fastmath=True, inline="always")
 def _headlight_terms(n, v, shine):
     """Diffuse and specular factors of a light at the eye, from the gradient ``n`` (not normalized) and the unit
-    vector ``v`` toward the viewer: ``w |N.V|`` and ``w max(2 (N.V)^2 - 1, 0) ** shine`` (``R.V`` with
-    ``L = V``), ``w`` the weight of the normal turned toward the viewer (``optics.facing_weight``; -N is not
-    lit by it), the values of ``optics.two_sided_terms`` there, without forming that normal (a fifth of a
-    translucent frame's time less); ``(1, 0)`` where the gradient vanishes, as there."""
+    vector ``v`` toward the viewer: ``|N.V|`` and ``max(2 (N.V)^2 - 1, 0) ** shine`` (``R.V`` with ``L = V``),
+    the values of :func:`phong_terms` for the normal turned toward the viewer, without forming that normal (a
+    fifth of a translucent frame's time less); ``(1, 0)`` where the gradient vanishes, as there."""
     gx, gy, gz = n
     g2 = gx * gx + gy * gy + gz * gz
     if g2 < 1e-6:  # |g| < 1e-3: flat (``_unit_facing``)
         return 1.0, 0.0
-    d = abs(gx * v[0] + gy * v[1] + gz * v[2]) / math.sqrt(g2)
-    w = facing_weight(d)
-    rdv = 2.0 * d * d - 1.0
-    return w * d, (w * power(rdv, shine) if rdv > 0.0 else 0.0)
+    diff = abs(gx * v[0] + gy * v[1] + gz * v[2]) / math.sqrt(g2)
+    rdv = 2.0 * diff * diff - 1.0
+    return diff, (power(rdv, shine) if rdv > 0.0 else 0.0)
 
 
 @shade.register(Unlit)
@@ -225,8 +216,8 @@ def _shade_headlight(a, s, n, v, w):
     cr, cg, cb = a.lights[0, L_COL], a.lights[0, L_COL + 1], a.lights[0, L_COL + 2]
     ar = ag = ab = s.ka
     if s.envmode != 0:  # the environment's irradiance about the unit normal
-        nx, ny, nz, side, _ = _unit_facing(n, v)
-        ar, ag, ab = _ambient(a, s, nx, ny, nz, side)
+        nx, ny, nz, _ = _unit_facing(n, v)
+        ar, ag, ab = _ambient(a, s, nx, ny, nz)
     return ar + kd * cr, ag + kd * cg, ab + kd * cb, ks * cr, ks * cg, ks * cb
 
 

@@ -341,11 +341,6 @@ float spot_factor(int li, vec3 l) {
     return c <= 0.0 ? 0.0 : pow(c, u_lexp[li]);
 }
 
-// the weight of the normal turned toward the viewer, d = |N.V|; -N takes the rest (optics.facing_weight)
-float facing_weight(float d) {
-    return 0.5 + 0.5 * clamp((d - TWO_SIDED_LO) / (TWO_SIDED_HI - TWO_SIDED_LO), 0.0, 1.0);
-}
-
 // lighting factors: colour' = colour * f + alpha * s (f in .xyz of the first, s of the second)
 void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
     f = vec3(1.0); s = vec3(0.0);
@@ -353,23 +348,19 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
     float gl = length(g);
     bool flat_ = gl < 1e-3;
     vec3 n = flat_ ? vec3(0.0) : g / gl;
-    float dv = dot(n, v);
-    if (dv < 0.0) { n = -n; dv = -dv; }
-    float side = flat_ ? 1.0 : facing_weight(dv);   // -N lit with 1 - side (optics.two_sided_terms)
+    if (dot(n, v) < 0.0) n = -n;
     f = u_envmode == 0 ? vec3(u_ka) : (flat_ ? sh_sum(n, 0.0, 0.0) : sh_sum(n, 2.0 / 3.0, 0.25));
-    if (u_envmode != 0 && side < 1.0) f = side * f + (1.0 - side) * sh_sum(-n, 2.0 / 3.0, 0.25);
     for (int li = 0; li < u_nlights; li++) {
         vec4 lv = light_vector(li, w);
         float spot = spot_factor(li, lv.xyz);
         if (spot <= 0.0) continue;
         float diff = 1.0, spec = 0.0;
-        if (!flat_) {   // optics.two_sided_terms: N weighted side, -N 1 - side; both reflect L alike
+        if (!flat_) {   // optics.phong_terms
             float ndl = dot(n, lv.xyz);
-            float w = ndl > 0.0 ? side : 1.0 - side;
-            diff = w * abs(ndl);
-            if (ndl != 0.0) {
+            diff = max(ndl, 0.0);
+            if (ndl > 0.0) {
                 float rdv = dot(2.0 * ndl * n - lv.xyz, v);
-                spec = rdv > 0.0 ? w * pow(rdv, u_shine) : 0.0;
+                spec = rdv > 0.0 ? pow(rdv, u_shine) : 0.0;
             }
         }
         if (diff <= 0.0) continue;

@@ -56,7 +56,7 @@ def test_frames_round_trip_and_refuse_what_the_viewer_does_not_draw():
     cam = Camera.orbit(vol)
     header, arrays = web_frame(vol, scene.to_dict(), cam.to_dict(), (32, 24))
     h2, a2 = decode(encode(header, arrays))
-    assert h2["defines"] == {"MODE": 0, "LIGHT": 1, "MAX_LIGHTS": 16, "MAX_PLANES": 16}
+    assert h2["defines"] == {"MODE": 0, "LIGHT": 1, "MAX_LIGHTS": 16, "MAX_PLANES": 16, "FACING": "1e-06"}
     assert h2["uniforms"]["u_wh"] == [32.0, 24.0] and len(h2["uniforms"]["u_to_index"]) == 16
     for name, a in arrays.items():
         assert a2[name].dtype == a.dtype and np.array_equal(a2[name], a), name

@@ -11,6 +11,7 @@ from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
+from ._lighting import FACING
 from ._scene import INTERPOLATIONS, MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
 from ._slices import (
     PLANES,
@@ -45,6 +46,7 @@ __all__ = [
     "default_preset",
     "hu_offset",
     "is_ct",
+    "FACING",
     "Light",
     "Shading",
     "Sampling",

@@ -13,13 +13,19 @@ import numpy as np
 
 from ._jsondata import JsonData, _choice, _nonneg, _vec
 
-__all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "ShadingMode", "SHADINGS", "PhongSettings",
+__all__ = ["FACING", "Light", "LightKind", "LIGHT_KINDS", "Shading", "ShadingMode", "SHADINGS", "PhongSettings",
            "ShadowSettings", "ScatterSettings", "PathTraceSettings"]
 
 ShadingMode = Literal["none", "headlight", "phong", "shadows", "scattering", "pathtrace"]
 LightKind = Literal["point", "spot", "headlight"]
 SHADINGS: tuple[str, ...] = get_args(ShadingMode)
 LIGHT_KINDS: tuple[str, ...] = get_args(LightKind)
+#: two-sided lighting turns a sample's unit normal toward the viewer where ``N.V < -FACING``: a normal at right
+#: angles to the view up to rounding (the edges of a slab seen face-on, of anything constant along the view: the
+#: normal codes keep such a gradient in its plane exactly) keeps its side, where the sign of a rounding error
+#: turned it one way or the other sample by sample (a speckle of lit and unlit edges); the renderers all read it
+#: (``render.optics``, the shaders)
+FACING = 1e-6
 
 
 @dataclass(frozen=True, kw_only=True)

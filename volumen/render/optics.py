@@ -12,7 +12,8 @@ kernels call the same source.
   with ``I_l`` the light's colour x intensity x spot factor and ``v_l`` its
   visibility (1 until shadows arrive). Two-sided: the normal is flipped
   toward the viewer before lighting, so either side of a boundary is lit the
-  same way, and a light behind the visible side lights nothing.
+  same way, and a light behind the visible side lights nothing; a normal
+  at right angles to the view (up to ``core.FACING``) keeps its side.
 * Spot factor: ``max(dot(L, D), 0) ** exponent`` with ``L`` the unit vector
   from the light to the sample, ``D`` the spot direction; exponent 0 is a
   point light (factor 1).

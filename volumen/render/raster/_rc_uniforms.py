@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...core import FACING
+
 __all__ = ["MAX_LIGHTS", "MAX_PLANES", "MODES", "LIGHTS", "variant", "frame_uniforms", "CAMERA_UNIFORMS",
            "LIGHT_UNIFORMS"]
 
@@ -29,9 +31,10 @@ LIGHT_UNIFORMS = ("u_nlights", "u_lpos", "u_ldir", "u_lcol", "u_lexp")
 
 
 def variant(frame) -> dict:
-    """The ``#define`` s of the frame's program: ``{"MODE": int, "LIGHT": int, "MAX_LIGHTS": .., "MAX_PLANES": ..}``."""
+    """The ``#define`` s of the frame's program: ``{"MODE": int, "LIGHT": int, "MAX_LIGHTS": .., "MAX_PLANES": ..,
+    "FACING": float}`` (``core.FACING``)."""
     return {"MODE": MODES[type(frame.mode).__name__], "LIGHT": LIGHTS[type(frame.light).__name__],
-            "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES}
+            "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES, "FACING": repr(float(FACING))}
 
 
 def _vec3s(rows: np.ndarray, cap: int) -> np.ndarray:

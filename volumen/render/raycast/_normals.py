@@ -88,6 +88,10 @@ def _encode(gx, gy, gz, g):
         u, v = (1.0 - abs(v)) * (1.0 if u >= 0.0 else -1.0), (1.0 - abs(u)) * (1.0 if v >= 0.0 else -1.0)
     qu = min(max(int((u + 1.0) * (0.5 * (Q - 1)) + 0.5), 0), Q - 1)
     qv = min(max(int((v + 1.0) * (0.5 * (Q - 1)) + 0.5), 0), Q - 1)
+    if gz == 0.0:  # in the plane z = 0 (a slab constant along z): kept on the equator |u| + |v| = 1, so the
+        h = (Q - 1) // 2  # decoded direction has no z either (it missed the plane by up to 0.93 degree)
+        rest = h - abs(qu - h)
+        qv = h + rest if v >= 0.0 else h - rest
     return 1 + qu * Q + qv
 
 

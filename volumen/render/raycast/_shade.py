@@ -33,7 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ...core import Light
+from ...core import FACING, Light
 from ..optics import phong_terms, power, spot_factor
 from ._environment import sh_irradiance, sh_phase
 from ._geometry import to_index
@@ -113,7 +113,8 @@ def light_visibility(li, w, lv, dist, a, s):
 
 @njit(cache=True, fastmath=True, inline="always")
 def _unit_facing(n, v):
-    """``(nx, ny, nz, flat)``: the unit normal turned toward the viewer ``v``; flat where the gradient vanishes."""
+    """``(nx, ny, nz, flat)``: the unit normal turned toward the viewer ``v`` (one at right angles to it, up to
+    ``core.FACING``, keeps its side); flat where the gradient vanishes."""
     gx, gy, gz = n
     gl = math.sqrt(gx * gx + gy * gy + gz * gz)
     if gl < 1e-3:
@@ -121,7 +122,7 @@ def _unit_facing(n, v):
     nx = gx / gl
     ny = gy / gl
     nz = gz / gl
-    if nx * v[0] + ny * v[1] + nz * v[2] < 0.0:
+    if nx * v[0] + ny * v[1] + nz * v[2] < -FACING:
         return -nx, -ny, -nz, False
     return nx, ny, nz, False
 

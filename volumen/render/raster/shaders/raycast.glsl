@@ -348,7 +348,7 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
     float gl = length(g);
     bool flat_ = gl < 1e-3;
     vec3 n = flat_ ? vec3(0.0) : g / gl;
-    if (dot(n, v) < 0.0) n = -n;
+    if (dot(n, v) < -FACING) n = -n;   // core.FACING: at right angles it keeps its side
     f = u_envmode == 0 ? vec3(u_ka) : (flat_ ? sh_sum(n, 0.0, 0.0) : sh_sum(n, 2.0 / 3.0, 0.25));
     for (int li = 0; li < u_nlights; li++) {
         vec4 lv = light_vector(li, w);

@@ -120,3 +120,22 @@ def test_a_single_slice_fitted_to_the_texture_keeps_its_slab():
     served = ServedVolume(one, max_3d=32)
     assert served.factor > 2 and served.volume.shape[0] == 2 and max(served.volume.shape) <= 32
     assert np.isclose(served.volume.extent[2], 5.0) and np.allclose(served.volume.extent[:2], one.extent[:2], rtol=0.05)
+
+
+def test_a_chunked_volume_is_served_read_from_the_finest_level_that_fits(tmp_path):
+    """``volumen serve scan.ome.zarr`` answered the page's volume request with a 500 (the kernels that encode the
+    texels got the lazy chunked array). The page now gets it read into memory: the whole level 0 where it fits,
+    else the finest pyramid level that fits the client's texture; a one-plane OME-Zarr as its slab."""
+    import volumen
+
+    v = Volume((np.arange(40 * 36 * 30) % 997).astype(np.int16).reshape(40, 36, 30), spacing=(1.0, 1.0, 1.0))
+    volumen.save(v, tmp_path / "v.ome.zarr", chunks=8)
+    lazy = volumen.load(tmp_path / "v.ome.zarr")
+    whole = ServedVolume(lazy)
+    assert whole.factor == 1.0 and np.array_equal(whole.volume.data, v.data)
+    assert whole.encoded[0].shape == v.shape  # the texels the page draws
+    small = ServedVolume(lazy, max_3d=24)
+    assert small.volume.meta["level"] == 1 and small.volume.shape == (20, 18, 15) and small.factor == 1.0
+    volumen.save(v.crop(z=slice(7, 8)), tmp_path / "plane.ome.zarr", chunks=8)
+    plane = ServedVolume(volumen.load(tmp_path / "plane.ome.zarr"))
+    assert plane.volume.shape == (2, 36, 30) and np.array_equal(plane.volume.data[1], v.data[7])

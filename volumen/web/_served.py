@@ -66,6 +66,29 @@ def fit_volume(volume, max_3d: int, budget_bytes: int):
     return out, factor
 
 
+def in_memory(volume, max_3d: int, budget_bytes: int):
+    """``volume`` with its samples in memory: a chunked one (OME-Zarr, read lazily) read from the finest pyramid
+    level whose grid fits ``max_3d`` voxels a side and 2 bytes a voxel in ``budget_bytes`` (each level halves
+    the one before), else its coarsest; :func:`fit_volume` coarsens it the rest of the way."""
+    from ..core import is_chunked
+
+    if not is_chunked(volume.data):
+        return volume
+    level, levels, path = int(volume.meta.get("level", 0)), int(volume.meta.get("levels", 1)), volume.meta.get("source")
+    shape = np.array(volume.shape, float)
+    pick = level
+    while pick + 1 < levels and path is not None:
+        n = np.ceil(shape / 2 ** (pick - level))
+        if n.max() <= max_3d and 2.0 * n.prod() <= budget_bytes:
+            break
+        pick += 1
+    if pick != level:
+        from ..io import load
+
+        volume = load(path, level=pick)
+    return volume.with_data(np.asarray(volume.data))
+
+
 def encode_half(u: np.ndarray, u0: float, ufac: float) -> tuple[np.ndarray, tuple[float, float], bool]:
     """``(texels float16, (add, mul), exact)``: the samples ``u`` as half floats with
     ``table units = (texel + add) * mul``; ``exact`` when no sample was rounded."""
@@ -101,7 +124,9 @@ class ServedVolume:
     def __post_init__(self):
         if self.source.is_color:
             raise ValueError("the browser viewer draws scalar volumes; this one holds colours")
-        self.volume, self.factor = fit_volume(self.source.slab(), int(self.max_3d), int(self.budget_mb * 2 ** 20))
+        budget = int(self.budget_mb * 2 ** 20)
+        self.volume, self.factor = fit_volume(in_memory(self.source, int(self.max_3d), budget).slab(),
+                                              int(self.max_3d), budget)
         if self.factor > 1.0:
             z, y, x = self.source.shape
             nz, ny, nx = self.volume.shape

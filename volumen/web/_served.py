@@ -68,24 +68,21 @@ def fit_volume(volume, max_3d: int, budget_bytes: int):
 
 def in_memory(volume, max_3d: int, budget_bytes: int):
     """``volume`` with its samples in memory: a chunked one (OME-Zarr, read lazily) read from the finest pyramid
-    level whose grid fits ``max_3d`` voxels a side and 2 bytes a voxel in ``budget_bytes`` (each level halves
-    the one before), else its coarsest; :func:`fit_volume` coarsens it the rest of the way."""
+    level (``volumen.io.open_levels``) whose grid fits ``max_3d`` voxels a side and 2 bytes a voxel in
+    ``budget_bytes``, else its coarsest; :func:`fit_volume` coarsens it the rest of the way."""
     from ..core import is_chunked
+    from ..io import load, open_levels
 
     if not is_chunked(volume.data):
         return volume
-    level, levels, path = int(volume.meta.get("level", 0)), int(volume.meta.get("levels", 1)), volume.meta.get("source")
-    shape = np.array(volume.shape, float)
-    pick = level
-    while pick + 1 < levels and path is not None:
-        n = np.ceil(shape / 2 ** (pick - level))
-        if n.max() <= max_3d and 2.0 * n.prod() <= budget_bytes:
-            break
-        pick += 1
-    if pick != level:
-        from ..io import load
-
-        volume = load(path, level=pick)
+    level, path = int(volume.meta.get("level", 0)), volume.meta.get("source")
+    if path is not None:
+        shapes = [np.array(lv.shape, float) for lv in open_levels(path)[0]]
+        fits = [n for n in range(level, len(shapes))
+                if shapes[n].max() <= max_3d and 2.0 * shapes[n].prod() <= budget_bytes]
+        pick = fits[0] if fits else len(shapes) - 1
+        if pick != level:
+            volume = load(path, level=pick)
     return volume.with_data(np.asarray(volume.data))
 
 

@@ -26,8 +26,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ...core import Image, is_chunked, studio_lights
-from ..raycast import TILE, pack_geometry, prepared_volumes, render_part
+from ...core import Image, is_chunked
+from ..raycast import TILE, pack_geometry, prepared_volumes, render_part, scene_lights
 from ._bricks import (
     brick_clipping,
     brick_grid,
@@ -190,11 +190,10 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
 def whole_rig(scene, camera):
     """The scene with the studio rig's lights (its lights when it has none, lit by the studio environment) placed
     for the whole volume: each brick, a Volume of its own, would place them about its own centre."""
-    env = scene.environment.resolved(bool(scene.lights))
-    if scene.lights or env.kind != "studio":
+    if scene.lights:
         return scene
-    vol = scene.volume
-    return scene.with_(lights=studio_lights(camera, vol.center, vol.diagonal, env.intensity), environment=env)
+    lights = scene_lights(scene, camera)  # the rig, placed about the whole volume (or none)
+    return scene.with_(lights=lights, environment=scene.environment.resolved(False)) if lights else scene
 
 
 def _draw_all(src, data, bricks, scene, camera, size, vr, cache, tally):

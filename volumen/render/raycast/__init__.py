@@ -39,7 +39,7 @@ from ._lightsweep import (
 from ._lightvol import plan_lattice
 from ._march import trace_pixel
 from ._medium import Medium
-from ._pack import pack_frame
+from ._pack import pack_frame, scene_lights
 from ._params import (
     DIRECT,
     LATTICE,
@@ -59,7 +59,8 @@ from ._sample import sample_value
 
 __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
            "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
-           "iso_refine", "prepare", "prepared_volumes", "pack_frame", "frame_image", "Frame", "Arrays", "Settings",
+           "iso_refine", "prepare", "prepared_volumes", "pack_frame", "scene_lights", "frame_image", "Frame", "Arrays",
+           "Settings",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "coverage_pixel", "NACC",
            "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",

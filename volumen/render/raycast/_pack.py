@@ -41,7 +41,7 @@ from ._tables import (
     preintegrated_table,
 )
 
-__all__ = ["pack_frame", "LIT_SHADINGS", "MODELS"]
+__all__ = ["pack_frame", "scene_lights", "LIT_SHADINGS", "MODELS"]
 
 #: shading modes that use the scene's lights and need the medium's light paths
 LIT_SHADINGS = ("shadows", "scattering", "pathtrace")
@@ -209,11 +209,18 @@ def _lights(scene, camera, model, env):
         return np.zeros((1, 11), np.float64), 0
     if scene.shading.mode == "headlight":
         return headlight(camera), 1
-    lights = scene.lights
-    if not lights and env.kind == "studio":
-        vol = scene.volume
-        lights = studio_lights(camera, vol.center, vol.diagonal, env.intensity)
+    lights = scene_lights(scene, camera, env)
     return pack_lights(lights, camera), len(lights)
+
+
+def scene_lights(scene, camera, env: Environment | None = None) -> tuple:
+    """The lights that light ``scene``: its own, or where it has none and its environment (``env``; default the
+    scene's, resolved) is the studio, the studio rig placed about its volume (:func:`~volumen.core.studio_lights`)."""
+    env = scene.environment.resolved(bool(scene.lights)) if env is None else env
+    if scene.lights or env.kind != "studio":
+        return tuple(scene.lights)
+    vol = scene.volume
+    return studio_lights(camera, vol.center, vol.diagonal, env.intensity)
 
 
 def _env_power(lights, nlights, env) -> float:

@@ -53,7 +53,7 @@ def main() -> int:
     sig = (ty(f.arrays), ty(f.settings), ty(Outputs.empty(8, 8)), ty(f.mode), ty(f.light))
     pt = PathTracer(scene, cam, (8, 8))
     g = pt.frame
-    sig_paths = (numba.int64, numba.int64, ty(g.arrays), ty(g.settings), numba.float64, ty(pt.acc))
+    sig_paths = (numba.int64, numba.int64, ty(g.arrays), ty(g.settings), ty(pt.acc), ty(pt.coverage), ty(pt.features))
     a = f.arrays
     m = a.lvm[0]
     axes = tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC))

@@ -60,7 +60,9 @@ def test_bench_on_the_cuda_device_fails_fast(what, tmp_path):
 def test_kernels_compile_to_ptx_for_h100():
     """Compiles the three kernels (and every shared function they call) for compute capability 9.0.
 
-    Needs numba-cuda and libNVVM (the ``cuda`` extra and a CUDA toolkit); skipped, saying why, without them.
+    Needs numba-cuda, libNVVM and NVRTC (the ``test`` extra installs them; no driver or GPU); skipped, saying why,
+    without them. Before ``raycast.for_cuda``, numba-cuda 0.30 failed every kernel here (the pieces' inlined
+    overloads lost their arguments), and so did the H100: the same kernels then drew the CPU's pixels bit for bit.
     """
     env = dict(os.environ)
     env.pop("NUMBA_ENABLE_CUDASIM", None)

@@ -20,10 +20,13 @@ their first launch with each set of argument types.
 
 from __future__ import annotations
 
+import warnings
+
 from numba import cuda
 
 from ..raycast import (
     coverage_pixel,
+    for_cuda,
     lattice_frame,
     lattice_ray,
     lattice_slice,
@@ -33,12 +36,18 @@ from ..raycast import (
     trace_path,
     trace_pixel,
 )
+from ._device import simulator
 from ._target import device_function
 
 __all__ = ["trace", "paths", "sweep", "grid_2d", "BLOCK_2D"]
 
 #: threads per block of the 2-D grids (x, y)
 BLOCK_2D = (16, 8)
+
+if not simulator():
+    for_cuda()  # the mode and light pieces, inlined as on the CPU (raycast._pieces.for_cuda)
+# a small picture (a thumbnail, a slab's preview) is a grid of few blocks: numba-cuda warns of low occupancy
+warnings.filterwarnings("ignore", message=r".*Grid size \d+ will likely result in GPU under-utilization")
 
 _trace_pixel = device_function(trace_pixel)
 _trace_path = device_function(trace_path)

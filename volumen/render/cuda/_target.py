@@ -5,7 +5,9 @@ compiles any CPU dispatcher a kernel calls as a CUDA device function, from the
 same Python source (``py_func``) and with the same options (``fastmath``,
 ``inline``), and does so for every function it calls in turn. So
 ``trace_pixel``, ``trace_path`` and the lattice sweep exist once, in
-:mod:`volumen.render.raycast`, for both targets. What that source may use is
+:mod:`volumen.render.raycast`, for both targets. The pieces chosen by tag (``raycast._pieces``) are
+overloads: numba-cuda types them through its own registry, where ``raycast.for_cuda`` registers them
+when the kernels are imported. What that source may use is
 therefore limited to what both targets compile: scalars, tuples, array
 indexing, ``math`` functions, builtin ``min``/``max``/``abs``/``int``, numpy
 scalar casts -- no allocation, no exceptions, no numpy ufuncs on scalars

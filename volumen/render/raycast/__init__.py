@@ -54,6 +54,7 @@ from ._params import (
     NMETA,
 )
 from ._pathtrace import NACC, coverage_pixel, trace_path
+from ._pieces import for_cuda
 from ._progressive import PathTracer
 from ._sample import sample_value
 
@@ -65,4 +66,4 @@ __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
            "lattice_frame", "lattice_ray",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
            "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "SOURCES",
-           "sweep_medium", "Medium", "inlining_active"]
+           "sweep_medium", "Medium", "inlining_active", "for_cuda"]

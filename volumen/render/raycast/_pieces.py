@@ -26,7 +26,8 @@ from numba.extending import overload
 
 from ._inlining import inline_only
 
-__all__ = ["piece", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS", "LIGHT_TAGS",
+__all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS",
+           "LIGHT_TAGS",
            "Composite", "LabelledComposite", "Preintegrated", "Mip", "Minip", "Average",
            "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter", "Trilinear", "BSpline", "RECON_TAGS"]
 
@@ -105,6 +106,32 @@ RECON_TAGS = {"linear": Trilinear, "nearest": Trilinear, "bspline": BSpline}
 warnings.filterwarnings("ignore", message=r"variable 'choose__locals__impl", category=NumbaIRAssumptionWarning)
 
 
+#: every piece made, as ``(stub, choose)``: what :func:`for_cuda` registers with the CUDA target
+_PIECES: list = []
+#: numba-cuda's ``overload`` once :func:`for_cuda` ran (a piece made later registers itself)
+_cuda: dict = {"overload": None}
+
+
+def for_cuda() -> None:
+    """Register every piece with numba-cuda's own overload registry (once; the CUDA kernels call it on import).
+
+    numba-cuda (0.21 and later) types a kernel with its own typing context: an overload registered through
+    ``numba.extending`` with ``inline="always"``, as :func:`piece` registers for the CPU, is inlined there with
+    its arguments lost (``add(omitted, omitted)``: every kernel failed to compile; NVIDIA/numba-cuda#624). The
+    same ``choose`` registered through ``numba.cuda.extending`` inlines as on the CPU.
+    """
+    if _cuda["overload"] is not None:
+        return
+    from numba.cuda.core.errors import NumbaIRAssumptionWarning as CudaIRWarning
+    from numba.cuda.extending import overload as cuda_overload
+
+    # numba-cuda's own copy of numba/numba#9489's warning (silenced for the CPU above)
+    warnings.filterwarnings("ignore", message=r"variable 'choose__locals__impl", category=CudaIRWarning)
+    _cuda["overload"] = cuda_overload
+    for stub, choose in _PIECES:
+        cuda_overload(stub, inline="always")(choose)
+
+
 def piece(name: str, params: str, doc: str = ""):
     """A generic function ``f(tag, <params>)`` calling the implementation registered for ``type(tag)``.
 
@@ -125,6 +152,9 @@ def piece(name: str, params: str, doc: str = ""):
     stub.__name__ = stub.__qualname__ = name
     stub.__doc__ = doc
     overload(stub, target="generic", inline="always")(ns["choose"])
+    _PIECES.append((stub, ns["choose"]))
+    if _cuda["overload"] is not None:
+        _cuda["overload"](stub, inline="always")(ns["choose"])
 
     def register(*tags):
         def deco(fn):

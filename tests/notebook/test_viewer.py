@@ -128,3 +128,25 @@ def test_the_frame_sent_equals_volumen_render_of_the_scene_and_camera(scene, vie
     assert got.shape == expected.shape
     assert np.abs(got.astype(int) - expected).max() <= 1
     assert (expected.max(axis=2) > 0).mean() > 0.1  # a picture, not an empty frame
+
+
+def test_a_volume_opens_as_the_command_line_draws_it():
+    """``volumen.show`` of a volume picks what ``volumen render`` picks with no flags: a single CT slice as its
+    MIP, a colour ultrasound frame composited opaque and unshaded, a whole volume composited under the headlight
+    (before, every volume was composited under the headlight)."""
+    from pydicom.data import get_testdata_file
+
+    import volumen
+    from volumen.data import phantom
+    from volumen.render import default_transfer
+
+    cases = ((volumen.load(get_testdata_file("CT_small.dcm")), "mip", "headlight"),
+             (volumen.load(get_testdata_file("examples_rgb_color.dcm")), "composite", "none"),
+             (phantom("head", size=(24, 24, 24)), "composite", "headlight"))
+    for vol, mode, shading in cases:
+        v = volumen.show(vol, size=(64, 64), slices=False)
+        try:
+            assert (v.scene.mode, v.scene.shading.mode) == (mode, shading)
+            assert v.scene.transfer == default_transfer(vol, mode)
+        finally:
+            v.close()

@@ -127,16 +127,19 @@ class AppState:
     # -- data ---------------------------------------------------------------
     def set_volume(self, volume, ref: str, *, transfer=None, camera: Camera | None = None) -> None:
         """Show a new volume: camera (``Camera.anatomical``: anterior, a slab face-on), crosshair and window reset;
-        without a ``transfer`` (a session's) the compositing mode and transfer function too, as the command line
-        picks them (``render.default_mode``: a single slice's MIP)."""
-        from ..render import default_mode, default_transfer
+        without a ``transfer`` (a session's) the compositing mode, transfer function and shading too, as the command
+        line picks them (``render.default_mode``: a single slice's MIP; ``render.default_shading``: a colour slab
+        unshaded)."""
+        from ..render import default_mode, default_shading, default_transfer
 
         with self.batch():
             self.volume = volume
             self.canonical = canonical(volume)
             mode = self.scene.mode if transfer is not None else default_mode(volume)
             tf = transfer if transfer is not None else default_transfer(volume, mode)
-            self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode,
+            shading = self.scene.shading if transfer is not None else replace(self.scene.shading,
+                                                                             mode=default_shading(volume))
+            self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode, shading=shading,
                                  clipping=replace(self.scene.clipping, crop=None))
             self.camera = camera if camera is not None else Camera.anatomical(volume)
             self.crosshair = np.asarray(volume.center, float)

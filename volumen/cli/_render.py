@@ -42,8 +42,8 @@ def register(sub):
                    "with no --tf, --preset or --labels: mip), mip, minip, average, isosurface")
     g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
     g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
-    g.add_argument("--shading", choices=SHADINGS, help=f"{', '.join(SHADINGS)} (default headlight; the lit models "
-                   "use --light)")
+    g.add_argument("--shading", choices=SHADINGS, help=f"{', '.join(SHADINGS)} (default headlight, none for a colour "
+                   "slab: an ultrasound frame drawn as its image; the lit models use --light)")
     g.add_argument("--light", action="append", default=None, metavar="SPEC",
                    help="a light, repeatable: 'pos=X,Y,Z dir=X,Y,Z exp=E color=R,G,B intensity=I "
                         "[kind=point|spot|headlight attach=world|camera radius=R]' (mm, RAS; attach=camera: "
@@ -157,7 +157,7 @@ def build(args, base: dict | None, volume):
     from dataclasses import replace
 
     from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Sampling, Scene, TransferFunction
-    from volumen.render import default_mode, default_transfer
+    from volumen.render import default_mode, default_shading, default_transfer
 
     scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
     scene = replace(scene, volume_ref=_volume_ref(args, base))
@@ -179,6 +179,8 @@ def build(args, base: dict | None, volume):
         value = args.iso if args.iso is not None else (iso.value if base else _default_iso(volume))
         color = parse_point(args.iso_color) if args.iso_color else iso.color
         scene = replace(scene, isosurface=Isosurface(value=value, color=color))
+    if not (base or args.light or args.shading):
+        scene = replace(scene, shading=replace(scene.shading, mode=default_shading(volume)))
     if args.light:
         lit = scene.shading.mode if scene.shading.mode not in ("none", "headlight") else "phong"
         scene = replace(scene, lights=tuple(parse_light(t) for t in args.light),
@@ -256,8 +258,10 @@ def _look(args, scene):
 
 
 def _kind(volume) -> str:
-    from volumen.core import is_ct
+    from volumen.core import is_color_slab, is_ct
 
+    if is_color_slab(volume):
+        return "a colour slab"
     return "CT" if is_ct(volume) else (volume.modality or "a scan of unknown modality")
 
 
@@ -369,7 +373,9 @@ def run(args):
     spp = f", {image.stats['spp']} samples/pixel{' denoised' if image.stats.get('denoised') else ''}" \
         if "spp" in image.stats else ""
     why = " (chosen for a slab)" if not (args.mode or base) and scene.mode != "composite" else ""
-    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}{why}, shading {scene.shading.mode}{look}{spp}, "
+    flat = " (chosen for a colour slab)" if not (args.shading or args.light or base) and scene.shading.mode == "none" \
+        else ""
+    print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}{why}, shading {scene.shading.mode}{flat}{look}{spp}, "
           f"display {image.display.tonemap if image.display else 'linear'}) in {dt * 1000:.0f} ms")
     if args.save_settings:
         load_opts = {k: getattr(args, k) for k in ("series", "resample", "nonfinite", "shape", "dtype", "spacing",

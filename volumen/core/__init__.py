@@ -25,7 +25,7 @@ from ._slices import (
     window_to_uint8,
 )
 from ._tonemap import TONEMAPS, Display
-from ._transfer import PRESETS, TransferFunction, default_preset, hu_offset
+from ._transfer import PRESETS, TransferFunction, default_preset, hu_offset, is_color_slab
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
@@ -44,6 +44,7 @@ __all__ = [
     "TransferFunction",
     "PRESETS",
     "default_preset",
+    "is_color_slab",
     "hu_offset",
     "is_ct",
     "FACING",

@@ -17,7 +17,7 @@ import numpy as np
 from ._ct import is_ct
 from ._jsondata import JsonData
 
-__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset"]
+__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "is_color_slab"]
 
 Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "ct-cinematic-bone",
                  "ct-cinematic-vessels", "ct-cinematic-soft-tissue", "mr-default", "mip-gray"]
@@ -230,11 +230,19 @@ def hu_offset(volume) -> float | None:
     return 0.0 if is_ct(volume) else None
 
 
+def is_color_slab(volume) -> bool:
+    """Whether ``volume`` is a colour slab (``Volume.thin_axis``): a colour frame or a cine of a few (ultrasound,
+    a photograph, a secondary capture), which is drawn as the image it is (:func:`default_preset`, and no shading:
+    ``render.default_shading``)."""
+    return bool(volume.is_color) and volume.thin_axis is not None
+
+
 def default_preset(volume, mode: str = "composite") -> TransferFunction:
     """The transfer function for a volume drawn with none named: a gray ramp over the data range for the
-    projections; for CT (:func:`is_ct`) ``ct-skin-bone`` (skin over bone: anatomy, not a box), moved onto the
+    projections, and opaque for a colour slab (:func:`is_color_slab`: its own colours, the frame facing the
+    viewer); for CT (:func:`is_ct`) ``ct-skin-bone`` (skin over bone: anatomy, not a box), moved onto the
     stored values (:func:`hu_offset`); ``mr-default`` otherwise. Its ``name`` says which."""
-    if mode in ("mip", "minip", "average"):
+    if mode in ("mip", "minip", "average") or (mode == "composite" and is_color_slab(volume)):
         return TransferFunction.preset("mip-gray", value_range=volume.value_range())
     offset = hu_offset(volume)
     if offset is not None:

@@ -24,7 +24,8 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
     Parameters
     ----------
     volume_or_scene : Volume or Scene
-        A volume gets ``volumen.render.default_transfer`` (or ``preset``) and headlight shading.
+        A volume is drawn as ``volumen render`` draws it with no flags: ``volumen.render.default_mode`` (a single
+        slice's MIP), ``default_transfer`` (or ``preset``) and ``default_shading`` (a colour slab unshaded).
     camera : Camera, optional
         Default: ``Camera.orbit(volume)`` (the anterior view).
     size : (width, height), pixels of the 3-D view
@@ -47,11 +48,13 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
     from ._widget import Viewer
 
     if isinstance(volume_or_scene, Volume):
-        from ..render import default_transfer
+        from ..core import Shading
+        from ..render import default_mode, default_shading, default_transfer
 
         vol = volume_or_scene
-        tf = default_transfer(vol, "composite")
-        scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=tf)
+        mode = default_mode(vol) if preset is None else "composite"
+        scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=default_transfer(vol, mode),
+                      mode=mode, shading=Shading(mode=default_shading(vol)))
         if preset is not None:
             from ._controls import preset_transfer
 

@@ -15,6 +15,7 @@ from ..core import (
     TransferFunction,
     default_preset,
     is_chunked,
+    is_color_slab,
     is_ct,
 )
 from ..core._camera import Projection, View
@@ -23,7 +24,7 @@ from ..core._transfer import Preset
 from ._slab import kept_for, slabbed
 from ._techniques import Technique, legacy_backend, resolve_device
 
-__all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer"]
+__all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer", "default_shading"]
 
 
 def _choose(device, technique, options, backend) -> tuple[str, Technique]:
@@ -178,16 +179,24 @@ def default_mode(volume) -> Mode:
     return "mip" if thin is not None and volume.shape[thin] <= 2 and not volume.is_color else "composite"
 
 
+def default_shading(volume) -> ShadingMode:
+    """The shading a volume is drawn with when none is named: ``"headlight"``, or ``"none"`` for a colour slab
+    (:func:`volumen.core.is_color_slab`: an ultrasound frame, a photograph), drawn as the image it is. Seen
+    face-on, such a frame's gradients lie in its plane, at right angles to the view, so the headlight lit it by
+    its ambient term alone: its colours at a fifth of their brightness."""
+    return "none" if is_color_slab(volume) else "headlight"
+
+
 def default_transfer(volume, mode: Mode) -> TransferFunction:
     """The transfer function ``render_volume`` uses when none is named (:func:`volumen.core.default_preset`): gray
-    ramp over the data range for projections, ``ct-skin-bone`` for CT (on its stored values), ``mr-default``
-    otherwise."""
+    ramp over the data range for projections (opaque for a colour slab), ``ct-skin-bone`` for CT (on its stored
+    values), ``mr-default`` otherwise."""
     return default_preset(volume, mode)
 
 
 def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View | None = None,
                   mode: Mode | None = None, projection: Projection = "perspective",
-                  size: tuple[int, int] = (512, 512), shading: ShadingMode = "headlight", azimuth: float = 0.0,
+                  size: tuple[int, int] = (512, 512), shading: ShadingMode | None = None, azimuth: float = 0.0,
                   elevation: float = 0.0, zoom: float = 1.0, samples_per_voxel: float = 1.0,
                   iso_value: float | None = None, device: str | None = None,
                   technique: str | Technique = "raycast", **options) -> Image:
@@ -204,8 +213,9 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     mode : {"composite", "mip", "minip", "average", "isosurface"} or None
         None: composite, or with no ``preset`` :func:`default_mode` (MIP for a scalar slab).
     size : (width, height), pixels
-    shading : {"none", "headlight", "phong", "shadows", "scattering", "pathtrace"}
-        ("phong" and the lit models without lights show ambient light only.)
+    shading : {"none", "headlight", "phong", "shadows", "scattering", "pathtrace"} or None
+        ("phong" and the lit models without lights show ambient light only.) None: :func:`default_shading`
+        (the headlight; none for a colour slab).
     samples_per_voxel : float
     iso_value : float or None
         Isosurface threshold in data units; None: 300 HU for CT, the middle
@@ -223,7 +233,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     if iso_value is None:
         lo, hi = volume.value_range()
         iso_value = 300.0 if is_ct(volume) else 0.5 * (lo + hi)
-    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading),
+    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or default_shading(volume)),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
     camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
     return render(scene, camera, size, device=device, technique=technique, **options)

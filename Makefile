@@ -101,10 +101,11 @@ web-deps:
 demo: $(STAMP)
 	$(VENV)/bin/volumen demo --out out
 
-# a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff])
+# a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff]); the test extra installs
+# the CUDA compiler's libraries, so the CUDA kernels' PTX check must run, not skip (VOLUMEN_REQUIRE_PTX)
 test: $(STAMP) system-data system-libs browser pacs-server web-deps
 	$(VENV)/bin/ruff check volumen tests
-	$(PY) -m pytest $(PYTEST_ARGS)
+	VOLUMEN_REQUIRE_PTX=1 $(PY) -m pytest $(PYTEST_ARGS)
 
 # A long seeded fuzz campaign over every reader (12,000 mutants, 2 workers, 10 s and 4 GiB per mutant);
 # prints a table per family of formats and fails on any untyped error, hang, crash, out-of-memory or

@@ -27,13 +27,19 @@ def test_colour_volume_renders_in_colour(make_window):
 def test_an_ultrasound_frame_opens_as_its_image_and_a_volume_lit_again(make_window):
     """pydicom's RGB ultrasound frame opens as the command line draws it: composited opaque and unshaded (its own
     colours; the headlight over ``mr-default`` showed 7 % of it at a quarter of its brightness), the 3-D view's lit
-    pixels about as bright as the frame's; the next scalar volume is lit by the headlight again."""
+    pixels about as bright as the frame's; the next scalar volume is lit by the headlight again. Between scalar
+    volumes the lighting the user chose carries over."""
     from pydicom.data import get_testdata_file
 
     import volumen
+    from volumen.core import Shading
     from volumen.data import phantom
 
     win = make_window(load=False)
+    win.set_volume(phantom("head", size=(24, 24, 24)), "phantom:head?size=24")
+    win.state.update_scene(shading=Shading(mode="phong"))
+    win.set_volume(phantom("head", size=(20, 20, 20)), "phantom:head?size=20")
+    assert win.state.scene.shading.mode == "phong"
     frame = volumen.load(get_testdata_file("examples_rgb_color.dcm"))
     win.set_volume(frame, "examples_rgb_color.dcm")
     assert win.wait_for_final(120) and win.last_error is None, win.last_error

@@ -148,5 +148,6 @@ def test_a_volume_opens_as_the_command_line_draws_it():
         try:
             assert (v.scene.mode, v.scene.shading.mode) == (mode, shading)
             assert v.scene.transfer == default_transfer(vol, mode)
+            assert (v.scene.transfer.name == "mip-gray") == (mode == "mip" or vol.is_color)  # the frame's: opaque
         finally:
             v.close()

@@ -39,7 +39,7 @@ def main() -> int:
 
     disp.get_current_device = lambda: pytypes.SimpleNamespace(compute_capability=cc)
 
-    from volumen.core import Camera, Light, Scene, Shading, TransferFunction
+    from volumen.core import Camera, Light, Sampling, Scene, Shading, TransferFunction
     from volumen.data import phantom
     from volumen.render.cuda import _kernels
     from volumen.render.raycast import LV_AXA, LV_AXB, LV_AXC, Medium, Outputs, PathTracer, Sweep, pack_frame
@@ -51,6 +51,10 @@ def main() -> int:
     f = pack_frame(scene, cam, (8, 8))
     ty = numba.typeof
     sig = (ty(f.arrays), ty(f.settings), ty(Outputs.empty(8, 8)), ty(f.mode), ty(f.light))
+    # and the other branches of the pieces: a projection (MIP) unshaded, on the B-spline reconstruction
+    g2 = pack_frame(scene.with_(mode="mip", shading=Shading(mode="none"),
+                                sampling=Sampling(interpolation="bspline")), cam, (8, 8))
+    sig_mip = (ty(g2.arrays), ty(g2.settings), ty(Outputs.empty(8, 8)), ty(g2.mode), ty(g2.light))
     pt = PathTracer(scene, cam, (8, 8))
     g = pt.frame
     sig_paths = (numba.int64, numba.int64, ty(g.arrays), ty(g.settings), ty(pt.acc), ty(pt.coverage), ty(pt.features))
@@ -61,7 +65,8 @@ def main() -> int:
     sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
     sig_sweep = (ty(sw), ty(np.zeros((2, 2, 2), np.float32)))
     failed = 0
-    for name, kern, s in (("trace", _kernels.trace, sig), ("paths", _kernels.paths, sig_paths),
+    for name, kern, s in (("trace", _kernels.trace, sig), ("trace-mip-bspline", _kernels.trace, sig_mip),
+                          ("paths", _kernels.paths, sig_paths),
                           ("sweep", _kernels.sweep, sig_sweep)):
         try:
             ptx, _ = cuda.compile_ptx(kern.py_func, s, cc=cc, fastmath=True)

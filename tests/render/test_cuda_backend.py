@@ -58,7 +58,8 @@ def test_bench_on_the_cuda_device_fails_fast(what, tmp_path):
 
 
 def test_kernels_compile_to_ptx_for_h100():
-    """Compiles the three kernels (and every shared function they call) for compute capability 9.0.
+    """Compiles the three kernels (and every shared function they call) for compute capability 9.0: the ray
+    caster's for composite with shadows (trilinear) and for an unshaded MIP on the B-spline.
 
     Needs numba-cuda, libNVVM and NVRTC (the ``test`` extra installs them; no driver or GPU); skipped, saying why,
     without them. Before ``raycast.for_cuda``, numba-cuda 0.30 failed every kernel here (the pieces' inlined
@@ -70,7 +71,9 @@ def test_kernels_compile_to_ptx_for_h100():
                        capture_output=True, text=True, timeout=900)
     print(r.stdout)
     skip = [ln for ln in r.stdout.splitlines() if ln.startswith("PTX-SKIP")]
+    if skip and os.environ.get("VOLUMEN_REQUIRE_PTX") == "1":  # make test: its install brings the compiler
+        pytest.fail(f"the test extra installs numba-cuda with libNVVM, yet: {skip[0]}")
     if skip:
         pytest.skip(skip[0][len("PTX-SKIP "):])
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    assert sum(ln.startswith("PTX-OK") for ln in r.stdout.splitlines()) == 3, r.stdout
+    assert sum(ln.startswith("PTX-OK") for ln in r.stdout.splitlines()) == 4, r.stdout

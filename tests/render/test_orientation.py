@@ -208,10 +208,12 @@ def test_a_colour_slab_is_drawn_as_its_own_colours_by_default(name):
 
     import volumen
     from volumen.core import is_color_slab
-    from volumen.render import default_shading
+    from volumen.render import default_shading, default_transfer
 
     vol = volumen.load(get_testdata_file(name))
     assert is_color_slab(vol) and default_shading(vol) == "none" and default_mode(vol) == "composite"
+    # no mode named (the command line with --labels) is composite; an isosurface keeps the headlight
+    assert default_transfer(vol, None).name == "mip-gray" and default_shading(vol, "isosurface") == "headlight"
     a = render_volume(vol, size=(160, 120)).rgba
     shown = a[..., 3] > 0.5
     mean = a[..., :3][shown].mean(axis=0)

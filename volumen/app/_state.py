@@ -18,7 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import Camera, Scene, Window, canonical, default_window
+from ..core import Camera, Scene, Window, canonical, default_window, is_color_slab
 from ..render import Technique, resolve_device
 
 __all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
@@ -127,18 +127,20 @@ class AppState:
     # -- data ---------------------------------------------------------------
     def set_volume(self, volume, ref: str, *, transfer=None, camera: Camera | None = None) -> None:
         """Show a new volume: camera (``Camera.anatomical``: anterior, a slab face-on), crosshair and window reset;
-        without a ``transfer`` (a session's) the compositing mode, transfer function and shading too, as the command
-        line picks them (``render.default_mode``: a single slice's MIP; ``render.default_shading``: a colour slab
-        unshaded)."""
+        without a ``transfer`` (a session's) the compositing mode and transfer function too, as the command line picks
+        them (``render.default_mode``: a single slice's MIP), and the shading into and out of a colour slab
+        (``render.default_shading``: unshaded; the lighting chosen for other volumes carries over)."""
         from ..render import default_mode, default_shading, default_transfer
 
         with self.batch():
+            leaving = self.volume is not None and is_color_slab(self.volume)
             self.volume = volume
             self.canonical = canonical(volume)
             mode = self.scene.mode if transfer is not None else default_mode(volume)
             tf = transfer if transfer is not None else default_transfer(volume, mode)
-            shading = self.scene.shading if transfer is not None else replace(self.scene.shading,
-                                                                             mode=default_shading(volume))
+            shading = self.scene.shading  # the user's lighting carries over, except into and out of a colour slab
+            if transfer is None and (leaving or is_color_slab(volume)):
+                shading = replace(shading, mode=default_shading(volume, mode))
             self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode, shading=shading,
                                  clipping=replace(self.scene.clipping, crop=None))
             self.camera = camera if camera is not None else Camera.anatomical(volume)

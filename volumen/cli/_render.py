@@ -180,7 +180,7 @@ def build(args, base: dict | None, volume):
         color = parse_point(args.iso_color) if args.iso_color else iso.color
         scene = replace(scene, isosurface=Isosurface(value=value, color=color))
     if not (base or args.light or args.shading):
-        scene = replace(scene, shading=replace(scene.shading, mode=default_shading(volume)))
+        scene = replace(scene, shading=replace(scene.shading, mode=default_shading(volume, scene.mode)))
     if args.light:
         lit = scene.shading.mode if scene.shading.mode not in ("none", "headlight") else "phong"
         scene = replace(scene, lights=tuple(parse_light(t) for t in args.light),

@@ -237,12 +237,12 @@ def is_color_slab(volume) -> bool:
     return bool(volume.is_color) and volume.thin_axis is not None
 
 
-def default_preset(volume, mode: str = "composite") -> TransferFunction:
+def default_preset(volume, mode: str | None = "composite") -> TransferFunction:
     """The transfer function for a volume drawn with none named: a gray ramp over the data range for the
     projections, and opaque for a colour slab (:func:`is_color_slab`: its own colours, the frame facing the
     viewer); for CT (:func:`is_ct`) ``ct-skin-bone`` (skin over bone: anatomy, not a box), moved onto the
     stored values (:func:`hu_offset`); ``mr-default`` otherwise. Its ``name`` says which."""
-    if mode in ("mip", "minip", "average") or (mode == "composite" and is_color_slab(volume)):
+    if mode in ("mip", "minip", "average") or (mode in (None, "composite") and is_color_slab(volume)):
         return TransferFunction.preset("mip-gray", value_range=volume.value_range())
     offset = hu_offset(volume)
     if offset is not None:

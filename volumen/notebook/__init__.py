@@ -54,7 +54,7 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
         vol = volume_or_scene
         mode = default_mode(vol) if preset is None else "composite"
         scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=default_transfer(vol, mode),
-                      mode=mode, shading=Shading(mode=default_shading(vol)))
+                      mode=mode, shading=Shading(mode=default_shading(vol, mode)))
         if preset is not None:
             from ._controls import preset_transfer
 

@@ -179,12 +179,13 @@ def default_mode(volume) -> Mode:
     return "mip" if thin is not None and volume.shape[thin] <= 2 and not volume.is_color else "composite"
 
 
-def default_shading(volume) -> ShadingMode:
-    """The shading a volume is drawn with when none is named: ``"headlight"``, or ``"none"`` for a colour slab
-    (:func:`volumen.core.is_color_slab`: an ultrasound frame, a photograph), drawn as the image it is. Seen
-    face-on, such a frame's gradients lie in its plane, at right angles to the view, so the headlight lit it by
-    its ambient term alone: its colours at a fifth of their brightness."""
-    return "none" if is_color_slab(volume) else "headlight"
+def default_shading(volume, mode: Mode | None = None) -> ShadingMode:
+    """The shading a volume is drawn with in ``mode`` when none is named: ``"headlight"``, or ``"none"`` for a
+    colour slab (:func:`volumen.core.is_color_slab`: an ultrasound frame, a photograph) composited, drawn as the
+    image it is. Seen face-on, such a frame's gradients lie in its plane, at right angles to the view, so the
+    headlight lit it by its ambient term alone: pydicom's frames at a fifth to a half of their brightness. Its
+    isosurface keeps the headlight (unshaded, it is a flat silhouette)."""
+    return "none" if is_color_slab(volume) and mode != "isosurface" else "headlight"
 
 
 def default_transfer(volume, mode: Mode) -> TransferFunction:
@@ -215,7 +216,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     size : (width, height), pixels
     shading : {"none", "headlight", "phong", "shadows", "scattering", "pathtrace"} or None
         ("phong" and the lit models without lights show ambient light only.) None: :func:`default_shading`
-        (the headlight; none for a colour slab).
+        (the headlight; none for a colour slab composited).
     samples_per_voxel : float
     iso_value : float or None
         Isosurface threshold in data units; None: 300 HU for CT, the middle
@@ -233,7 +234,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     if iso_value is None:
         lo, hi = volume.value_range()
         iso_value = 300.0 if is_ct(volume) else 0.5 * (lo + hi)
-    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or default_shading(volume)),
+    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or default_shading(volume, mode)),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
     camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
     return render(scene, camera, size, device=device, technique=technique, **options)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import importlib.util
+
 from ...errors import VolumenError
 
 __all__ = ["CudaUnavailableError", "cuda_status", "cuda_available", "require_cuda", "simulator"]
@@ -30,6 +32,9 @@ def cuda_status() -> tuple[bool, str]:
         return False, f"numba's CUDA target cannot be imported ({type(exc).__name__}: {exc})"
     if simulator():
         return True, "numba CUDA simulator (NUMBA_ENABLE_CUDASIM=1)"
+    if importlib.util.find_spec("numba_cuda") is None:  # numba's built-in target cannot compile the kernels
+        return False, ("no CUDA device is available to volumen: numba-cuda is not installed "
+                       "(pip install 'volumen[cuda]')")
     try:
         if not cuda.is_available():
             return False, "no CUDA device is available (no NVIDIA GPU or driver found by numba.cuda)"

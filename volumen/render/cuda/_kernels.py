@@ -46,8 +46,11 @@ BLOCK_2D = (16, 8)
 
 if not simulator():
     for_cuda()  # the mode and light pieces, inlined as on the CPU (raycast._pieces.for_cuda)
-# a small picture (a thumbnail, a slab's preview) is a grid of few blocks: numba-cuda warns of low occupancy
-warnings.filterwarnings("ignore", message=r".*Grid size \d+ will likely result in GPU under-utilization")
+    # a small picture (a thumbnail, a slab's preview) is a grid of few blocks: numba-cuda warns of low occupancy
+    from numba.cuda.core.errors import NumbaPerformanceWarning
+
+    warnings.filterwarnings("ignore", message=r".*Grid size \d+ will likely result in GPU under-utilization",
+                            category=NumbaPerformanceWarning)
 
 _trace_pixel = device_function(trace_pixel)
 _trace_path = device_function(trace_path)

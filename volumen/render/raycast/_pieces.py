@@ -127,9 +127,9 @@ def for_cuda() -> None:
 
     # numba-cuda's own copy of numba/numba#9489's warning (silenced for the CPU above)
     warnings.filterwarnings("ignore", message=r"variable 'choose__locals__impl", category=CudaIRWarning)
-    _cuda["overload"] = cuda_overload
     for stub, choose in _PIECES:
         cuda_overload(stub, inline="always")(choose)
+    _cuda["overload"] = cuda_overload
 
 
 def piece(name: str, params: str, doc: str = ""):

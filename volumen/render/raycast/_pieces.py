@@ -117,8 +117,9 @@ def for_cuda() -> None:
 
     numba-cuda (0.21 and later) types a kernel with its own typing context: an overload registered through
     ``numba.extending`` with ``inline="always"``, as :func:`piece` registers for the CPU, is inlined there with
-    its arguments lost (``add(omitted, omitted)``: every kernel failed to compile; NVIDIA/numba-cuda#624). The
-    same ``choose`` registered through ``numba.cuda.extending`` inlines as on the CPU.
+    its arguments lost (``add(omitted, omitted)``: every kernel failed to compile; still so in 0.30.4, though
+    NVIDIA/numba-cuda#624, the same fault for ``target="cuda"``, is closed). The same ``choose`` registered through
+    ``numba.cuda.extending`` inlines as on the CPU.
     """
     if _cuda["overload"] is not None:
         return

@@ -221,3 +221,23 @@ def test_a_colour_slab_is_drawn_as_its_own_colours_by_default(name):
     err = min(np.abs(mean - f).max() for f in frames)  # the frame facing the viewer: the first or the last
     print(f"{name}: {shown.mean():.0%} of the picture, mean colour {mean.round(3)}, off by {err:.4f}")
     assert shown.mean() > 0.2 and err < 0.01
+
+
+def test_the_default_look_is_one_answer_for_every_kind_of_volume():
+    """``render.default_look`` (what ``render_volume``, the command line, the app and ``volumen.show`` draw with no
+    flags): a single CT slice as its MIP under a grey ramp, a colour frame opaque and unshaded, a CT volume in
+    ``ct-skin-bone`` under the headlight; a transfer function named keeps every volume composited, a mode named is
+    kept."""
+    from pydicom.data import get_testdata_file
+
+    import volumen
+    from volumen.render import default_look
+
+    one = volumen.load(get_testdata_file("CT_small.dcm"))
+    frame = volumen.load(get_testdata_file("examples_rgb_color.dcm"))
+    head = phantom("head", size=(24, 24, 24))
+    looks = {k: default_look(v) for k, v in (("one", one), ("frame", frame), ("head", head))}
+    assert [(m, tf.name, sh) for m, tf, sh in looks.values()] == [
+        ("mip", "mip-gray", "headlight"), ("composite", "mip-gray", "none"), ("composite", "ct-skin-bone", "headlight")]
+    assert default_look(one, transfer_named=True)[0] == "composite"
+    assert default_look(frame, "isosurface")[2] == "headlight" and default_look(head, "mip")[1].name == "mip-gray"

@@ -128,19 +128,20 @@ class AppState:
     def set_volume(self, volume, ref: str, *, transfer=None, camera: Camera | None = None) -> None:
         """Show a new volume: camera (``Camera.anatomical``: anterior, a slab face-on), crosshair and window reset;
         without a ``transfer`` (a session's) the compositing mode and transfer function too, as the command line picks
-        them (``render.default_mode``: a single slice's MIP), and the shading into and out of a colour slab
-        (``render.default_shading``: unshaded; the lighting chosen for other volumes carries over)."""
-        from ..render import default_mode, default_shading, default_transfer
+        them (``render.default_look``: a single slice's MIP), and the shading into and out of a colour slab
+        (unshaded; the lighting chosen for other volumes carries over)."""
+        from ..render import default_look
 
         with self.batch():
             leaving = self.volume is not None and is_color_slab(self.volume)
             self.volume = volume
             self.canonical = canonical(volume)
-            mode = self.scene.mode if transfer is not None else default_mode(volume)
-            tf = transfer if transfer is not None else default_transfer(volume, mode)
+            mode, tf, shaded = default_look(volume)
+            if transfer is not None:  # a session's look
+                mode, tf = self.scene.mode, transfer
             shading = self.scene.shading  # the user's lighting carries over, except into and out of a colour slab
             if transfer is None and (leaving or is_color_slab(volume)):
-                shading = replace(shading, mode=default_shading(volume, mode))
+                shading = replace(shading, mode=shaded)
             self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode, shading=shading,
                                  clipping=replace(self.scene.clipping, crop=None))
             self.camera = camera if camera is not None else Camera.anatomical(volume)

@@ -157,7 +157,7 @@ def build(args, base: dict | None, volume):
     from dataclasses import replace
 
     from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Sampling, Scene, TransferFunction
-    from volumen.render import default_mode, default_shading, default_transfer
+    from volumen.render import default_look
 
     scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
     scene = replace(scene, volume_ref=_volume_ref(args, base))
@@ -168,19 +168,19 @@ def build(args, base: dict | None, volume):
             raise ValueError(f"{args.tf}: not a transfer function JSON file ({exc})") from None
     elif args.preset:
         scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
-    named = base or args.tf or args.preset or getattr(args, "labels", None)  # the labels composite
-    mode = args.mode or (None if named else default_mode(volume))
-    if not (args.tf or args.preset or base):
-        scene = replace(scene, transfer=default_transfer(volume, mode))
-    if mode:
-        scene = replace(scene, mode=mode)
+    if base:  # the settings' look, but for the flags named
+        if args.mode:
+            scene = replace(scene, mode=args.mode)
+    else:
+        named = bool(args.tf or args.preset or getattr(args, "labels", None))  # the labels composite
+        mode, tf, shaded = default_look(volume, args.mode, transfer_named=named)
+        scene = replace(scene, mode=mode, transfer=scene.transfer if args.tf or args.preset else tf,
+                        shading=replace(scene.shading, mode=shaded))
     if args.iso is not None or args.iso_color or (not base and scene.mode == "isosurface"):
         iso = scene.isosurface
         value = args.iso if args.iso is not None else (iso.value if base else _default_iso(volume))
         color = parse_point(args.iso_color) if args.iso_color else iso.color
         scene = replace(scene, isosurface=Isosurface(value=value, color=color))
-    if not (base or args.light or args.shading):
-        scene = replace(scene, shading=replace(scene.shading, mode=default_shading(volume, scene.mode)))
     if args.light:
         lit = scene.shading.mode if scene.shading.mode not in ("none", "headlight") else "phong"
         scene = replace(scene, lights=tuple(parse_light(t) for t in args.light),

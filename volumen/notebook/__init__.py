@@ -24,8 +24,8 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
     Parameters
     ----------
     volume_or_scene : Volume or Scene
-        A volume is drawn as ``volumen render`` draws it with no flags: ``volumen.render.default_mode`` (a single
-        slice's MIP), ``default_transfer`` (or ``preset``) and ``default_shading`` (a colour slab unshaded).
+        A volume is drawn as ``volumen render`` draws it with no flags (``volumen.render.default_look``: a single
+        slice's MIP, a colour slab opaque and unshaded), or with ``preset``.
     camera : Camera, optional
         Default: ``Camera.orbit(volume)`` (the anterior view).
     size : (width, height), pixels of the 3-D view
@@ -49,12 +49,12 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
 
     if isinstance(volume_or_scene, Volume):
         from ..core import Shading
-        from ..render import default_mode, default_shading, default_transfer
+        from ..render import default_look
 
         vol = volume_or_scene
-        mode = default_mode(vol) if preset is None else "composite"
-        scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=default_transfer(vol, mode),
-                      mode=mode, shading=Shading(mode=default_shading(vol, mode)))
+        mode, tf, shaded = default_look(vol, transfer_named=preset is not None)
+        scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=tf, mode=mode,
+                      shading=Shading(mode=shaded))
         if preset is not None:
             from ._controls import preset_transfer
 

@@ -11,7 +11,15 @@ kernels are imported (and compiled, or loaded from Numba's cache) on first use; 
 rasterized picture. ``warm(jobs)`` compiles the kernels of several pictures side by side in child processes.
 """
 
-from ._api import clear_cache, default_mode, default_shading, default_transfer, render, render_volume
+from ._api import (
+    clear_cache,
+    default_look,
+    default_mode,
+    default_shading,
+    default_transfer,
+    render,
+    render_volume,
+)
 from ._reduced import reduced_size, render_reduced, upscale
 from ._techniques import (
     DEVICES,
@@ -25,7 +33,7 @@ from ._techniques import (
 from ._warm import warm
 
 __all__ = ["render", "render_volume", "render_reduced", "reduced_size", "upscale", "default_transfer", "default_mode",
-           "default_shading",
+           "default_shading", "default_look",
            "clear_cache",
            "DEVICES", "TECHNIQUES", "Technique", "option_choices", "resolve_device", "choose_device", "legacy_backend",
            "PathTracer", "warm"]

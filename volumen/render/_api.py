@@ -24,7 +24,8 @@ from ..core._transfer import Preset
 from ._slab import kept_for, slabbed
 from ._techniques import Technique, legacy_backend, resolve_device
 
-__all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer", "default_shading"]
+__all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer", "default_shading",
+           "default_look"]
 
 
 def _choose(device, technique, options, backend) -> tuple[str, Technique]:
@@ -195,6 +196,16 @@ def default_transfer(volume, mode: Mode) -> TransferFunction:
     return default_preset(volume, mode)
 
 
+def default_look(volume, mode: Mode | None = None, *,
+                 transfer_named: bool = False) -> tuple[Mode, TransferFunction, ShadingMode]:
+    """``(mode, transfer function, shading)``: what a volume is drawn with where nothing else is named, the one
+    answer of ``render_volume``, the command line, the app and ``volumen.show``. The mode is ``mode`` if named,
+    composite where a transfer function is named (or labels colour it), else :func:`default_mode`; the transfer
+    function and the shading are those for it (:func:`default_transfer`, :func:`default_shading`)."""
+    mode = mode or ("composite" if transfer_named else default_mode(volume))
+    return mode, default_transfer(volume, mode), default_shading(volume, mode)
+
+
 def render_volume(volume, *, preset: Preset | TransferFunction | None = None, view: View | None = None,
                   mode: Mode | None = None, projection: Projection = "perspective",
                   size: tuple[int, int] = (512, 512), shading: ShadingMode | None = None, azimuth: float = 0.0,
@@ -224,17 +235,15 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     device, technique, **options :
         As in :func:`render`.
     """
-    mode = (default_mode(volume) if preset is None else "composite") if mode is None else mode
+    mode, tf, shaded = default_look(volume, mode, transfer_named=preset is not None)
     if isinstance(preset, TransferFunction):
         tf = preset
-    elif preset is None:
-        tf = default_transfer(volume, mode)
-    else:
+    elif preset is not None:
         tf = TransferFunction.preset(preset, value_range=volume.value_range())
     if iso_value is None:
         lo, hi = volume.value_range()
         iso_value = 300.0 if is_ct(volume) else 0.5 * (lo + hi)
-    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or default_shading(volume, mode)),
+    scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or shaded),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
     camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
     return render(scene, camera, size, device=device, technique=technique, **options)

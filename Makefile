@@ -7,6 +7,8 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+# the demo needs volumen and its video writer only, not the test extras (Qt, VTK, the CUDA compiler's libraries)
+DEMO_STAMP := $(VENV)/.installed-demo
 # two workers on the two cores, each given one contiguous half of the tests, then stealing from the other's end
 # (neighbouring tests share kernel variants: on a cold checkout round-robin made both workers compile the same
 # kernels side by side; whole files per worker left one long file running alone); Numba caches them beside the sources
@@ -27,6 +29,11 @@ $(STAMP): pyproject.toml | $(PY)
 	touch $(STAMP)
 
 install: $(STAMP)
+
+$(DEMO_STAMP): pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet --no-compile -e ".[video]"
+	-$(PY) -m compileall -q -j 0 $(VENV)/lib >/dev/null 2>&1
+	touch $(DEMO_STAMP)
 
 # Optional real data: Debian's mricron-data ships MRI brain templates used by
 # volumen.data.sample(). Installing it needs root and apt; when that is not
@@ -98,7 +105,7 @@ web-deps:
 	  echo "iwer could not be installed; the WebXR tests will skip"; \
 	else echo "npm not found: iwer not installed; the WebXR tests will skip"; fi
 
-demo: $(STAMP)
+demo: $(DEMO_STAMP)
 	$(VENV)/bin/volumen demo --out out
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff]); the test extra installs

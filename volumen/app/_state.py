@@ -136,12 +136,13 @@ class AppState:
             leaving = self.volume is not None and is_color_slab(self.volume)
             self.volume = volume
             self.canonical = canonical(volume)
-            mode, tf, shaded = default_look(volume)
-            if transfer is not None:  # a session's look
-                mode, tf = self.scene.mode, transfer
             shading = self.scene.shading  # the user's lighting carries over, except into and out of a colour slab
-            if transfer is None and (leaving or is_color_slab(volume)):
-                shading = replace(shading, mode=shaded)
+            if transfer is None:
+                mode, tf, shaded = default_look(volume)
+                if leaving or is_color_slab(volume):
+                    shading = replace(shading, mode=shaded)
+            else:  # a session's look
+                mode, tf = self.scene.mode, transfer
             self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode, shading=shading,
                                  clipping=replace(self.scene.clipping, crop=None))
             self.camera = camera if camera is not None else Camera.anatomical(volume)

@@ -6,7 +6,10 @@
 * ``abdomen``, ``chest``: :func:`volumen.data.phantom`'s whole-region CTs (HU), soft tissue in most rays;
 * ``mri``: the MRI template of :func:`volumen.data.sample` (``mni-brain``, 301x370x316 uint8 at 0.5 mm) where
   installed, as it is or resampled;
-* ``head``, ``torso``: the older phantoms.
+* ``head``, ``torso``: the older phantoms;
+* ``scan``: a file of the user's (``--scan``: any file or DICOM folder :func:`volumen.io.load` opens), turned to
+  RAS+ axis order (:func:`load_scan`) and resampled to the benchmark's sizes (:data:`SCAN_SIZES`), so a scan the
+  benchmark has not seen gets the same rows and ratios as its own CTs (issue 27's check).
 
 :func:`ray_shares` says what share of a picture's rays cross the body and soft tissue: the quantity that
 decides how much of a translucent preset's work is shaded samples (issue 27: a whole-abdomen CT has soft
@@ -19,11 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["aorta_path", "resampled", "upsampled_aorta", "hu_aorta", "load_dataset", "ray_shares", "CT_KINDS",
-           "SOFT_TISSUE_HU", "AORTA_OFFSET", "AORTA_HU"]
+__all__ = ["aorta_path", "resampled", "upsampled_aorta", "hu_aorta", "load_dataset", "load_scan", "scan_datasets",
+           "ray_shares", "CT_KINDS", "SCAN_SIZES", "SOFT_TISSUE_HU", "AORTA_OFFSET", "AORTA_HU"]
 
 #: the data set kinds that are CTs (their ratios are the bars), as opposed to the MRI and the old phantoms
 CT_KINDS = ("aorta", "abdomen", "chest")
+#: the sizes (x, y, z voxels) a scan given with ``--scan`` is resampled to: those of the benchmark's own CTs
+SCAN_SIZES = ((244, 202, 224), (366, 303, 336))
 #: Hounsfield range of soft tissue (fat, muscle, organs, blood): low but non-zero opacity in translucent presets
 SOFT_TISSUE_HU = (-200.0, 200.0)
 #: the shift of the CT presets on the aorta scan's own units where a picture keeps them (the path-tracing bench,
@@ -54,7 +59,11 @@ def resampled(src, size_xyz, dtype=None, **labels):
     shape = tuple(int(n) for n in size_xyz[::-1])
     factors = [m / n for m, n in zip(shape, src.shape, strict=True)]
     data = ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1, output=np.float32)
-    data = np.rint(data).astype(dtype or src.data.dtype)
+    dtype = np.dtype(dtype or src.data.dtype)
+    if dtype.kind in "iu":  # rounded into the type's range, not wrapped around
+        info = np.iinfo(dtype)
+        data = np.clip(np.rint(data), info.min, info.max)
+    data = data.astype(dtype)
     ratio = [n / m for n, m in zip(src.shape, data.shape, strict=True)]  # z, y, x
     spacing = tuple(s * r for s, r in zip(src.spacing, ratio, strict=True))
     affine = np.asarray(src.affine, float) @ np.diag(ratio[::-1] + [1.0])
@@ -80,11 +89,48 @@ def hu_aorta(size_xyz):
                   name=raw.name)
 
 
-def load_dataset(kind: str, shape):
+def scan_datasets(paths, sizes=SCAN_SIZES) -> dict:
+    """The data sets of scan files: ``"scan1-244x202x224" -> ("scan", (244, 202, 224), path)``, each file at each
+    of ``sizes`` (x, y, z voxels; None: as it is, named ``"scan1-as-loaded"``). The names number the files in the
+    order given and never carry a file or folder name, which can be a patient's."""
+    out = {}
+    for n, path in enumerate(paths, 1):
+        for size in sizes:
+            label = "as-loaded" if size is None else "x".join(str(int(v)) for v in size)
+            out[f"scan{n}-{label}"] = ("scan", None if size is None else tuple(int(v) for v in size), str(path))
+    return out
+
+
+def load_scan(path, shape=None):
+    """``(Volume, HU offset)`` of a scan file (offset None where it is not a CT in Hounsfield units:
+    ``core.hu_offset``): its voxel axes turned to RAS+ order (``core.canonical``: permuted and flipped, not
+    resampled, so the VTK peer, which takes RAS+ grids only, draws it too), resampled (linear) to ``shape``
+    (x, y, z voxels; None: as it is), int16 where it is a CT (as the benchmark's own CTs). ``ValueError`` for a
+    colour volume."""
+    from volumen.core import canonical, hu_offset
+    from volumen.io import load
+
+    vol = load(path)
+    if vol.is_color:
+        raise ValueError("a colour volume: the benchmarks draw scalar scans (CT, MRI)")
+    vol = canonical(vol)
+    offset = hu_offset(vol)
+    dtype = np.int16 if offset is not None else None
+    if shape is None:
+        if dtype is not None and vol.data.dtype != dtype:
+            vol = resampled(vol, vol.shape[::-1], dtype)  # the same grid, rounded to int16
+        return vol, offset
+    return resampled(vol, shape, dtype), offset
+
+
+def load_dataset(kind: str, shape, path=None):
     """``(Volume, HU offset)`` of a data set (offset None where the values are not HU-based); None where its
-    source is missing. ``shape``: (nx, ny, nz) voxels (None: the MRI template as installed)."""
+    source is missing. ``shape``: (nx, ny, nz) voxels (None: the MRI template or the scan as they are);
+    ``path``: the file of a ``"scan"`` (:func:`load_scan`)."""
     from volumen.data import phantom
 
+    if kind == "scan":
+        return load_scan(path, shape)
     if kind in ("head", "torso", "abdomen", "chest"):
         return phantom(kind, size=tuple(shape[::-1])), 0.0
     if kind == "mri":

@@ -94,7 +94,8 @@ def _camera(volume, distance=None):
     return cam.with_(position=tuple(c + back / np.linalg.norm(back) * distance * volume.diagonal))
 
 
-def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu", progress=print) -> Table:
+def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu", progress=print,
+                   scans=()) -> Table:
     """Run the benchmark; returns the :class:`Table` (print ``table.render()``, save with ``table.save``).
 
     Parameters
@@ -105,6 +106,8 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu",
         Timed frames per case (median reported) after one warm-up frame.
     device : {"cpu", "cuda", "auto"}
         Where the ray caster runs; ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
+    scans : sequence of path
+        Scan files of the user's: instead of the whole benchmark, only their CT rows (:func:`real_ct_rows`).
     """
     from functools import partial
 
@@ -116,7 +119,8 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu",
     render = partial(render_any, device=device)
 
     cfg = QUICK if quick else FULL
-    table = Table(f"volumen bench lighting ({described}; head phantom ct-bone, anterior; spot lights)", [
+    about = "scan files' CT rows" if scans else "head phantom ct-bone, anterior"
+    table = Table(f"volumen bench lighting ({described}; {about}; spot lights)", [
         ("sweep", "sweep", "s"), ("volume", "volume", "s"), ("viewport", "viewport", "s"),
         ("distance", "eye distance (diag)", "s"), ("lights", "lights", "d"), ("shading", "shading", "s"),
         ("ms", "ms/frame", ".1f"), ("fps", "fps", ".2f"), ("x_phong", "x Phong", ".2f"),
@@ -128,6 +132,9 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu",
     table.notes.append("seeds: shadow rays in a GPU ray caster, 512x512x256 at 782x415: 0.09 fps (1 light), "
                        "0.04 fps (2 lights) vs 65 fps without shadows; scattering 35 fps (3 lights, 128 steps, "
                        "32 shadow steps, RTX 2080 Ti)")
+    if scans:
+        real_ct_rows(table, render, quick=quick, repeat=repeat, progress=progress, scans=scans)
+        return table
     tf = TransferFunction.preset("ct-bone")
     volumes: dict = {}
     # compile every kernel first (on a tiny volume), so no timing below includes Numba's compilation
@@ -229,18 +236,26 @@ def filling_zoom(volume, camera, size) -> float:
     return float(zoom)
 
 
-def real_ct_rows(table, render, *, quick: bool = False, repeat: int = 3, progress=print) -> None:
+def real_ct_rows(table, render, *, quick: bool = False, repeat: int = 3, progress=print, scans=()) -> None:
     """Add the CT rows (:data:`REAL_CT`: the real aorta and the whole-abdomen CT, at full rate and with adaptive
-    sampling) to ``table``; a note instead where the aorta is missing."""
-    from ._datasets import load_dataset
+    sampling) to ``table``; a note instead where the aorta is missing. With ``scans`` (files), the rows of those
+    scans instead, resampled to the same size (``_datasets.load_scan``), named scan1, scan2, ... in their order."""
+    from ._datasets import load_dataset, load_scan
 
     shape = REAL_CT["quick_size" if quick else "size"]
-    for kind in REAL_CT["kinds"]:
+    size = REAL_CT["quick_viewport" if quick else "viewport"]
+    for n, path in enumerate(scans, 1):
+        loaded = load_scan(path, shape)
+        if loaded[1] is None:
+            table.notes.append(f"scan{n}: not a CT in Hounsfield units: no CT rows (the bars are for CTs)")
+            continue
+        _ct_rows(table, render, f"scan{n}", loaded, size, repeat, progress)
+    for kind in () if scans else REAL_CT["kinds"]:
         loaded = load_dataset(kind, shape)
         if loaded is None:
             table.notes.append(f"{kind}: the VMTK aorta was not found (VOLUMEN_SHARED_DATA): no rows")
             continue
-        _ct_rows(table, render, kind, loaded, REAL_CT["quick_viewport" if quick else "viewport"], repeat, progress)
+        _ct_rows(table, render, kind, loaded, size, repeat, progress)
 
 
 def _ct_rows(table, render, kind, loaded, size, repeat, progress) -> None:

@@ -92,8 +92,8 @@ def bench_render_gl(*, datasets=None, images=None, cases=None, spv: float = 1.0,
         ("dataset", "data set", "s"), ("image", "image", "s"), ("mode", "mode", "s"), ("shading", "shading", "s"),
         ("preset", "preset", "s"), ("ms", "gl ms", ".1f"), ("vtk_ms", "VTK GPU ms", ".1f"),
         ("ratio_vtk", "gl / VTK", ".2f"), ("diff_vtk", "mean |RGB diff|", ".3f"), ("cpu_ms", "cpu ms", ".1f")])
-    for dname, (kind, shape) in (datasets or GL_DATASETS).items():
-        vol, offset = load_dataset(kind, shape) or (None, None)
+    for dname, (kind, shape, *path) in (datasets or GL_DATASETS).items():
+        vol, offset = load_dataset(kind, shape, *path) or (None, None)
         if vol is None:
             table.notes.append(f"{dname}: not on this machine")
             continue

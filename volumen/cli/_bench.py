@@ -30,6 +30,11 @@ def register(sub):
     p.add_argument("--spv", type=float, default=1.0, help="samples per voxel")
     p.add_argument("--data", default=None, help="render: only the data sets whose names contain one of these "
                    "comma-separated words (e.g. abdomen,366)")
+    p.add_argument("--scan", action="append", default=[], metavar="FILE",
+                   help="render, lighting, mesh: a scan of your own (any file or DICOM folder volumen opens; "
+                   "repeat for more), benched instead of the built-in data sets (render: besides those --data "
+                   "names), turned to RAS+ axis order and resampled to the benchmark's sizes; named scan1, "
+                   "scan2, ... in the table, never by its file name")
     from volumen.render import TECHNIQUES
 
     devices = (*TECHNIQUES["raycast"].devices, "auto")
@@ -40,7 +45,40 @@ def register(sub):
     return p
 
 
+#: the benchmarks that take ``--scan``
+SCANNED = ("render", "lighting", "mesh")
+
+
+def _scans(args) -> list[str]:
+    """The ``--scan`` files, checked before any benchmark starts (one-line errors)."""
+    if args.scan and args.what not in SCANNED:
+        raise ValueError(f"--scan is for bench {', '.join(SCANNED)}, not {args.what}")
+    missing = [f for f in args.scan if not Path(f).exists()]
+    if missing:
+        raise ValueError(f"--scan: no such file or folder: {missing[0]}")
+    return list(args.scan)
+
+
+def _choose_data(args, scans, kw: dict, default: dict) -> None:
+    """``bench render``'s data sets into ``kw["datasets"]``: those of the known ones (``kw``'s, else ``default``)
+    that ``--data`` names (none where only ``--scan`` is given), and the scans at the benchmark's sizes (a small
+    one with ``--quick``); ``kw`` unchanged where neither is given."""
+    from volumen.bench._datasets import SCAN_SIZES, scan_datasets
+
+    if not (args.data or scans):
+        return
+    known, chosen = kw.get("datasets", default), {}
+    if args.data:
+        words = [w for w in args.data.split(",") if w]
+        chosen = {n: d for n, d in known.items() if any(w in n for w in words)}
+        if not chosen:
+            raise ValueError(f"--data {args.data!r} names no data set of {', '.join(known)}")
+    chosen.update(scan_datasets(scans, ((61, 51, 56),) if args.quick else SCAN_SIZES))
+    kw["datasets"] = chosen
+
+
 def run(args):
+    scans = _scans(args)
     if args.what == "techniques":
         from volumen.bench._techniques import main
 
@@ -48,7 +86,7 @@ def run(args):
     if args.what == "mesh":
         from volumen.bench._mesh import bench_mesh
 
-        table = bench_mesh(quick=args.quick, with_vtk=not args.no_vtk)
+        table = bench_mesh(quick=args.quick, with_vtk=not args.no_vtk, scans=scans)
     elif args.what == "scale":
         from volumen.bench._scale import bench_scale, bench_scale_huge
 
@@ -56,7 +94,7 @@ def run(args):
     elif args.what == "lighting":
         from volumen.bench._lighting import bench_lighting
 
-        table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device)
+        table = bench_lighting(quick=args.quick, repeat=args.repeat, device=args.device, scans=scans)
     elif args.what == "compile":
         from volumen.bench._compile import bench_compile
 
@@ -74,22 +112,16 @@ def run(args):
 
         table = bench_labels(quick=args.quick, repeat=args.repeat, device=args.device)
     elif args.device == "gl":  # the OpenGL ray caster against VTK's GPU mapper on the same OpenGL
-        from volumen.bench._render_gl import GL_QUICK, bench_render_gl
+        from volumen.bench._render_gl import GL_DATASETS, GL_QUICK, bench_render_gl
 
         kw = dict(GL_QUICK) if args.quick else {}
+        _choose_data(args, scans, kw, GL_DATASETS)
         table = bench_render_gl(spv=args.spv, rounds=args.repeat, with_vtk=not args.no_vtk, **kw)
     else:
-        from volumen.bench._render import QUICK, bench_render
+        from volumen.bench._render import DATASETS, QUICK, bench_render
 
         kw = dict(QUICK) if args.quick else {}
-        if args.data:
-            from volumen.bench._render import DATASETS
-
-            words = [w for w in args.data.split(",") if w]
-            known = kw.get("datasets", DATASETS)
-            kw["datasets"] = {n: d for n, d in known.items() if any(w in n for w in words)}
-            if not kw["datasets"]:
-                raise ValueError(f"--data {args.data!r} names no data set of {', '.join(known)}")
+        _choose_data(args, scans, kw, DATASETS)
         table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, backend=args.device, **kw)
     print()
     print(table.render())

@@ -8,8 +8,9 @@
   installed, as it is or resampled;
 * ``head``, ``torso``: the older phantoms;
 * ``scan``: a file of the user's (``--scan``: any file or DICOM folder :func:`volumen.io.load` opens), turned to
-  RAS+ axis order (:func:`load_scan`) and resampled to the benchmark's sizes (:data:`SCAN_SIZES`), so a scan the
-  benchmark has not seen gets the same rows and ratios as its own CTs (issue 27's check).
+  RAS+ axis order on an axis-aligned grid (:func:`read_scan`) and resampled to the benchmark's sizes
+  (:data:`SCAN_SIZES`, :func:`scan_at`), so a scan the benchmark has not seen gets the same rows and ratios as
+  its own CTs (issue 27's check).
 
 :func:`ray_shares` says what share of a picture's rays cross the body and soft tissue: the quantity that
 decides how much of a translucent preset's work is shaded samples (issue 27: a whole-abdomen CT has soft
@@ -22,13 +23,16 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["aorta_path", "resampled", "upsampled_aorta", "hu_aorta", "load_dataset", "load_scan", "scan_datasets",
-           "ray_shares", "CT_KINDS", "SCAN_SIZES", "SOFT_TISSUE_HU", "AORTA_OFFSET", "AORTA_HU"]
+__all__ = ["aorta_path", "resampled", "upsampled_aorta", "hu_aorta", "load_dataset", "read_scan", "scan_at",
+           "scan_datasets", "ray_shares", "CT_KINDS", "SCAN_SIZES", "SCAN_QUICK_SIZE", "SOFT_TISSUE_HU",
+           "AORTA_OFFSET", "AORTA_HU"]
 
 #: the data set kinds that are CTs (their ratios are the bars), as opposed to the MRI and the old phantoms
 CT_KINDS = ("aorta", "abdomen", "chest")
 #: the sizes (x, y, z voxels) a scan given with ``--scan`` is resampled to: those of the benchmark's own CTs
 SCAN_SIZES = ((244, 202, 224), (366, 303, 336))
+#: ... and with ``--quick``
+SCAN_QUICK_SIZE = (61, 51, 56)
 #: Hounsfield range of soft tissue (fat, muscle, organs, blood): low but non-zero opacity in translucent presets
 SOFT_TISSUE_HU = (-200.0, 200.0)
 #: the shift of the CT presets on the aorta scan's own units where a picture keeps them (the path-tracing bench,
@@ -89,48 +93,88 @@ def hu_aorta(size_xyz):
                   name=raw.name)
 
 
-def scan_datasets(paths, sizes=SCAN_SIZES) -> dict:
-    """The data sets of scan files: ``"scan1-244x202x224" -> ("scan", (244, 202, 224), path)``, each file at each
-    of ``sizes`` (x, y, z voxels; None: as it is, named ``"scan1-as-loaded"``). The names number the files in the
-    order given and never carry a file or folder name, which can be a patient's."""
+def scan_datasets(scans, sizes=SCAN_SIZES) -> dict:
+    """The data sets of scans (:func:`read_scan`'s ``(Volume, offset)`` each):
+    ``"scan1-244x202x224" -> ("scan", (244, 202, 224), scan)``, each scan at each of ``sizes`` (x, y, z voxels;
+    None: as it is, named ``"scan1-as-loaded"``). The names number the scans in the order given and never carry
+    a file or folder name, which can be a patient's."""
     out = {}
-    for n, path in enumerate(paths, 1):
+    for n, scan in enumerate(scans, 1):
         for size in sizes:
             label = "as-loaded" if size is None else "x".join(str(int(v)) for v in size)
-            out[f"scan{n}-{label}"] = ("scan", None if size is None else tuple(int(v) for v in size), str(path))
+            out[f"scan{n}-{label}"] = ("scan", None if size is None else tuple(int(v) for v in size), scan)
     return out
 
 
-def load_scan(path, shape=None):
-    """``(Volume, HU offset)`` of a scan file (offset None where it is not a CT in Hounsfield units:
-    ``core.hu_offset``): its voxel axes turned to RAS+ order (``core.canonical``: permuted and flipped, not
-    resampled, so the VTK peer, which takes RAS+ grids only, draws it too), resampled (linear) to ``shape``
-    (x, y, z voxels; None: as it is), int16 where it is a CT (as the benchmark's own CTs). ``ValueError`` for a
-    colour volume."""
-    from volumen.core import canonical, hu_offset
+def _load(path, n: int):
+    """The volume of scan file number ``n``: a folder of several DICOM series gives its series of most slices
+    (a scanner's export: scouts, the axial series, reconstructions). Read errors become ``ValueError`` naming
+    the scan by its number, not its path."""
+    from volumen.errors import MultipleSeriesError, VolumenError
     from volumen.io import load
 
-    vol = load(path)
-    if vol.is_color:
-        raise ValueError("a colour volume: the benchmarks draw scalar scans (CT, MRI)")
-    vol = canonical(vol)
-    offset = hu_offset(vol)
+    try:
+        try:
+            return load(path)
+        except MultipleSeriesError as exc:
+            return load(path, series=max(exc.series, key=lambda s: s[2])[0])
+    except VolumenError as exc:
+        problem = str(getattr(exc, "problem", exc)).splitlines()[0]
+        for name in sorted({str(path), str(Path(path).resolve()), Path(path).name}, key=len, reverse=True):
+            problem = problem.replace(name, f"scan{n}")  # a reader's own message may quote the path
+        raise ValueError(f"scan{n}: {problem}") from None
+
+
+def read_scan(path, n: int = 1):
+    """``(Volume, HU offset)`` of scan file number ``n`` (any file or DICOM folder :func:`volumen.io.load` opens)
+    as the benchmarks take it; offset None where it is not a CT in Hounsfield units (``core.hu_offset``).
+
+    Its voxel axes are turned to RAS+ order (``core.canonical``: permuted and flipped, not resampled) and laid on
+    an axis-aligned grid of its spacing (an oblique or gantry-tilted scan's rotation and shear are dropped: the
+    benchmarks time the samples, and VTK's peer takes axis-aligned RAS+ grids only). A CT is rounded to int16, as
+    the benchmark's own CTs are. Named ``scan<n>``, its metadata dropped. ``ValueError`` (one line, no path) for
+    a file that does not read, a colour volume or a slab (a single image, a few slices).
+    """
+    from volumen.core import Volume, canonical, hu_offset
+
+    vol = _load(path, n)
+    if vol.is_color or vol.thin_axis is not None:
+        what = "a colour volume" if vol.is_color else f"a slab of {'x'.join(map(str, vol.shape[::-1]))} voxels"
+        raise ValueError(f"scan{n}: {what}: the benchmarks draw scalar volumes (CT, MRI)")
+    vol = canonical(vol)  # a lazy view of a chunked (OME-Zarr) volume: read when drawn at a size (scan_at)
+    grid = np.diag([*vol.spacing[::-1], 1.0])
+    grid[:3, 3] = np.asarray(vol.affine)[:3, 3]
+    return Volume(vol.data, spacing=vol.spacing, affine=grid, modality=vol.modality, units=vol.units,
+                  name=f"scan{n}"), hu_offset(vol)
+
+
+def scan_at(scan, shape):
+    """A scan (:func:`read_scan`) resampled (linear) to ``shape`` (x, y, z voxels; None: as it is), int16 where
+    it is a CT. A source more than twice the size along an axis is first thinned to at most twice (every k-th
+    sample), so a large CT does not need a float copy of its whole grid."""
+    from volumen.core import Volume
+
+    vol, offset = scan
+    step = [1, 1, 1] if shape is None else [max(1, n // (2 * m)) for n, m in zip(vol.shape, shape[::-1],
+                                                                              strict=True)]  # z, y, x
+    affine = np.asarray(vol.affine, float) @ np.diag([*step[::-1], 1.0])
+    vol = Volume(np.asarray(vol.data[::step[0], ::step[1], ::step[2]]), affine=affine,
+                 spacing=tuple(s * k for s, k in zip(vol.spacing, step, strict=True)), modality=vol.modality,
+                 units=vol.units, name=vol.name)
     dtype = np.int16 if offset is not None else None
     if shape is None:
-        if dtype is not None and vol.data.dtype != dtype:
-            vol = resampled(vol, vol.shape[::-1], dtype)  # the same grid, rounded to int16
-        return vol, offset
+        return (vol if dtype is None or vol.data.dtype == dtype else resampled(vol, vol.shape[::-1], dtype)), offset
     return resampled(vol, shape, dtype), offset
 
 
-def load_dataset(kind: str, shape, path=None):
+def load_dataset(kind: str, shape, scan=None):
     """``(Volume, HU offset)`` of a data set (offset None where the values are not HU-based); None where its
     source is missing. ``shape``: (nx, ny, nz) voxels (None: the MRI template or the scan as they are);
-    ``path``: the file of a ``"scan"`` (:func:`load_scan`)."""
+    ``scan``: a ``"scan"``'s :func:`read_scan` (:func:`scan_at`)."""
     from volumen.data import phantom
 
     if kind == "scan":
-        return load_scan(path, shape)
+        return scan_at(scan, shape)
     if kind in ("head", "torso", "abdomen", "chest"):
         return phantom(kind, size=tuple(shape[::-1])), 0.0
     if kind == "mri":

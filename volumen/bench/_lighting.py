@@ -106,8 +106,9 @@ def bench_lighting(*, quick: bool = False, repeat: int = 3, device: str = "cpu",
         Timed frames per case (median reported) after one warm-up frame.
     device : {"cpu", "cuda", "auto"}
         Where the ray caster runs; ``cuda`` fails at once (``CudaUnavailableError``) where no device is usable.
-    scans : sequence of path
-        Scan files of the user's: instead of the whole benchmark, only their CT rows (:func:`real_ct_rows`).
+    scans : sequence of (Volume, offset)
+        Scans of the user's (``_datasets.read_scan``): instead of the whole benchmark, only their CT rows
+        (:func:`real_ct_rows`).
     """
     from functools import partial
 
@@ -238,18 +239,17 @@ def filling_zoom(volume, camera, size) -> float:
 
 def real_ct_rows(table, render, *, quick: bool = False, repeat: int = 3, progress=print, scans=()) -> None:
     """Add the CT rows (:data:`REAL_CT`: the real aorta and the whole-abdomen CT, at full rate and with adaptive
-    sampling) to ``table``; a note instead where the aorta is missing. With ``scans`` (files), the rows of those
-    scans instead, resampled to the same size (``_datasets.load_scan``), named scan1, scan2, ... in their order."""
-    from ._datasets import load_dataset, load_scan
+    sampling) to ``table``; a note instead where the aorta is missing. With ``scans`` (``_datasets.read_scan``),
+    the rows of those scans instead, resampled to the same size (``_datasets.scan_at``), named by their number."""
+    from ._datasets import load_dataset, scan_at
 
     shape = REAL_CT["quick_size" if quick else "size"]
     size = REAL_CT["quick_viewport" if quick else "viewport"]
-    for n, path in enumerate(scans, 1):
-        loaded = load_scan(path, shape)
-        if loaded[1] is None:
-            table.notes.append(f"scan{n}: not a CT in Hounsfield units: no CT rows (the bars are for CTs)")
+    for scan in scans:
+        if scan[1] is None:
+            table.notes.append(f"{scan[0].name}: not a CT in Hounsfield units: no CT rows (the bars are for CTs)")
             continue
-        _ct_rows(table, render, f"scan{n}", loaded, size, repeat, progress)
+        _ct_rows(table, render, scan[0].name, scan_at(scan, shape), size, repeat, progress)
     for kind in () if scans else REAL_CT["kinds"]:
         loaded = load_dataset(kind, shape)
         if loaded is None:
@@ -288,7 +288,8 @@ def _preset_rows(table, render, kind, preset, loaded, cams, view, about, size, r
     for (shading, n, sh), adaptive in ((c, a) for c in cases for a in (False, True)):
         scene = base.with_(lights=_lights(vol, n), shading=sh)
         scene = scene.with_(sampling=replace(scene.sampling, adaptive=adaptive))
-        step = render(scene, cams[0], size).stats.get("step_mm", float("nan"))  # warm-up: caches, lights
+        for _ in range(2):  # warm-up: caches, lights, and the cells the second frame builds (``raycast._cells``)
+            step = render(scene, cams[0], size).stats.get("step_mm", float("nan"))
         frames = iter(cams[1:])  # a new view each frame: nothing of the last frame is reused
         ms = median_time(lambda s=scene, f=frames: render(s, next(f), size), repeat=repeat, warmup=0) * 1e3
         bar, label = REAL_CT["bars"][shading], shading + (" adaptive" if adaptive else "")

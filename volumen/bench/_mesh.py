@@ -11,7 +11,7 @@ Cases (data set, level):
   1100, the lumen wall (half-way between soft tissue and contrast);
 - an MRI template (``volumen.data.sample("mni-brain")``, uint8) at its Otsu level;
 - the head and torso phantoms (``volumen.data.phantom``, int16 HU) at 300 HU (bone);
-- or instead, scan files of the user's (``--scan``; ``_datasets.load_scan``) at the aorta's two sizes: a CT at
+- or instead, scan files of the user's (``--scan``; ``_datasets.read_scan``) at the aorta's two sizes: a CT at
   300 HU (bone), another scan at its Otsu level.
 
 Every implementation meshes the same array with the same spacing in the same process:
@@ -129,8 +129,9 @@ def _row(name, vol, lname, level, results) -> dict:
     return row
 
 
-def _scan_cases(scans, quick: bool):
-    """``(name, volume, level name, level)`` of each scan file at each size: bone (300 HU) in a CT, else Otsu."""
+def _scan_cases(scans, quick: bool, progress):
+    """``(name, volume, level name, level)`` of each scan (``_datasets.read_scan``) at each size: bone (300 HU) in
+    a CT, else Otsu; a level past the data's range is skipped, saying so."""
     from skimage.filters import threshold_otsu
 
     from ._datasets import load_dataset, scan_datasets
@@ -138,10 +139,12 @@ def _scan_cases(scans, quick: bool):
     sizes = (QUICK_AORTA if quick else AORTA_SIZES).values()
     for name, spec in scan_datasets(scans, sizes).items():
         vol, offset = load_dataset(*spec)
-        if offset is not None:
-            yield name, vol, "bone", 300.0 + offset
-        else:
-            yield name, vol, "Otsu", float(threshold_otsu(vol.data[::2, ::2, ::2]))
+        lname, level = ("bone", 300.0 + offset) if offset is not None else (
+            "Otsu", float(threshold_otsu(vol.data[::2, ::2, ::2])))
+        if not vol.data.min() < level < vol.data.max():
+            progress(f"{name}: no surface at {lname} {level:g} (values {vol.data.min()}..{vol.data.max()}): skipped")
+            continue
+        yield name, vol, lname, level
 
 
 def bench_mesh(*, quick: bool = False, rounds: int | None = None, with_vtk: bool = True, progress=print,
@@ -156,8 +159,8 @@ def bench_mesh(*, quick: bool = False, rounds: int | None = None, with_vtk: bool
         Timed rounds per case (default 7, quick 2).
     with_vtk : bool
         Run VTK's flying edges when VTK is installed.
-    scans : sequence of path
-        Scan files of the user's, meshed instead of the benchmark's data (:func:`_scan_cases`).
+    scans : sequence of (Volume, offset)
+        Scans of the user's (``_datasets.read_scan``), meshed instead of the benchmark's data (:func:`_scan_cases`).
     """
     import numba
 
@@ -172,7 +175,7 @@ def bench_mesh(*, quick: bool = False, rounds: int | None = None, with_vtk: bool
         ("ours_verts", "vertices ours", "d"), ("vtk_verts", "VTK", "d"), ("skimage_verts", "skimage", "d"),
     ])
     load0 = os.getloadavg()
-    for name, vol, lname, level in (_scan_cases(scans, quick) if scans else _cases(quick, progress)):
+    for name, vol, lname, level in (_scan_cases(scans, quick, progress) if scans else _cases(quick, progress)):
         impls = _implementations(vol, level, threads)
         if not with_vtk:
             impls.pop("vtk", None)

@@ -27,10 +27,10 @@ def _world_of(vol, mask) -> np.ndarray:
 
 
 def test_registry_names_and_errors():
-    assert PHANTOMS == ("head", "torso", "abdomen", "chest", "sphere", "ellipsoid", "slab", "arch", "airways",
-                        "tagged_colon", "washout", "terraces")
-    with pytest.raises(ValueError, match="head, torso, abdomen, chest, sphere, ellipsoid, slab, arch, airways, "
-                                         "tagged_colon, washout, terraces"):
+    assert PHANTOMS == ("head", "mr_head", "torso", "abdomen", "chest", "sphere", "ellipsoid", "slab", "arch",
+                        "airways", "tagged_colon", "washout", "terraces")
+    with pytest.raises(ValueError, match="head, mr_head, torso, abdomen, chest, sphere, ellipsoid, slab, arch, "
+                                         "airways, tagged_colon, washout, terraces"):
         phantom("brain")
     with pytest.raises(TypeError, match="takes noise, seed, blur, grey_white"):
         phantom("head", radius=3)
@@ -41,7 +41,7 @@ def test_registry_names_and_errors():
 @pytest.mark.parametrize("name, params", [("head", {}), ("torso", {}), ("head", {"size": 64, "seed": 3}),
                                           ("torso", {"size": (40, 30, 36), "polyp_radius": 4.0}),
                                           ("sphere", {"radius": 11.0, "antialias": True}),
-                                          ("ellipsoid", {}), ("slab", {"axis": "y"})])
+                                          ("ellipsoid", {}), ("slab", {"axis": "y"}), ("mr_head", {"size": 32})])
 def test_deterministic(name, params):
     a, b = phantom(name, **params), phantom(name, **params)
     assert _sha(a) == _sha(b)
@@ -61,8 +61,11 @@ def test_noise_is_seeded_and_mild(name):
 
 @pytest.mark.parametrize("name", PHANTOMS)
 def test_volume_conventions(name):
-    vol = phantom(name, size=48) if name in ("head", "torso", "abdomen", "chest") else phantom(name)
-    assert vol.dtype == np.int16 and vol.modality == "CT" and vol.units == "HU" and vol.name == name
+    vol = phantom(name, size=48) if name in ("head", "mr_head", "torso", "abdomen", "chest") else phantom(name)
+    if name == "mr_head":  # the one that is not a CT: an MRI's scanner units
+        assert vol.dtype == np.uint16 and vol.modality == "MR" and vol.units == "" and vol.name == name
+    else:
+        assert vol.dtype == np.int16 and vol.modality == "CT" and vol.units == "HU" and vol.name == name
     assert vol.orientation == "RAS" and not vol.is_oblique
     assert vol.data.flags.c_contiguous
     assert np.linalg.norm(vol.center) < max(vol.spacing)  # centred on the world origin
@@ -224,3 +227,23 @@ def test_save_slice_pictures_in_display_orientation(head, torso, output_dir):
     for name, img in pictures.items():
         Image.fromarray(img).resize((img.shape[1] * 3, img.shape[0] * 3), Image.NEAREST).save(folder / f"{name}.png")
         assert (folder / f"{name}.png").stat().st_size > 1000
+
+
+def test_the_mr_head_holds_its_outliers_and_blends_every_edge_monotonically():
+    """``outliers`` of the head's voxels (here 0.2 %, bound 5 %) at 3.2-4.8 times the brightest tissue (``gain`` 4,
+    +-20 %); without them the data ends near the brightest tissue (Rician noise on top, bound 20 %). The signal
+    table rises with HU up to soft tissue and falls from there to bone, so no partial-volume voxel between two
+    neighbouring tissues takes a third tissue's signal (a bright rim on every surface, seen as rings)."""
+    from volumen.data._mr import T1
+
+    vol = phantom("mr_head", size=48, outliers=0.002, seed=4)
+    clean = phantom("mr_head", size=48, outliers=0.0, seed=4)
+    top = vol.meta["truth"]["tissue_max"]
+    outliers = vol.data > 2.0 * top
+    head = phantom("head", size=48, noise=0.0, seed=4).data > -500
+    assert outliers.sum() == pytest.approx(0.002 * head.sum(), rel=0.05)
+    assert vol.data[outliers].min() >= 3.2 * top - 1 and vol.data[outliers].max() <= 4.8 * top + 1
+    assert clean.data.max() < 1.2 * top
+    hu, signal = np.asarray(T1[:-1]).T  # the marker bead last: a small sphere on the skin, bright
+    peak = int(np.argmax(signal))
+    assert hu[peak] == 45.0 and np.all(np.diff(signal[:peak + 1]) > 0) and np.all(np.diff(signal[peak:]) < 0)

@@ -139,3 +139,14 @@ def test_a_chunked_volume_is_served_read_from_the_finest_level_that_fits(tmp_pat
     volumen.save(v.crop(z=slice(7, 8)), tmp_path / "plane.ome.zarr", chunks=8)
     plane = ServedVolume(volumen.load(tmp_path / "plane.ome.zarr"))
     assert plane.volume.shape == (2, 36, 30) and np.array_equal(plane.volume.data[1], v.data[7])
+
+
+def test_the_page_is_told_the_slices_first_window_as_the_app_opens_with():
+    """The page's slice views start at ``core.default_window`` (the server's, not a rule of the page's own): soft
+    tissue for a CT, the display range for an MRI with outliers (``core.display_range``), as the app."""
+    from volumen.core import default_window
+
+    for vol in (phantom("head", size=24), phantom("mr_head", size=32)):
+        w = default_window(vol)
+        assert ServedVolume(vol).info()["window"] == {"level": w.level, "width": w.width}
+    assert ServedVolume(phantom("head", size=24)).info()["window"] == {"level": 40.0, "width": 400.0}

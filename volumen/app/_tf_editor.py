@@ -18,7 +18,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QLinearGradient, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QColorDialog, QComboBox, QFormLayout, QLabel, QSlider, QVBoxLayout, QWidget
 
-from ..core import PRESETS, TransferFunction
+from ..core import PRESETS, TransferFunction, fitted_preset
 from . import _tf_edit as edit
 
 __all__ = ["TransferFunctionEditor", "TransferCanvas"]
@@ -217,7 +217,7 @@ class TransferFunctionEditor(QWidget):
     def apply_preset(self, name: str) -> None:
         """Set the named preset (``volumen.core.PRESETS``)."""
         v = self.state.volume
-        tf = TransferFunction.preset(name, value_range=v.value_range() if v is not None else None)
+        tf = fitted_preset(name, v) if v is not None else TransferFunction.preset(name)
         self.state.interacting = False
         self.state.update_scene(transfer=tf)
         self._base = None

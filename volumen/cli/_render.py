@@ -156,7 +156,17 @@ def build(args, base: dict | None, volume):
     """(scene, camera, size, background) from the flags over an optional settings dict."""
     from dataclasses import replace
 
-    from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Sampling, Scene, TransferFunction
+    from volumen.core import (
+        Camera,
+        Clipping,
+        ClipPlane,
+        Isosurface,
+        Sampling,
+        Scene,
+        TransferFunction,
+        default_iso,
+        fitted_preset,
+    )
     from volumen.render import default_look
 
     scene = Scene.from_dict(base["scene"], volume=volume) if base else Scene(volume=volume)
@@ -167,7 +177,7 @@ def build(args, base: dict | None, volume):
         except (OSError, ValueError, TypeError) as exc:
             raise ValueError(f"{args.tf}: not a transfer function JSON file ({exc})") from None
     elif args.preset:
-        scene = replace(scene, transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
+        scene = replace(scene, transfer=fitted_preset(args.preset, volume))
     if base:  # the settings' look, but for the flags named
         if args.mode:
             scene = replace(scene, mode=args.mode)
@@ -178,7 +188,7 @@ def build(args, base: dict | None, volume):
                         shading=replace(scene.shading, mode=shaded))
     if args.iso is not None or args.iso_color or (not base and scene.mode == "isosurface"):
         iso = scene.isosurface
-        value = args.iso if args.iso is not None else (iso.value if base else _default_iso(volume))
+        value = args.iso if args.iso is not None else (iso.value if base else default_iso(volume))
         color = parse_point(args.iso_color) if args.iso_color else iso.color
         scene = replace(scene, isosurface=Isosurface(value=value, color=color))
     if args.light:
@@ -308,13 +318,6 @@ def _write(image, out, background) -> None:
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
-
-
-def _default_iso(volume) -> float:
-    from volumen.core import is_ct
-
-    lo, hi = volume.value_range()
-    return 300.0 if is_ct(volume) else 0.5 * (lo + hi)
 
 
 def _volume_ref(args, base) -> str:

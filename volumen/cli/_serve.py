@@ -60,7 +60,7 @@ def register(sub):
 
 
 def _scene_and_camera(args, volume):
-    from volumen.core import Camera, Display, Scene, Shading, TransferFunction
+    from volumen.core import Camera, Display, Scene, Shading, fitted_preset
     from volumen.render import default_mode, default_transfer
 
     if args.settings:
@@ -75,7 +75,7 @@ def _scene_and_camera(args, volume):
         scene = Scene(volume=volume, transfer=default_transfer(volume, mode), mode=mode)
         camera = Camera.orbit(volume, view=args.view, azimuth=args.azimuth, elevation=args.elevation, zoom=args.zoom)
     if args.preset:
-        scene = scene.with_(transfer=TransferFunction.preset(args.preset, value_range=volume.value_range()))
+        scene = scene.with_(transfer=fitted_preset(args.preset, volume))
     if args.shift:
         scene = scene.with_(transfer=scene.transfer.shifted(args.shift))
     if args.mode:

@@ -7,6 +7,7 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 from . import gestures
 from ._camera import VIEWS, Camera, default_view
 from ._ct import is_ct
+from ._display import default_iso, display_range
 from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
@@ -25,7 +26,7 @@ from ._slices import (
     window_to_uint8,
 )
 from ._tonemap import TONEMAPS, Display
-from ._transfer import PRESETS, TransferFunction, default_preset, hu_offset, is_color_slab
+from ._transfer import PRESETS, TransferFunction, default_preset, fitted_preset, hu_offset, is_color_slab
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
@@ -46,6 +47,9 @@ __all__ = [
     "default_preset",
     "is_color_slab",
     "hu_offset",
+    "default_iso",
+    "display_range",
+    "fitted_preset",
     "is_ct",
     "FACING",
     "Light",

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._volume import is_chunked
+from ._values import strided_values
 
 __all__ = ["is_ct", "AIR_HU", "BONE_HU"]
 
@@ -22,18 +22,7 @@ AIR_HU = (-1100.0, -900.0)
 BONE_HU = 300.0
 _MIN_AIR = 0.005    # at least this share of the voxels at air
 _MIN_BONE = 0.0005  # and this share at bone
-_SAMPLE = 200_000
 _NOT_CT = ("MR", "PT", "NM", "US", "SEG", "RTDOSE", "XA", "DX", "CR", "MG")
-
-
-def _sample(volume) -> np.ndarray:
-    data = volume.data
-    if is_chunked(data):
-        nz = data.shape[0]
-        planes = [np.asarray(data[k]) for k in sorted({nz // 4, nz // 2, (3 * nz) // 4})]
-        data = np.stack(planes)
-    step = max(1, int(round((data.size / _SAMPLE) ** (1.0 / 3.0))))
-    return np.asarray(data[::step, ::step, ::step]).ravel()
 
 
 def is_ct(volume) -> bool:
@@ -49,7 +38,7 @@ def is_ct(volume) -> bool:
         return True
     if volume.is_color or modality in _NOT_CT or units not in ("", "unknown"):
         return False
-    v = _sample(volume).astype(np.float64, copy=False)
+    v = strided_values(volume).astype(np.float64, copy=False)
     v = v[np.isfinite(v)]
     if v.size == 0:
         return False

@@ -20,6 +20,7 @@ from typing import Literal
 import numpy as np
 
 from ._ct import is_ct
+from ._display import display_range
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "default_window", "montage", "slice_at", "slice_image",
@@ -59,10 +60,11 @@ WINDOW_PRESETS: dict[str, Window] = {
 
 def default_window(volume: Volume) -> Window:
     """The window a volume is first shown with: ``soft-tissue`` (L 40, W 400 HU) for a CT (:func:`is_ct`,
-    also one read without a modality), else its whole value range."""
+    also one read without a modality), else its display range (its value range, less far outliers:
+    ``_display``)."""
     if is_ct(volume):
         return WINDOW_PRESETS["soft-tissue"]
-    lo, hi = volume.value_range()
+    lo, hi = display_range(volume)
     return Window(level=(lo + hi) / 2, width=max(hi - lo, 1e-6))
 
 

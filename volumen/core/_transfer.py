@@ -15,9 +15,10 @@ from typing import Literal, get_args
 import numpy as np
 
 from ._ct import is_ct
+from ._display import display_range
 from ._jsondata import JsonData
 
-__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "is_color_slab"]
+__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "fitted_preset", "is_color_slab"]
 
 Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "ct-cinematic-bone",
                  "ct-cinematic-vessels", "ct-cinematic-soft-tissue", "mr-default", "mip-gray"]
@@ -238,15 +239,22 @@ def is_color_slab(volume) -> bool:
 
 
 def default_preset(volume, mode: str | None = "composite") -> TransferFunction:
-    """The transfer function for a volume drawn with none named: a gray ramp over the data range for the
+    """The transfer function for a volume drawn with none named: a gray ramp over the display range for the
     projections, and opaque for a colour slab (:func:`is_color_slab`: its own colours, the frame facing the
     viewer); for CT (:func:`is_ct`) ``ct-skin-bone`` (skin over bone: anatomy, not a box), moved onto the
     stored values (:func:`hu_offset`); ``mr-default`` otherwise. Its ``name`` says which."""
     if mode in ("mip", "minip", "average") or (mode in (None, "composite") and is_color_slab(volume)):
-        return TransferFunction.preset("mip-gray", value_range=volume.value_range())
+        return fitted_preset("mip-gray", volume)
     offset = hu_offset(volume)
     if offset is not None:
         tf = TransferFunction.preset("ct-skin-bone")
         return tf.shifted(offset) if offset else tf
-    return TransferFunction.preset("mr-default", value_range=volume.value_range())
+    return fitted_preset("mr-default", volume)
+
+
+def fitted_preset(name: str, volume) -> TransferFunction:
+    """Preset ``name`` for ``volume``: a Hounsfield-unit preset as it is; a data-relative one (``mr-default``,
+    ``mip-gray``) over the volume's display range (:func:`display_range`: its data range, less far outliers).
+    Every place that names a preset for a volume asks here, so a preset picked again is the default it was."""
+    return TransferFunction.preset(name, value_range=None if name in _CT_PRESETS else display_range(volume))
 

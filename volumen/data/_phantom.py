@@ -17,6 +17,7 @@ from ._abdomen import abdomen
 from ._airways import airways
 from ._chest import arch
 from ._head import head
+from ._mr import mr_head
 from ._shapes import ellipsoid, slab, sphere
 from ._tagged import tagged_colon
 from ._terraces import terraces
@@ -28,6 +29,7 @@ __all__ = ["PHANTOMS", "phantom"]
 
 _BUILDERS: dict[str, Callable[..., Volume]] = {
     "head": head,
+    "mr_head": mr_head,
     "torso": torso,
     "abdomen": abdomen,
     "chest": chest,
@@ -58,6 +60,11 @@ def phantom(name: str, size=None, **params) -> Volume:
             ``blur`` (scanner point-spread sigma in voxels, default 0.5, built into every
             partial-volume edge; 0 leaves the bare partial-volume ramp, one voxel wide),
             ``grey_white`` (bool). A dense bead marks the patient's RIGHT (+x) at eye level.
+        ``"mr_head"``
+            The head as an MRI (uint16 scanner units, about 0-900, modality MR, Rician noise),
+            with a few voxels far brighter than any tissue, as real MRIs have. Params: ``noise`` (default
+            12), ``outliers`` (share of the head's voxels, default 0.0005; 0: none), ``gain`` (times the
+            brightest tissue, default 4), ``seed``. Not in HU: the one phantom that is not a CT.
         ``"torso"``
             The trunk with lungs and airway, spine, ribs, contrast-filled aorta and branches,
             and a colon with haustral folds and one polyp (default 160 voxels along z,

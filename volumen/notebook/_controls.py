@@ -9,14 +9,15 @@ from __future__ import annotations
 
 import ipywidgets as widgets
 
-from ..core import MODES, PRESETS, SHADINGS, Clipping, Shading, TransferFunction, gestures
+from ..core import MODES, PRESETS, SHADINGS, Clipping, Shading, TransferFunction, fitted_preset, gestures
 
 __all__ = ["Controls", "preset_transfer"]
 
 
 def preset_transfer(scene, name: str) -> TransferFunction:
-    """The transfer function of preset ``name`` fitted to the scene volume's value range."""
-    return TransferFunction.preset(name, value_range=scene.volume.value_range())
+    """The transfer function of preset ``name`` fitted to the scene volume (``core.fitted_preset``: its display
+    range)."""
+    return fitted_preset(name, scene.volume)
 
 
 class Controls:

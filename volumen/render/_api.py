@@ -13,10 +13,11 @@ from ..core import (
     Scene,
     Shading,
     TransferFunction,
+    default_iso,
     default_preset,
+    fitted_preset,
     is_chunked,
     is_color_slab,
-    is_ct,
 )
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
@@ -239,10 +240,9 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
     if isinstance(preset, TransferFunction):
         tf = preset
     elif preset is not None:
-        tf = TransferFunction.preset(preset, value_range=volume.value_range())
+        tf = fitted_preset(preset, volume)
     if iso_value is None:
-        lo, hi = volume.value_range()
-        iso_value = 300.0 if is_ct(volume) else 0.5 * (lo + hi)
+        iso_value = default_iso(volume)
     scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or shaded),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
     camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)

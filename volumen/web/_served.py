@@ -144,12 +144,17 @@ class ServedVolume:
         return texels, vol_map, exact
 
     def info(self) -> dict:
-        """What the page is told about the volume: geometry, modality, units, values. No name, no source."""
+        """What the page is told about the volume: geometry, modality, units, values, the slices' first window
+        (``core.default_window``). No name, no source."""
+        from ..core import default_window
+
         v = self.volume
         lo, hi = v.value_range()
+        window = default_window(v)
         counts, edges = v.histogram(128)
         return {"shape": list(v.shape), "spacing": list(v.spacing), "affine": np.asarray(v.affine).tolist(),
                 "center": np.asarray(v.center).tolist(), "diagonal": float(v.diagonal),
                 "modality": str(v.modality), "units": str(v.units), "value_range": [float(lo), float(hi)],
                 "histogram": {"counts": counts.tolist(), "edges": edges.tolist()},
+                "window": {"level": float(window.level), "width": float(window.width)},
                 "source_shape": list(self.source.shape), "factor": self.factor}

@@ -101,12 +101,11 @@ class _Handlers:
 
     async def info(self, request, path):
         served = self.served(_int(request, "max3d", DEFAULT_MAX_3D))
-        from volumen.core import PRESETS, TransferFunction
+        from volumen.core import PRESETS, fitted_preset
         from volumen.core._tonemap import shader_constants
         from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
 
-        vr = served.volume.value_range()
-        transfers = {name: TransferFunction.preset(name, value_range=vr).to_dict() for name in PRESETS}
+        transfers = {name: fitted_preset(name, served.volume).to_dict() for name in PRESETS}
         body = {"volume": served.info(), "scene": self.scene_dict(served), "camera": self.camera.to_dict(),
                 "presets": list(PRESETS), "transfers": transfers, "shift": self.shift,
                 "notices": list(served.notices), "display": shader_constants(),

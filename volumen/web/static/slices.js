@@ -19,8 +19,7 @@ export class SliceViews {
   constructor(root, { info, max3d, onCrosshair }) {
     Object.assign(this, { info, max3d, onCrosshair });
     const v = info.volume;
-    const [lo, hi] = v.value_range;
-    this.window = v.units === 'HU' ? { level: 40, width: 400 } : { level: (lo + hi) / 2, width: Math.max(hi - lo, 1e-6) };
+    this.window = { ...v.window };  // the server's first window (core.default_window), as the app's
     this.crosshair = v.center.slice();
     this.views = {};
     this.seq = 0;

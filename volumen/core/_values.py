@@ -1,0 +1,25 @@
+"""A strided sample of a volume's values: what the decisions about a whole volume read (is it a CT, where do its
+values lie) without reading every voxel of a large or chunked one."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._volume import is_chunked
+
+__all__ = ["strided_values", "SAMPLE"]
+
+#: about this many voxels are read
+SAMPLE = 200_000
+
+
+def strided_values(volume) -> np.ndarray:
+    """The values of every k-th voxel along each axis (k for at most about :data:`SAMPLE` of them), flat; of a
+    chunked volume, of three planes (a quarter, half and three quarters along z) only."""
+    data = volume.data
+    if is_chunked(data):
+        nz = data.shape[0]
+        planes = [np.asarray(data[k]) for k in sorted({nz // 4, nz // 2, (3 * nz) // 4})]
+        data = np.stack(planes)
+    step = max(1, int(round((data.size / SAMPLE) ** (1.0 / 3.0))))
+    return np.asarray(data[::step, ::step, ::step]).ravel()

@@ -44,22 +44,70 @@ def test_outliers_are_left_out_of_the_range_and_a_volume_without_them_keeps_its_
     assert display_range(clean) == clean.value_range()
 
 
-@pytest.mark.parametrize("make", [
-    lambda: phantom("head", size=32),                                                  # a CT: HU presets
-    lambda: Volume(np.dstack([np.zeros((4, 4, 4, 1), np.uint8)] * 3).reshape(4, 4, 4, 3) + 5),  # colour
-    lambda: Volume(np.full((4, 4, 4), 7.0, np.float32)),                              # one value
+def _with_outliers(data, share=0.0005, value=None, seed=0):
+    """``data`` with ``share`` of its voxels set to ``value`` (default four times its maximum)."""
+    out = np.array(data, copy=True)
+    rng = np.random.default_rng(seed)
+    idx = rng.choice(out.size, size=max(1, int(share * out.size)), replace=False)
+    out.flat[idx] = 4 * out.max() if value is None else value
+    return out
+
+
+def _chunked(data):
+    import zarr
+
+    from volumen.io._chunked import ChunkedArray
+
+    return ChunkedArray(zarr.array(data, chunks=(8, 8, 8)))
+
+
+def _pet_with_a_lesion():
+    """A body at SUV about 1 (noisy) with a 27-voxel lesion at SUV 12: the lesion is the finding."""
+    rng = np.random.default_rng(1)
+    data = np.zeros((40, 40, 40), np.float32)
+    data[5:35, 5:35, 5:35] = rng.gamma(4.0, 0.25, (30, 30, 30))
+    data[18:21, 18:21, 18:21] = 12.0
+    return data
+
+
+@pytest.mark.parametrize(("what", "make"), [
+    ("a CT with a few metal voxels", lambda: Volume(_with_outliers(phantom("head", size=32).data, value=3071),
+                                                    modality="CT", units="HU")),
+    ("a colour volume with outliers", lambda: Volume(_with_outliers(
+        np.random.default_rng(2).integers(0, 60, (8, 8, 8, 3)).astype(np.uint8), value=250))),
+    ("a PET's hot lesion", lambda: Volume(_pet_with_a_lesion(), modality="PT")),
+    ("a label map with a rare label", lambda: Volume(_with_outliers(
+        np.random.default_rng(3).integers(0, 40, (30, 30, 30)).astype(np.uint8), value=200))),
+    ("a chunked MRI", lambda: Volume(_chunked(_with_outliers(phantom("mr_head", size=32, outliers=0.0).data)),
+                                     modality="MR")),
+    ("a constant", lambda: Volume(np.full((4, 4, 4), 7.0, np.float32))),
 ])
-def test_a_ct_a_colour_volume_and_a_constant_keep_their_data_range(make):
+def test_where_the_brightest_voxels_are_the_finding_the_data_range_is_kept(what, make):
+    """Each of these would be cut without its rule (checked: every one has a maximum past 1.5 times its
+    foreground's 99.9th percentile, the constant aside)."""
     vol = make()
-    assert display_range(vol) == vol.value_range()
+    assert display_range(vol) == vol.value_range(), what
 
 
-def test_nan_and_background_are_not_counted():
-    data = np.zeros((20, 20, 20), np.float32)
-    data[5:15, 5:15, 5:15] = np.linspace(100.0, 200.0, 1000).reshape(10, 10, 10)
-    data[0, 0, 0], data[0, 0, 1] = np.nan, 5000.0  # one NaN, one outlier
+def test_the_percentile_is_of_the_foreground_not_of_the_background():
+    """99.5 % background (0) and a foreground ramp 100..200 with one outlier: the 99.9th percentile over all
+    voxels would be the foreground's 80th (about 180); over the foreground it is 200 (bound 195-200)."""
+    data = np.zeros((100, 100, 100), np.float32)
+    data.flat[:5000] = np.linspace(100.0, 200.0, 5000)
+    data[50, 50, 50], data[0, 0, 0] = 5000.0, np.nan
     lo, hi = display_range(Volume(data))
     assert lo == 0.0 and 195.0 <= hi <= 200.0
+
+
+def test_a_ct_stored_above_hounsfield_units_gets_its_defaults_moved_as_far():
+    """Units ``HU+1000``: the CT preset, the soft-tissue window and the bone isosurface all sit 1000 higher."""
+    from volumen.core import TransferFunction
+
+    ct = phantom("head", size=32)
+    shifted = Volume(ct.data.astype(np.int32) + 1000, affine=ct.affine, modality="CT", units="HU+1000")
+    assert fitted_preset("ct-skin-bone", shifted) == default_preset(shifted) == \
+        TransferFunction.preset("ct-skin-bone").shifted(1000.0)
+    assert default_iso(shifted) == 1300.0 and default_window(shifted).level == 1040.0
 
 
 def test_the_first_window_and_isosurface_level_are_those_of_the_clean_volume(mr, clean):

@@ -18,7 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import Camera, Scene, Window, canonical, default_window, is_color_slab
+from ..core import Camera, Scene, Window, canonical, default_iso, default_window, is_color_slab
 from ..render import Technique, resolve_device
 
 __all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
@@ -137,14 +137,16 @@ class AppState:
             self.volume = volume
             self.canonical = canonical(volume)
             shading = self.scene.shading  # the user's lighting carries over, except into and out of a colour slab
+            iso = self.scene.isosurface
             if transfer is None:
                 mode, tf, shaded = default_look(volume)
+                iso = replace(iso, value=default_iso(volume))
                 if leaving or is_color_slab(volume):
                     shading = replace(shading, mode=shaded)
             else:  # a session's look
                 mode, tf = self.scene.mode, transfer
             self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode, shading=shading,
-                                 clipping=replace(self.scene.clipping, crop=None))
+                                 isosurface=iso, clipping=replace(self.scene.clipping, crop=None))
             self.camera = camera if camera is not None else Camera.anatomical(volume)
             self.crosshair = np.asarray(volume.center, float)
             self.window = default_window(volume)

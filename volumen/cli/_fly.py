@@ -132,7 +132,7 @@ def _centerline(args, volume):
     return compute_centerline(volume, wall.mask, start, end), wall
 
 
-def _overrides(args) -> dict:
+def _overrides(args, volume) -> dict:
     """The endoscope settings given on the command line (they override a saved flight's)."""
     from volumen.endoscopy import endoscopy_transfer
 
@@ -140,7 +140,7 @@ def _overrides(args) -> dict:
     if args.reconstruction is not None:
         out["interpolation"] = args.reconstruction
     if args.preset:
-        out["transfer"] = endoscopy_transfer(args.preset)
+        out["transfer"] = endoscopy_transfer(args.preset, volume)
         out.setdefault("mode", "composite")
     return out
 
@@ -153,15 +153,15 @@ def _flight(args, volume):
     if args.path:
         flight = Flight.load(args.path, volume)
         speed = args.speed or flight.path.speed
-        return Flight(KeyframePath(flight.path.keyframes, speed=speed), flight.endoscope.with_(**_overrides(args)),
-                      flight.centerline, flight.lumen), None
+        path = KeyframePath(flight.path.keyframes, speed=speed)
+        return Flight(path, flight.endoscope.with_(**_overrides(args, volume)), flight.centerline, flight.lumen), None
     if args.end and not args.start:
         raise ValueError("--end needs --start")
     cl, wall = _centerline(args, volume)
     est = wall.estimate
     print(f"centerline: {cl.length:.1f} mm, {len(cl.points)} points, radius "
           f"{cl.radius.min():.1f}..{cl.radius.max():.1f} mm")
-    return make_flight(volume, wall, cl, every=args.every, speed=args.speed or 20.0, **_overrides(args)), est
+    return make_flight(volume, wall, cl, every=args.every, speed=args.speed or 20.0, **_overrides(args, volume)), est
 
 
 def _legs(args, flight, volume):

@@ -14,7 +14,7 @@ import numpy as np
 
 from ._values import strided_values
 
-__all__ = ["is_ct", "AIR_HU", "BONE_HU"]
+__all__ = ["is_ct", "hu_offset", "AIR_HU", "BONE_HU"]
 
 #: the values of air in a CT (HU)
 AIR_HU = (-1100.0, -900.0)
@@ -45,3 +45,16 @@ def is_ct(volume) -> bool:
     air = np.count_nonzero((v >= AIR_HU[0]) & (v <= AIR_HU[1])) / v.size
     bone = np.count_nonzero(v >= BONE_HU) / v.size
     return bool(v.min() <= AIR_HU[1] and air >= _MIN_AIR and bone >= _MIN_BONE)
+
+
+def hu_offset(volume) -> float | None:
+    """How far a CT's stored values lie above Hounsfield units (``units`` ``"HU"``: 0, ``"HU+1000"``: 1000), None
+    for a volume that is not CT (:func:`is_ct`)."""
+    units = str(getattr(volume, "units", "") or "").replace(" ", "")
+    if units.upper().startswith("HU"):
+        rest = units[2:]
+        try:
+            return float(rest) if rest else 0.0
+        except ValueError:
+            return 0.0
+    return 0.0 if is_ct(volume) else None

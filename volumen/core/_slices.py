@@ -19,7 +19,7 @@ from typing import Literal
 
 import numpy as np
 
-from ._ct import is_ct
+from ._ct import hu_offset, is_ct
 from ._display import display_range
 from ._volume import Volume, axis_codes, is_chunked
 
@@ -60,10 +60,12 @@ WINDOW_PRESETS: dict[str, Window] = {
 
 def default_window(volume: Volume) -> Window:
     """The window a volume is first shown with: ``soft-tissue`` (L 40, W 400 HU) for a CT (:func:`is_ct`,
-    also one read without a modality), else its display range (its value range, less far outliers:
-    ``_display``)."""
-    if is_ct(volume):
-        return WINDOW_PRESETS["soft-tissue"]
+    also one read without a modality; on its stored values: ``hu_offset``), else its display range (its value
+    range, less far outliers: ``_display``)."""
+    offset = hu_offset(volume)
+    if offset is not None:
+        w = WINDOW_PRESETS["soft-tissue"]
+        return Window(level=w.level + offset, width=w.width)
     lo, hi = display_range(volume)
     return Window(level=(lo + hi) / 2, width=max(hi - lo, 1e-6))
 
@@ -197,12 +199,12 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
     ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
     data with no window is shown as stored, 0..255). With no window a CT (:func:`is_ct`) gets the
-    ``soft-tissue`` window, anything else the slice's 1st..99th percentile. A volume whose
+    ``soft-tissue`` window (:func:`default_window`), anything else the slice's 1st..99th percentile. A volume whose
     ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
     if window is None and is_ct(volume):
-        window = "soft-tissue"
+        window = default_window(volume)  # soft tissue, on the stored values
     if window is None and volume.is_color and img.dtype == np.uint8:
         window = Window(level=127.5, width=255.0)
     out = window_to_uint8(img, window)

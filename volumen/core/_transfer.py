@@ -14,7 +14,7 @@ from typing import Literal, get_args
 
 import numpy as np
 
-from ._ct import is_ct
+from ._ct import hu_offset
 from ._display import display_range
 from ._jsondata import JsonData
 
@@ -218,19 +218,6 @@ _CT_PRESETS = {
 }
 
 
-def hu_offset(volume) -> float | None:
-    """How far a CT's stored values lie above Hounsfield units (``units`` ``"HU"``: 0, ``"HU+1000"``: 1000), None
-    for a volume that is not CT (:func:`is_ct`)."""
-    units = str(getattr(volume, "units", "") or "").replace(" ", "")
-    if units.upper().startswith("HU"):
-        rest = units[2:]
-        try:
-            return float(rest) if rest else 0.0
-        except ValueError:
-            return 0.0
-    return 0.0 if is_ct(volume) else None
-
-
 def is_color_slab(volume) -> bool:
     """Whether ``volume`` is a colour slab (``Volume.thin_axis``): a colour frame or a cine of a few (ultrasound,
     a photograph, a secondary capture), which is drawn as the image it is (:func:`default_preset`, and no shading:
@@ -239,22 +226,24 @@ def is_color_slab(volume) -> bool:
 
 
 def default_preset(volume, mode: str | None = "composite") -> TransferFunction:
-    """The transfer function for a volume drawn with none named: a gray ramp over the display range for the
+    """The transfer function for a volume drawn with none named: a gray ramp over the data range for the
     projections, and opaque for a colour slab (:func:`is_color_slab`: its own colours, the frame facing the
     viewer); for CT (:func:`is_ct`) ``ct-skin-bone`` (skin over bone: anatomy, not a box), moved onto the
-    stored values (:func:`hu_offset`); ``mr-default`` otherwise. Its ``name`` says which."""
+    stored values (:func:`hu_offset`); ``mr-default`` otherwise (over its display range: :func:`fitted_preset`).
+    Its ``name`` says which."""
     if mode in ("mip", "minip", "average") or (mode in (None, "composite") and is_color_slab(volume)):
         return fitted_preset("mip-gray", volume)
-    offset = hu_offset(volume)
-    if offset is not None:
-        tf = TransferFunction.preset("ct-skin-bone")
-        return tf.shifted(offset) if offset else tf
-    return fitted_preset("mr-default", volume)
+    return fitted_preset("ct-skin-bone" if hu_offset(volume) is not None else "mr-default", volume)
 
 
 def fitted_preset(name: str, volume) -> TransferFunction:
-    """Preset ``name`` for ``volume``: a Hounsfield-unit preset as it is; a data-relative one (``mr-default``,
-    ``mip-gray``) over the volume's display range (:func:`display_range`: its data range, less far outliers).
+    """Preset ``name`` for ``volume``: a Hounsfield-unit preset moved onto a CT's stored values (:func:`hu_offset`);
+    ``mr-default`` over the volume's display range (:func:`display_range`: its data range, less far outliers);
+    ``mip-gray`` over its data range (a projection's brightest voxels are often its finding: an angiogram).
     Every place that names a preset for a volume asks here, so a preset picked again is the default it was."""
-    return TransferFunction.preset(name, value_range=None if name in _CT_PRESETS else display_range(volume))
+    if name in _CT_PRESETS:
+        tf, offset = TransferFunction.preset(name), hu_offset(volume)
+        return tf.shifted(offset) if offset else tf
+    return TransferFunction.preset(name, value_range=display_range(volume) if name == "mr-default"
+                                   else volume.value_range())
 

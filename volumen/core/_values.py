@@ -15,11 +15,13 @@ SAMPLE = 200_000
 
 def strided_values(volume) -> np.ndarray:
     """The values of every k-th voxel along each axis (k for at most about :data:`SAMPLE` of them), flat; of a
-    chunked volume, of three planes (a quarter, half and three quarters along z) only."""
+    chunked volume, of every k-th voxel along y and x of three planes (a quarter, half and three quarters along z:
+    each of them, only the chunks they cross are read)."""
     data = volume.data
     if is_chunked(data):
         nz = data.shape[0]
-        planes = [np.asarray(data[k]) for k in sorted({nz // 4, nz // 2, (3 * nz) // 4})]
-        data = np.stack(planes)
+        planes = np.stack([np.asarray(data[k]) for k in sorted({nz // 4, nz // 2, (3 * nz) // 4})])
+        step = max(1, int(round((planes.size / SAMPLE) ** 0.5)))
+        return planes[:, ::step, ::step].ravel()
     step = max(1, int(round((data.size / SAMPLE) ** (1.0 / 3.0))))
     return np.asarray(data[::step, ::step, ::step]).ravel()

@@ -97,7 +97,7 @@ def phantom(name: str, size=None, **params) -> Volume:
     Returns
     -------
     Volume
-        Data ``[z, y, x]`` int16 HU; axis-aligned RAS affine (i -> +x Right, j -> +y
+        Data ``[z, y, x]`` int16 HU (``mr_head``: uint16 scanner units); axis-aligned RAS affine (i -> +x Right, j -> +y
         Anterior, k -> +z Superior) with the volume centred near the world origin.
         ``meta["truth"]`` holds the ground truth (world RAS+ mm): for head and torso
         ``landmarks`` (name -> [x, y, z]) and :class:`~volumen.data.Tube` entries

@@ -38,15 +38,16 @@ ENDOSCOPY_PRESETS = {
 }
 
 
-def endoscopy_transfer(name: str) -> TransferFunction:
-    """A transfer function by name: one of :data:`ENDOSCOPY_PRESETS` or of ``volumen.core.PRESETS``."""
-    from ..core import PRESETS
+def endoscopy_transfer(name: str, volume=None) -> TransferFunction:
+    """A transfer function by name: one of :data:`ENDOSCOPY_PRESETS` or of ``volumen.core.PRESETS`` (fitted to
+    ``volume``: ``core.fitted_preset``; a data-relative one needs it)."""
+    from ..core import PRESETS, fitted_preset
 
     if name in ENDOSCOPY_PRESETS:
         color, opacity = ENDOSCOPY_PRESETS[name]
         return TransferFunction(color=color, opacity=opacity, name=name)
     if name in PRESETS:
-        return TransferFunction.preset(name)
+        return TransferFunction.preset(name) if volume is None else fitted_preset(name, volume)
     raise ValueError(f"unknown preset {name!r}; valid: {', '.join([*ENDOSCOPY_PRESETS, *PRESETS])}")
 
 

@@ -48,13 +48,13 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
     from ._widget import Viewer
 
     if isinstance(volume_or_scene, Volume):
-        from ..core import Shading
+        from ..core import Isosurface, Shading, default_iso
         from ..render import default_look
 
         vol = volume_or_scene
         mode, tf, shaded = default_look(vol, transfer_named=preset is not None)
         scene = Scene(volume=vol, volume_ref=volume_ref or phantom_ref(vol), transfer=tf, mode=mode,
-                      shading=Shading(mode=shaded))
+                      shading=Shading(mode=shaded), isosurface=Isosurface(value=default_iso(vol)))
         if preset is not None:
             from ._controls import preset_transfer
 

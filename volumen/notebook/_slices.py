@@ -53,7 +53,7 @@ class SliceViews:
     def __init__(self, volume, width: int = 220):
         self.volume = canonical(volume)
         lo, hi = self.volume.value_range()
-        start = default_window(volume)  # soft tissue for a CT, the value range otherwise
+        start = default_window(volume)  # soft tissue for a CT, the display range otherwise
         level, wwidth = min(max(start.level, lo), hi), start.width
         span = max(hi - lo, 1e-6)
         self.level = widgets.FloatSlider(value=level, min=lo, max=hi, step=span / 500, description="level",

@@ -193,7 +193,7 @@ def default_shading(volume, mode: Mode | None = None) -> ShadingMode:
 def default_transfer(volume, mode: Mode) -> TransferFunction:
     """The transfer function ``render_volume`` uses when none is named (:func:`volumen.core.default_preset`): gray
     ramp over the data range for projections (opaque for a colour slab), ``ct-skin-bone`` for CT (on its stored
-    values), ``mr-default`` otherwise."""
+    values), ``mr-default`` over the display range otherwise (``core.display_range``: less a few far outliers)."""
     return default_preset(volume, mode)
 
 

@@ -52,6 +52,15 @@ def aorta_path() -> Path | None:
     return shared_data("vmtk-aorta", "aorta.mha")
 
 
+def _rounded(data, dtype) -> np.ndarray:
+    """``data`` as ``dtype``: an integer type rounded, and clipped into its range rather than wrapped around."""
+    dtype = np.dtype(dtype)
+    if dtype.kind in "iu":
+        info = np.iinfo(dtype)
+        data = np.clip(np.rint(data), info.min, info.max)
+    return np.asarray(data).astype(dtype, copy=False)
+
+
 def resampled(src, size_xyz, dtype=None, **labels):
     """``src`` (a Volume) resampled (linear, ``scipy.ndimage.zoom``) to ``size_xyz`` voxels (x, y, z) over the same
     field of view, rounded to ``dtype`` (default: the source's): a Volume with the source's modality, units and
@@ -63,11 +72,7 @@ def resampled(src, size_xyz, dtype=None, **labels):
     shape = tuple(int(n) for n in size_xyz[::-1])
     factors = [m / n for m, n in zip(shape, src.shape, strict=True)]
     data = ndimage.zoom(np.asarray(src.data, np.float32), factors, order=1, output=np.float32)
-    dtype = np.dtype(dtype or src.data.dtype)
-    if dtype.kind in "iu":  # rounded into the type's range, not wrapped around
-        info = np.iinfo(dtype)
-        data = np.clip(np.rint(data), info.min, info.max)
-    data = data.astype(dtype)
+    data = _rounded(data, dtype or src.data.dtype)
     ratio = [n / m for n, m in zip(src.shape, data.shape, strict=True)]  # z, y, x
     spacing = tuple(s * r for s, r in zip(src.spacing, ratio, strict=True))
     affine = np.asarray(src.affine, float) @ np.diag(ratio[::-1] + [1.0])
@@ -155,16 +160,16 @@ def scan_at(scan, shape):
     from volumen.core import Volume
 
     vol, offset = scan
+    dtype = np.int16 if offset is not None else None
     step = [1, 1, 1] if shape is None else [max(1, n // (2 * m)) for n, m in zip(vol.shape, shape[::-1],
                                                                               strict=True)]  # z, y, x
-    affine = np.asarray(vol.affine, float) @ np.diag([*step[::-1], 1.0])
-    vol = Volume(np.asarray(vol.data[::step[0], ::step[1], ::step[2]]), affine=affine,
+    data = np.asarray(vol.data[::step[0], ::step[1], ::step[2]])
+    if shape is None and dtype is not None:
+        data = _rounded(data, dtype)
+    vol = Volume(data, affine=np.asarray(vol.affine, float) @ np.diag([*step[::-1], 1.0]),
                  spacing=tuple(s * k for s, k in zip(vol.spacing, step, strict=True)), modality=vol.modality,
                  units=vol.units, name=vol.name)
-    dtype = np.int16 if offset is not None else None
-    if shape is None:
-        return (vol if dtype is None or vol.data.dtype == dtype else resampled(vol, vol.shape[::-1], dtype)), offset
-    return resampled(vol, shape, dtype), offset
+    return (vol if shape is None else resampled(vol, shape, dtype)), offset
 
 
 def load_dataset(kind: str, shape, scan=None):

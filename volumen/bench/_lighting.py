@@ -38,7 +38,7 @@ import time
 
 import numpy as np
 
-from ._table import Table, median_time, resolve_device
+from ._table import WARMUP_FRAMES, Table, median_time, resolve_device
 
 __all__ = ["bench_lighting", "real_ct_rows", "filling_zoom", "SEEDS", "REAL_CT"]
 
@@ -288,7 +288,7 @@ def _preset_rows(table, render, kind, preset, loaded, cams, view, about, size, r
     for (shading, n, sh), adaptive in ((c, a) for c in cases for a in (False, True)):
         scene = base.with_(lights=_lights(vol, n), shading=sh)
         scene = scene.with_(sampling=replace(scene.sampling, adaptive=adaptive))
-        for _ in range(2):  # warm-up: caches, lights, and the cells the second frame builds (``raycast._cells``)
+        for _ in range(WARMUP_FRAMES):  # and the light volumes
             step = render(scene, cams[0], size).stats.get("step_mm", float("nan"))
         frames = iter(cams[1:])  # a new view each frame: nothing of the last frame is reused
         ms = median_time(lambda s=scene, f=frames: render(s, next(f), size), repeat=repeat, warmup=0) * 1e3

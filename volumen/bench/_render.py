@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from ._datasets import CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
-from ._table import Table, resolve_device
+from ._table import WARMUP_FRAMES, Table, resolve_device
 from ._vtk import VtkScene, vtk_available
 
 __all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "load_dataset", "peak_memory"]
@@ -152,7 +152,7 @@ def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -
 def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
     from volumen.render import render
 
-    for _ in range(2):  # warm-up: compile, per-volume caches, and the cells the second frame builds (``_cells``)
+    for _ in range(WARMUP_FRAMES):
         image = render(scene, camera, size, device=backend)
     peer = None
     if use_vtk and scene.mode == "composite":
@@ -189,9 +189,10 @@ def _summary(table) -> None:
     for (image, mode, shading, preset, sampling), got in by_case.items():
         ratios = sorted(got)
         median = float(np.median([x for x, _ in ratios]))
-        bar = BARS.get((shading, preset))
-        within = sum(round(x, 2) <= bar for x, _ in ratios) if bar is not None else 0  # as printed
-        met = "" if bar is None else f"; bar <= {bar:.2f} (issue 27): {within} of {len(ratios)} within"
+        met, bar = "", BARS.get((shading, preset))
+        if bar is not None:
+            within = sum(round(x, 2) <= bar for x, _ in ratios)  # as printed
+            met = f"; bar <= {bar:.2f} (issue 27): {within} of {len(ratios)} within"
         table.notes.append(f"{image} {mode} {shading} {preset} {sampling}: ours/VTK over {len(ratios)} CTs lowest "
                            f"{ratios[0][0]:.2f} ({ratios[0][1]}), median {median:.2f}, highest {ratios[-1][0]:.2f} "
                            f"({ratios[-1][1]}){met}")

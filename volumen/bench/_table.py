@@ -10,7 +10,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Table", "machine_info", "median_time", "resolve_device"]
+__all__ = ["Table", "machine_info", "median_time", "resolve_device", "WARMUP_FRAMES"]
+
+#: untimed frames before a ray-casting case is timed: the first compiles and fills the per-volume caches, the
+#: second builds the cells of the transfer function (``render.raycast._cells``, built from the second frame
+#: with the same visible entries), which a timed frame would otherwise pay for
+WARMUP_FRAMES = 2
 
 
 def machine_info() -> dict[str, Any]:

@@ -61,7 +61,7 @@ def register(sub):
 
 def _scene_and_camera(args, volume):
     from volumen.core import Camera, Display, Isosurface, Scene, Shading, default_iso, fitted_preset
-    from volumen.render import default_mode, default_transfer
+    from volumen.render import default_look
 
     if args.settings:
         try:
@@ -71,9 +71,8 @@ def _scene_and_camera(args, volume):
         except (OSError, KeyError, json.JSONDecodeError) as exc:
             raise ValueError(f"cannot read settings {args.settings}: {exc}") from None
     else:
-        mode = "composite" if args.preset else default_mode(volume)
-        scene = Scene(volume=volume, transfer=default_transfer(volume, mode), mode=mode,
-                      isosurface=Isosurface(value=default_iso(volume)))
+        mode, tf, _ = default_look(volume, transfer_named=bool(args.preset))  # the page refuses colour volumes
+        scene = Scene(volume=volume, transfer=tf, mode=mode, isosurface=Isosurface(value=default_iso(volume)))
         camera = Camera.orbit(volume, view=args.view, azimuth=args.azimuth, elevation=args.elevation, zoom=args.zoom)
     if args.preset:
         scene = scene.with_(transfer=fitted_preset(args.preset, volume))

@@ -21,6 +21,14 @@ def pytest_configure(config):
         install()
 
 
+@pytest.fixture(autouse=True)
+def no_stand_in(monkeypatch):
+    """Viewers draw their first picture on the CPU here (``volumen.render._standin``; ``tests/render/test_standin.py``
+    turns the stand-in on): it starts a child process per kernel not yet drawn in a process, seconds each across
+    the suite, and would make OpenGL draw the first frame of every viewer under test."""
+    monkeypatch.setenv("VOLUMEN_STANDIN", "0")
+
+
 #: the longest single test (the README's commands in order, 2-2.5 minutes), collected last by name: it goes first,
 #: so one worker runs it while the other starts on the rest and neither waits for it at the end
 FIRST = ("tests/test_readme.py::",)

@@ -138,7 +138,8 @@ class View3D(QWidget):
         if f is not None:
             res = "" if f.fraction >= 1 else f"  1/{round(1 / f.fraction)} res"
             spp = f"  {f.spp} spp" if f.spp else ""
-            p.drawText(6, self.height() - 6, f"{f.seconds * 1000:.0f} ms{res}{spp}")
+            aside = "  OpenGL while the CPU kernel compiles" if f.stats.get("stand_in") else ""
+            p.drawText(6, self.height() - 6, f"{f.seconds * 1000:.0f} ms{res}{spp}{aside}")
         if self.status_text:
             p.drawText(6, 16, self.status_text)
 

@@ -11,7 +11,10 @@ picture is being made replaces any older one still waiting.
   :attr:`RenderWorker.budget` seconds -- and upscaled (``final`` False);
 * otherwise the full picture (:func:`~volumen.app._frame.progressive_frames`;
   path tracing refines while idle and stops as soon as a new request comes); after the first one of a kind of
-  volume, the other modes' kernels compile in a background process (:class:`~volumen.app._warmup.Warmup`).
+  volume, the other modes' kernels compile in a background process (:class:`~volumen.app._warmup.Warmup`);
+* either way, while the CPU kernel a picture needs is not compiled yet, its compile starts in a child process
+  and OpenGL draws a stand-in at a reduced viewport (``volumen.render._standin``); the picture is drawn on the
+  CPU once the kernel is in the cache, unless a newer request came first.
 
 OpenGL techniques (texture slicing, meshes) run on the process's one OpenGL
 thread (``_frame.on_gl_thread``); the worker probes once whether they are
@@ -23,10 +26,12 @@ from __future__ import annotations
 import threading
 import time
 import traceback
+from dataclasses import replace
 
 from PySide6.QtCore import QObject, Signal
 
-from ._frame import FrameJob, progressive_frames, render_frame
+from ..render import _standin
+from ._frame import FrameJob, progressive_frames, raycast_device, render_frame
 from ._warmup import Warmup
 
 __all__ = ["RenderWorker"]
@@ -118,6 +123,30 @@ class RenderWorker(QObject):
         else:
             self._emit(self.raster_status, True, renderer)
 
+    def _stand_in(self, job: FrameJob) -> threading.Event | None:
+        """While ``job``'s CPU kernel compiles aside: emit OpenGL's stand-in and return the Event set when the
+        kernel is compiled; None when the CPU draws now (or OpenGL failed: then the CPU draws, compiling)."""
+        if job.mesh is not None and job.mesh_display == "instead":
+            return None
+        compiled = _standin.compiling(job.scene, job.camera, raycast_device(job), job.technique)
+        if compiled is None:
+            return None
+        try:
+            frame = render_frame(replace(job, device="gl"), min(self.fraction, _standin.FRACTION), final=False)
+        except Exception:  # noqa: BLE001 - no stand-in; the CPU draws the picture when it is compiled
+            return None
+        frame.stats = dict(frame.stats, stand_in=True)
+        self._emit(self.frame_ready, frame)
+        return compiled
+
+    def _again_when(self, compiled: threading.Event, job: FrameJob, interactive: bool) -> None:
+        """Post ``job`` again once ``compiled`` is set, unless a newer request (or stop) comes first."""
+        with self._cond:
+            while not compiled.is_set() and self._pending is None and not self._stop:
+                self._cond.wait(0.1)
+            if self._pending is None and not self._stop:
+                self._pending = (job, interactive)
+
     def _loop(self) -> None:
         self._probe_raster()
         while True:
@@ -130,7 +159,9 @@ class RenderWorker(QObject):
                 self._pending = None
                 self._busy = True
             try:
-                if interactive:
+                if (compiled := self._stand_in(job)) is not None:
+                    self._again_when(compiled, job, interactive)
+                elif interactive:
                     t = time.perf_counter()
                     frame = render_frame(job, self.fraction, final=False)
                     dt = time.perf_counter() - t

@@ -3,7 +3,10 @@
 Each case runs in a child process with its own empty Numba cache (``NUMBA_CACHE_DIR``): the time from the
 ``render`` call to the picture is the cold compile of that (mode, shading model)'s kernel, plus the per-volume
 tables, on a 48^3 head phantom at 64x64 (the picture itself takes milliseconds). A second child with the same
-cache then shows the cached start. Imports are timed apart. Cases run one after another, so the machine's
+cache then shows the cached start. Imports are timed apart. A third child, with an empty cache of its own, opens
+the notebook's viewer (``volumen.notebook.View``, whose render loop the desktop app's worker mirrors) on the same
+scene at 384x384: ``shown`` is the time to its first frame (OpenGL's stand-in while the kernel compiles aside,
+``volumen.render._standin``), ``viewer CPU`` to its CPU-drawn final frame. Cases run one after another, so the machine's
 other load is the only noise; the bar is :data:`BAR_S` per mode (issue 27; issue 13 asked 15 s). Without
 ``--quick`` a last row times what ``make demo`` runs after installing, ``volumen demo``, from an empty cache and
 again from the cache it filled (its gallery's kernels compile side by side, ``volumen.render.warm``; bar
@@ -51,10 +54,33 @@ print(json.dumps({"imports": t1 - t0, "wall": time.perf_counter() - w0, "cpu": t
                   "max": float(image.rgba[..., :3].max())}))
 """
 
+#: the same scene in the notebook's viewer: seconds to its first frame and to its final (CPU) frame
+_VIEWER = r"""
+import json, sys, time
+from volumen.core import Camera, Light, Scene, Shading
+from volumen.data import phantom
+from volumen.notebook import View
+from volumen.render import default_transfer
+if __name__ == "__main__":
+    mode, shading = sys.argv[1], sys.argv[2]
+    v = phantom("head", size=(48, 48, 48))
+    lights = ((Light(kind="point", position=tuple(v.center + [0, 0, 200])),)
+              if shading in ("shadows", "scattering") else ())
+    scene = Scene(volume=v, transfer=default_transfer(v, mode), mode=mode, shading=Shading(mode=shading),
+                  lights=lights)
+    seen = []
+    w0 = time.perf_counter()
+    view = View(scene, Camera.orbit(v), (384, 384), on_frame=lambda f, final: seen.append((time.perf_counter(), final)))
+    assert view.wait(600), "no final frame"
+    view.close()
+    print(json.dumps({"shown": seen[0][0] - w0, "cpu": [t for t, final in seen if final][0] - w0,
+                      "stand_in": not seen[0][1]}))
+"""
 
-def _first_picture(mode: str, shading: str, cache: str) -> dict:
+
+def _child(script: str, mode: str, shading: str, cache: str) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-    out = subprocess.run([sys.executable, "-c", _CHILD, mode, shading], env=env, capture_output=True, text=True,
+    out = subprocess.run([sys.executable, "-c", script, mode, shading], env=env, capture_output=True, text=True,
                          check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -77,15 +103,25 @@ def bench_compile(quick: bool = False) -> Table:
     table = Table("First picture in a fresh process: cold Numba cache, then cached (48^3 phantom, 64x64)",
                   [("mode", "mode", ""), ("shading", "shading", ""), ("cold_s", "cold s", ".1f"),
                    ("cold_cpu_s", "cold CPU s", ".1f"), ("cached_s", "cached s", ".2f"),
-                   ("imports_s", "imports s", ".1f"), ("bar", f"<= {BAR_S:.0f} s", "")])
+                   ("imports_s", "imports s", ".1f"), ("bar", f"<= {BAR_S:.0f} s", ""),
+                   ("shown_s", "viewer shown s", ".1f"), ("viewer_cpu_s", "viewer CPU s", ".1f"),
+                   ("shown_bar", f"shown <= {BAR_S:.0f} s", "")])
     for mode, shading in QUICK if quick else CASES:
         with tempfile.TemporaryDirectory(prefix="volumen-numba-") as cache:
-            cold = _first_picture(mode, shading, cache)
-            warm = _first_picture(mode, shading, cache)
+            cold = _child(_CHILD, mode, shading, cache)
+            warm = _child(_CHILD, mode, shading, cache)
+        with tempfile.TemporaryDirectory(prefix="volumen-numba-") as cache:
+            viewer = _child(_VIEWER, mode, shading, cache)
         table.add(mode=mode, shading=shading, cold_s=cold["wall"], cold_cpu_s=cold["cpu"], cached_s=warm["wall"],
-                  imports_s=cold["imports"], bar="yes" if cold["wall"] <= BAR_S else "NO")
+                  imports_s=cold["imports"], bar="yes" if cold["wall"] <= BAR_S else "NO",
+                  shown_s=viewer["shown"], viewer_cpu_s=viewer["cpu"],
+                  shown_bar=("yes" if viewer["shown"] <= BAR_S else "NO") + ("" if viewer["stand_in"] else
+                                                                               " (no stand-in)"))
     table.notes.append("cold: the render call in a child process with an empty NUMBA_CACHE_DIR (kernel compile "
                        "and per-volume tables); cached: a second child with that cache; imports timed apart")
+    table.notes.append("viewer: the notebook's View on the same scene at 384x384 in a child with an empty cache "
+                       "of its own; shown: its first frame (OpenGL's stand-in at half size while the kernel "
+                       "compiles in a grandchild), CPU: its final frame drawn by the CPU ray caster")
     if not quick:
         with tempfile.TemporaryDirectory(prefix="volumen-numba-") as cache:
             cold, warm = _demo(cache), _demo(cache)

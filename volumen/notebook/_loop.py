@@ -3,7 +3,10 @@
 The kernel's thread only files requests (:meth:`RenderLoop.request`) and never waits for a picture,
 so the notebook stays responsive while a frame is computed. A request made while the user drags
 asks for a reduced viewport (``fraction`` < 1, as the desktop app's worker does); once no new
-request has come for ``refine_after`` seconds the loop renders the same state at full size.
+request has come for ``refine_after`` seconds the loop renders the same state at full size. While a
+``stand_in`` callable offers a frame (OpenGL's, while the CPU kernel compiles aside: ``volumen.render._standin``)
+that frame is delivered as a reduced one, and the request is drawn again once its kernel is compiled, unless a
+newer request came first.
 """
 
 from __future__ import annotations
@@ -41,10 +44,15 @@ class RenderLoop:
     deliver : callable(frame, request)
         Called on the loop's thread with each finished frame (``request.fraction == 1``: the final one).
     refine_after : float, seconds
+    stand_in : callable(state, fraction) -> (frame, fraction, threading.Event) or None, optional
+        Asked before each draw: a stand-in frame, the fraction it was drawn at, and the Event set when ``draw``
+        can run without waiting; None: ``draw`` runs now.
     """
 
-    def __init__(self, draw: Callable, deliver: Callable, refine_after: float = REFINE_AFTER):
+    def __init__(self, draw: Callable, deliver: Callable, refine_after: float = REFINE_AFTER,
+                 stand_in: Callable | None = None):
         self._draw, self._deliver, self.refine_after = draw, deliver, float(refine_after)
+        self._stand_in = stand_in
         self._cond = threading.Condition()
         self._pending: Request | None = None
         self._token = 0
@@ -89,16 +97,31 @@ class RenderLoop:
             self._busy = req is not None
             return req
 
+    def _again_when(self, ready, req: Request) -> None:
+        """(Holding the lock) file ``req`` again once ``ready`` is set, unless a newer request or close comes."""
+        while not ready.is_set() and self._pending is None and not self._stop:
+            self._cond.wait(0.1)
+        if self._pending is None and not self._stop:
+            self._pending = req
+        self._cond.notify_all()
+
     def _run(self) -> None:
         while (req := self._next()) is not None:
+            shown = None
             try:
-                self._deliver(self._draw(req.state, req.fraction), req)
+                shown = self._stand_in(req.state, req.fraction) if self._stand_in is not None else None
+                if shown is None:
+                    self._deliver(self._draw(req.state, req.fraction), req)
+                else:
+                    self._deliver(shown[0], replace(req, fraction=shown[1]))
                 self.error = None
             except Exception as exc:  # noqa: BLE001 - the loop must survive a bad setting; wait() re-raises it
                 self.error = exc
             with self._cond:
                 self._busy = False
-                if req.fraction >= 1.0 or self.error is not None:
+                if shown is not None and self.error is None:
+                    self._again_when(shown[2], req)
+                elif req.fraction >= 1.0 or self.error is not None:
                     self._done = max(self._done, req.token)
                 elif self._pending is None:  # refine once no newer request comes in time
                     self._cond.wait(self.refine_after)

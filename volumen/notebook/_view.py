@@ -16,10 +16,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..core import Camera, Scene, gestures, is_chunked
-from ..render import render_reduced
+from ..render import _standin, render_reduced
 from ._loop import REDUCED_FRACTION, RenderLoop
 
-__all__ = ["View", "ViewState", "draw_frame", "drag_kind"]
+__all__ = ["View", "ViewState", "draw_frame", "stand_in_frame", "drag_kind"]
 
 #: wheel units per notch in browsers (the app's Qt wheel counts 120 per notch)
 WHEEL_NOTCH = 100.0
@@ -44,6 +44,21 @@ def draw_frame(state: ViewState, fraction: float = 1.0) -> np.ndarray:
     from ..scale import render_view
 
     return render_view(state.scene, state.camera, state.size, fraction, interacting=fraction < 1.0).to_uint8()
+
+
+def stand_in_frame(state: ViewState, fraction: float = 1.0):
+    """``(frame, fraction, compiled)`` while the CPU kernel of ``state``'s picture compiles aside: OpenGL's stand-in
+    (uint8, at most ``volumen.render._standin.FRACTION`` of the size, upscaled), the fraction it was drawn at and
+    the Event set once the kernel is compiled; None when the picture should be drawn now (:func:`draw_frame`)."""
+    how = dict(state.how)
+    compiled = _standin.compiling(state.scene, state.camera, how.get("device"), how.get("technique"))
+    if compiled is None:
+        return None
+    try:
+        img = _standin.draw(state.scene, state.camera, state.size, fraction)
+    except Exception:  # noqa: BLE001 - no stand-in: draw_frame then draws on the CPU, compiling
+        return None
+    return img.to_uint8(), min(float(fraction), _standin.FRACTION), compiled
 
 
 def drag_kind(button: int, modifiers) -> str | None:
@@ -74,7 +89,7 @@ class View:
         self.frame_state: ViewState | None = None
         self.final = False
         self._drag: tuple | None = None
-        self._loop = RenderLoop(draw_frame, self._deliver)
+        self._loop = RenderLoop(draw_frame, self._deliver, stand_in=stand_in_frame)
         self.redraw()
 
     # -- state -------------------------------------------------------------------------------

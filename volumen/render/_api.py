@@ -24,6 +24,7 @@ from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
 from ._slab import kept_for, slabbed
 from ._techniques import Technique, legacy_backend, resolve_device
+from ._warm import kernel_key, note_ready
 
 __all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer", "default_shading",
            "default_look"]
@@ -120,6 +121,8 @@ def render(scene: Scene, camera: Camera, size: tuple[int, int] = (512, 512), *, 
         image = _out_of_core(slabbed(scene), camera, (w, h), device, technique, memory, brick)
     else:
         image = technique.spec.draw(_drawn(scene, technique), camera, (w, h), device, technique.options)
+        if device == "cpu" and technique.name == "raycast":
+            note_ready(kernel_key(scene, camera))  # its kernel is compiled now (volumen.render._standin asks)
     image.stats["renderer"] = {"device": device, "technique": technique.name}
     image.display = scene.display.resolved(scene.shading.mode, scene.mode)
     return image

@@ -18,12 +18,15 @@ from __future__ import annotations
 import multiprocessing as mp
 import os
 import queue
+import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from contextlib import contextmanager
 from dataclasses import replace
 
-__all__ = ["warm", "warm_scene", "kernel_key", "cores", "COMMON_KERNELS", "WARM_EDGE", "WARM_SIZE"]
+__all__ = ["warm", "warm_scene", "kernel_key", "cores", "note_ready", "is_ready", "COMMON_KERNELS", "WARM_EDGE",
+           "WARM_SIZE"]
 
 #: (mode, shading model) of the common ray-casting kernels: what the app warms in the background and
 #: ``volumen bench compile`` times (not path tracing, label maps or pre-integration)
@@ -36,6 +39,10 @@ WARM_SIZE = (16, 16)
 WARM_EDGE = 48
 #: the shading models in the order their kernels take longest to compile (longest first)
 _COST = {"scattering": 0, "shadows": 1, "phong": 2, "headlight": 3, "none": 4}
+#: the :func:`kernel_key` of each kernel this process draws without compiling: drawn here on the CPU, or compiled
+#: into the disk cache by a child of :func:`warm` (``volumen.render._standin`` asks)
+_READY: set = set()
+_READY_LOCK = threading.Lock()
 
 
 def cores() -> int:
@@ -73,6 +80,36 @@ def kernel_key(scene, camera=None) -> tuple:
     sm, vol = scene.sampling, scene.volume
     return (scene.mode, scene.shading.mode, str(vol.dtype), vol.is_color, scene.labels is not None,
             sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive, getattr(camera, "projection", None))
+
+
+def note_ready(key: tuple) -> None:
+    """Record that this process draws the kernel of ``key`` (a :func:`kernel_key`) without compiling it."""
+    with _READY_LOCK:
+        _READY.add(key)
+
+
+def is_ready(key: tuple) -> bool:
+    """Whether :func:`note_ready` recorded ``key`` in this process."""
+    with _READY_LOCK:
+        return key in _READY
+
+
+@contextmanager
+def _main_unseen():
+    """While children start: hide the file of a main script that was run by path. A spawned child runs such a
+    script again (as ``__mp_main__``) before its first job, and a script without an ``if __name__ ==
+    "__main__"`` guard would do all its work twice (a viewer's stand-in starts a warm-up the script never asked
+    for: ``volumen.render._standin``). The children draw volumen's own objects and need nothing from it."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if path is None or getattr(main, "__spec__", None) is not None:
+        yield  # run by module name (python -m, a notebook): the child skips or imports it safely
+        return
+    del main.__file__
+    try:
+        yield
+    finally:
+        main.__file__ = path
 
 
 def _dies_with_parent(nice: int) -> None:
@@ -145,8 +182,9 @@ def warm(jobs: Sequence, workers: int | None = None, progress: Callable[[str], N
         inbox.put(None)
     procs = [ctx.Process(target=_child, args=(inbox, results, os.getpid(), nice), daemon=True,
                          name=f"volumen-warm-{n}") for n in range(workers - 1 if here else workers)]
-    for p in procs:
-        p.start()
+    with _main_unseen():
+        for p in procs:
+            p.start()
     try:
         if here:
             _serve(inbox, results)
@@ -160,6 +198,8 @@ def warm(jobs: Sequence, workers: int | None = None, progress: Callable[[str], N
                 continue
             key = todo[i][0]
             done[key] = seconds
+            if error is None:
+                note_ready(key)
             if progress:
                 said = f"{seconds:.1f} s" if error is None else f"failed to warm: {error}"
                 progress(f"  kernel {len(done)}/{len(todo)} ({key[0]}, {key[1]}): {said}")

@@ -23,9 +23,10 @@ def pytest_configure(config):
 
 @pytest.fixture(autouse=True)
 def no_stand_in(monkeypatch):
-    """Viewers draw their first picture on the CPU here (``volumen.render._standin``; ``tests/render/test_standin.py``
-    turns the stand-in on): it starts a child process per kernel not yet drawn in a process, seconds each across
-    the suite, and would make OpenGL draw the first frame of every viewer under test."""
+    """Viewers draw their first picture on the CPU here (``volumen.render._standin``;
+    ``tests/render/raster/test_standin.py`` turns the stand-in on): it starts a child process per kernel not yet
+    drawn in a process, seconds each across the suite, and would make OpenGL draw the first frame of every viewer
+    under test."""
     monkeypatch.setenv("VOLUMEN_STANDIN", "0")
 
 

@@ -13,10 +13,11 @@ Importing this package imports Numba; ``import volumen`` does not import it.
 from ._guard import ENV, NUMBA_TESTED, in_tested_range, numba_version, patches_allowed
 from ._notice import announce
 from ._savelock import install as _lock_cache_saves
-from ._stamp import stamp_sources, stamped_with
+from ._stamp import source_stamp, stamp_sources, stamped_with
 from ._threads import claim, fetch_add, run_claiming, run_parts
 
 _lock_cache_saves()
 
-__all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "stamp_sources", "stamped_with", "NUMBA_TESTED",
+__all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "stamp_sources", "stamped_with", "source_stamp",
+           "NUMBA_TESTED",
            "ENV", "numba_version", "in_tested_range", "patches_allowed", "announce"]

@@ -24,7 +24,7 @@ import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["stamp_sources", "stamped_with", "install", "installed"]
+__all__ = ["stamp_sources", "stamped_with", "source_stamp", "install", "installed"]
 
 _PACKAGE = Path(__file__).resolve().parents[1]  # volumen/
 #: registered file -> the files its kernels' cache is keyed on (sorted)
@@ -64,7 +64,8 @@ def stamped_with(path) -> tuple[Path, ...]:
     return _KEYS.get(Path(path).resolve(), ())
 
 
-def _stamp(files: tuple[Path, ...]) -> tuple:
+def source_stamp(files: tuple[Path, ...]) -> tuple:
+    """The stamp cached kernels keyed on ``files`` carry: each file's name, modification time and size."""
     out = []
     for f in files:
         st = os.stat(f)
@@ -94,7 +95,7 @@ def _locators():
             return locator
 
         def get_source_stamp(self):
-            return _stamp(self._volumen_key)
+            return source_stamp(self._volumen_key)
 
     user_provided, in_tree = _bases(caching)
 

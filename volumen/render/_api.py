@@ -22,9 +22,10 @@ from ..core import (
 from ..core._camera import Projection, View
 from ..core._scene import Mode, ShadingMode
 from ..core._transfer import Preset
+from ._ready import note_ready
 from ._slab import kept_for, slabbed
 from ._techniques import Technique, legacy_backend, resolve_device
-from ._warm import kernel_key, note_ready
+from ._warm import kernel_key
 
 __all__ = ["render", "render_volume", "clear_cache", "default_mode", "default_transfer", "default_shading",
            "default_look"]

@@ -10,11 +10,14 @@ is no GPU; the same modes, shading models and transfer functions, within the tol
 ``tests/render/raster``), at a reduced viewport, and shows them as not final. Then the CPU draws the picture,
 loading the kernel from the cache (or compiling it itself, where the child failed).
 
-A picture needs no stand-in when its kernel is ready in this process (``_warm.is_ready``: drawn here on the
-CPU, or warmed by a child), when the CPU does not draw it (another device or technique; a chunked volume, which
-the CPU draws out of core; path tracing, which OpenGL does not do), when ``VOLUMEN_STANDIN`` is ``0``, or when no
-OpenGL context can be made here. The desktop app's render worker and the notebook's render loop ask; one-shot
-pictures (``volumen render``, ``render()``) never do: what they write comes from the device they were given.
+A picture needs no stand-in when its kernel is ready (``_ready.is_ready``: drawn or warmed in this process, or
+marked in the cache by an earlier one), when the CPU does not draw it (another device or technique; a chunked
+volume, which the CPU draws out of core), when OpenGL's ray caster refuses the scene (path tracing, a composite
+label map, more lights or clip planes than one pass takes: ``raster.check_scene``), when ``VOLUMEN_STANDIN`` is
+``0``, or when no OpenGL context can be made here. A draw that fails all the same (a volume past the texture
+limit) leaves the viewer to draw on the CPU, compiling beside the child. The desktop app's render worker and the
+notebook's render loop ask; one-shot pictures (``volumen render``, ``render()``) never do: what they write comes
+from the device they were given.
 """
 
 from __future__ import annotations
@@ -23,9 +26,10 @@ import os
 import threading
 
 from ..core import is_chunked
+from ._ready import is_ready, note_ready
 from ._reduced import render_reduced
 from ._techniques import resolve_device
-from ._warm import is_ready, kernel_key, note_ready, warm
+from ._warm import kernel_key, warm
 
 __all__ = ["compiling", "draw", "usable", "ENV", "FRACTION"]
 
@@ -62,11 +66,22 @@ def _probe() -> bool:
 
 
 def _cpu_draws(scene, device, technique) -> bool:
-    """Whether ``render`` draws this picture with a CPU ray-casting kernel that OpenGL can stand in for."""
+    """Whether ``render`` draws this picture with a CPU ray-casting kernel (in memory)."""
     name = getattr(technique, "name", technique) or "raycast"
     return (name == "raycast" and resolve_device(device, "raycast") == "cpu" and scene.volume is not None
-            and not is_chunked(scene.volume.data)
-            and not (scene.mode == "composite" and scene.shading.mode == "pathtrace"))
+            and not is_chunked(scene.volume.data))
+
+
+def _gl_draws(scene) -> bool:
+    """Whether OpenGL's ray caster takes ``scene`` (``raster.check_scene``: its limits, checked before a draw)."""
+    from ..errors import DeviceLimitError
+    from .raster import check_scene
+
+    try:
+        check_scene(scene)
+    except DeviceLimitError:
+        return False
+    return True
 
 
 def compiling(scene, camera, device=None, technique=None) -> threading.Event | None:
@@ -79,7 +94,7 @@ def compiling(scene, camera, device=None, technique=None) -> threading.Event | N
     if not _cpu_draws(scene, device, technique):
         return None
     key = kernel_key(scene, camera)
-    if is_ready(key) or not usable():
+    if is_ready(key) or not _gl_draws(scene) or not usable():
         return None
     with _lock:
         done = _children.get(key)

@@ -25,8 +25,9 @@ from collections.abc import Callable, Sequence
 from contextlib import contextmanager
 from dataclasses import replace
 
-__all__ = ["warm", "warm_scene", "kernel_key", "cores", "note_ready", "is_ready", "COMMON_KERNELS", "WARM_EDGE",
-           "WARM_SIZE"]
+from ._ready import note_ready
+
+__all__ = ["warm", "warm_scene", "kernel_key", "cores", "COMMON_KERNELS", "WARM_EDGE", "WARM_SIZE"]
 
 #: (mode, shading model) of the common ray-casting kernels: what the app warms in the background and
 #: ``volumen bench compile`` times (not path tracing, label maps or pre-integration)
@@ -39,10 +40,6 @@ WARM_SIZE = (16, 16)
 WARM_EDGE = 48
 #: the shading models in the order their kernels take longest to compile (longest first)
 _COST = {"scattering": 0, "shadows": 1, "phong": 2, "headlight": 3, "none": 4}
-#: the :func:`kernel_key` of each kernel this process draws without compiling: drawn here on the CPU, or compiled
-#: into the disk cache by a child of :func:`warm` (``volumen.render._standin`` asks)
-_READY: set = set()
-_READY_LOCK = threading.Lock()
 
 
 def cores() -> int:
@@ -82,16 +79,9 @@ def kernel_key(scene, camera=None) -> tuple:
             sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive, getattr(camera, "projection", None))
 
 
-def note_ready(key: tuple) -> None:
-    """Record that this process draws the kernel of ``key`` (a :func:`kernel_key`) without compiling it."""
-    with _READY_LOCK:
-        _READY.add(key)
-
-
-def is_ready(key: tuple) -> bool:
-    """Whether :func:`note_ready` recorded ``key`` in this process."""
-    with _READY_LOCK:
-        return key in _READY
+#: held while children start (:func:`_main_unseen`): two warm-ups at once (the app's and a stand-in's) hide and
+#: restore the main script's file one after the other
+_STARTING = threading.Lock()
 
 
 @contextmanager
@@ -99,17 +89,21 @@ def _main_unseen():
     """While children start: hide the file of a main script that was run by path. A spawned child runs such a
     script again (as ``__mp_main__``) before its first job, and a script without an ``if __name__ ==
     "__main__"`` guard would do all its work twice (a viewer's stand-in starts a warm-up the script never asked
-    for: ``volumen.render._standin``). The children draw volumen's own objects and need nothing from it."""
-    main = sys.modules.get("__main__")
-    path = getattr(main, "__file__", None)
-    if path is None or getattr(main, "__spec__", None) is not None:
-        yield  # run by module name (python -m, a notebook): the child skips or imports it safely
-        return
-    del main.__file__
-    try:
-        yield
-    finally:
-        main.__file__ = path
+    for: ``volumen.render._standin``). The children draw volumen's own objects and need nothing from it. Held
+    under :data:`_STARTING`; the file is gone for the milliseconds the children take to start, which a thread of
+    the script reading ``__file__`` then would notice. A script run as a module (``python -m``) is imported by
+    name, as multiprocessing does, and is left alone."""
+    with _STARTING:
+        main = sys.modules.get("__main__")
+        path = getattr(main, "__file__", None)
+        if path is None or getattr(main, "__spec__", None) is not None:
+            yield
+            return
+        del main.__file__
+        try:
+            yield
+        finally:
+            main.__file__ = path
 
 
 def _dies_with_parent(nice: int) -> None:

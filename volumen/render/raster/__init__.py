@@ -26,7 +26,7 @@ from ._context import (
 )
 from ._mesh import MeshOptions, clear_mesh_cache, isosurface_mesh, render_isosurface_mesh, render_mesh
 from ._planes import ADAPTIVE, slab_boundaries, slice_polygons
-from ._raycast import MAX_LIGHTS, MAX_PLANES, render_raycast_gl
+from ._raycast import MAX_LIGHTS, MAX_PLANES, check_scene, render_raycast_gl
 from ._slicing import SlicingOptions, render_slicing
 from ._textures import clear_cache
 
@@ -34,6 +34,7 @@ __all__ = [
     "gl_renderer",
     "is_software_renderer",
     "render_raycast_gl",
+    "check_scene",
     "MAX_LIGHTS",
     "MAX_PLANES",
     "on_gl_thread",

@@ -28,12 +28,13 @@ from ._rc_uniforms import MAX_LIGHTS, MAX_PLANES, frame_uniforms, variant
 from ._shaders import program
 from ._uniforms import set_uniform
 
-__all__ = ["render_raycast_gl", "MAX_LIGHTS", "MAX_PLANES"]
+__all__ = ["render_raycast_gl", "check_scene", "MAX_LIGHTS", "MAX_PLANES"]
 
 _quad: dict = {}
 
 
-def _check(scene) -> None:
+def check_scene(scene) -> None:
+    """Raise the :class:`DeviceLimitError` the gl ray caster gives ``scene`` before drawing (its limits)."""
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
         raise DeviceLimitError("path tracing runs on the cpu and cuda devices, not gl; use --device cpu")
     if getattr(scene, "labels", None) is not None and scene.mode == "composite":
@@ -66,7 +67,7 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     do (path tracing, a volume past the 3-D texture size, too many lights or planes)."""
     from ..raycast import FAR, Outputs, frame_image, pack_frame
 
-    _check(scene)
+    check_scene(scene)
     ctx = get_context()
     check_limits(ctx, scene.volume.shape)
     t_start = time.perf_counter()

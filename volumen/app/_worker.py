@@ -126,14 +126,14 @@ class RenderWorker(QObject):
     def _stand_in(self, job: FrameJob) -> threading.Event | None:
         """While ``job``'s CPU kernel compiles aside: emit OpenGL's stand-in and return the Event set when the
         kernel is compiled; None when the CPU draws now (or OpenGL failed: then the CPU draws, compiling)."""
-        if job.mesh is not None and job.mesh_display == "instead":
-            return None
-        compiled = _standin.compiling(job.scene, job.camera, raycast_device(job), job.technique)
-        if compiled is None:
-            return None
         try:
+            if job.mesh is not None and job.mesh_display == "instead":
+                return None
+            compiled = _standin.compiling(job.scene, job.camera, raycast_device(job), job.technique)
+            if compiled is None:
+                return None
             frame = render_frame(replace(job, device="gl"), min(self.fraction, _standin.FRACTION), final=False)
-        except Exception:  # noqa: BLE001 - no stand-in; the CPU draws the picture when it is compiled
+        except Exception:  # noqa: BLE001 - a stand-in is an extra: the CPU draws the picture (compiling)
             return None
         frame.stats = dict(frame.stats, stand_in=True)
         self._emit(self.frame_ready, frame)

@@ -132,7 +132,7 @@ class RenderWorker(QObject):
             compiled = _standin.compiling(job.scene, job.camera, raycast_device(job), job.technique)
             if compiled is None:
                 return None
-            frame = render_frame(replace(job, device="gl"), min(self.fraction, _standin.FRACTION), final=False)
+            frame = render_frame(replace(job, device="gl"), _standin.drawn_at(self.fraction), final=False)
         except Exception:  # noqa: BLE001 - a stand-in is an extra: the CPU draws the picture (compiling)
             return None
         frame.stats = dict(frame.stats, stand_in=True)

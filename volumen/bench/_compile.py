@@ -37,44 +37,36 @@ BAR_S = 5.0
 #: ``make demo`` from a cold cache after installation, seconds (issue 27)
 DEMO_BAR_S = 40.0
 
-_CHILD = r"""
+#: the scene every child draws: the head phantom at 48^3 in the (mode, shading) of its arguments
+_SCENE = r"""
 import json, sys, time
 t0 = time.perf_counter()
 from volumen.core import Camera, Light, Scene, Shading
 from volumen.data import phantom
 from volumen.render import default_transfer, render
+from volumen.notebook import View
 t1 = time.perf_counter()
 mode, shading = sys.argv[1], sys.argv[2]
 v = phantom("head", size=(48, 48, 48))
 lights = (Light(kind="point", position=tuple(v.center + [0, 0, 200])),) if shading in ("shadows", "scattering") else ()
 scene = Scene(volume=v, transfer=default_transfer(v, mode), mode=mode, shading=Shading(mode=shading), lights=lights)
+"""
+#: the scene's first picture through ``render``
+_CHILD = _SCENE + r"""
 c0, w0 = time.process_time(), time.perf_counter()
 image = render(scene, Camera.orbit(v), (64, 64))
 print(json.dumps({"imports": t1 - t0, "wall": time.perf_counter() - w0, "cpu": time.process_time() - c0,
                   "max": float(image.rgba[..., :3].max())}))
 """
-
 #: the same scene in the notebook's viewer: seconds to its first frame and to its final (CPU) frame
-_VIEWER = r"""
-import json, sys, time
-from volumen.core import Camera, Light, Scene, Shading
-from volumen.data import phantom
-from volumen.notebook import View
-from volumen.render import default_transfer
-if __name__ == "__main__":
-    mode, shading = sys.argv[1], sys.argv[2]
-    v = phantom("head", size=(48, 48, 48))
-    lights = ((Light(kind="point", position=tuple(v.center + [0, 0, 200])),)
-              if shading in ("shadows", "scattering") else ())
-    scene = Scene(volume=v, transfer=default_transfer(v, mode), mode=mode, shading=Shading(mode=shading),
-                  lights=lights)
-    seen = []
-    w0 = time.perf_counter()
-    view = View(scene, Camera.orbit(v), (384, 384), on_frame=lambda f, final: seen.append((time.perf_counter(), final)))
-    assert view.wait(600), "no final frame"
-    view.close()
-    print(json.dumps({"shown": seen[0][0] - w0, "cpu": [t for t, final in seen if final][0] - w0,
-                      "stand_in": not seen[0][1]}))
+_VIEWER = _SCENE + r"""
+seen = []
+w0 = time.perf_counter()
+view = View(scene, Camera.orbit(v), (384, 384), on_frame=lambda f, final: seen.append((time.perf_counter(), final)))
+assert view.wait(600), "no final frame"
+view.close()
+print(json.dumps({"shown": seen[0][0] - w0, "cpu": [t for t, final in seen if final][0] - w0,
+                  "stand_in": not seen[0][1]}))
 """
 
 

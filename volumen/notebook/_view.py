@@ -58,7 +58,7 @@ def stand_in_frame(state: ViewState, fraction: float = 1.0):
         img = _standin.draw(state.scene, state.camera, state.size, fraction)
     except Exception:  # noqa: BLE001 - no stand-in: draw_frame then draws on the CPU, compiling
         return None
-    return img.to_uint8(), min(float(fraction), _standin.FRACTION), compiled
+    return img.to_uint8(), _standin.drawn_at(fraction), compiled
 
 
 def drag_kind(button: int, modifiers) -> str | None:

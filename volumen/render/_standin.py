@@ -31,7 +31,7 @@ from ._reduced import render_reduced
 from ._techniques import resolve_device
 from ._warm import kernel_key, warm
 
-__all__ = ["compiling", "draw", "usable", "ENV", "FRACTION"]
+__all__ = ["compiling", "draw", "usable", "drawn_at", "ENV", "FRACTION"]
 
 #: environment variable: ``0`` turns stand-ins off (the first picture then waits for its kernel's compile)
 ENV = "VOLUMEN_STANDIN"
@@ -115,9 +115,14 @@ def _compile(key, scene, camera, done: threading.Event) -> None:
         done.set()
 
 
+def drawn_at(fraction: float) -> float:
+    """The viewport fraction a stand-in asked at ``fraction`` is drawn at (at most :data:`FRACTION`)."""
+    return min(float(fraction), FRACTION)
+
+
 def draw(scene, camera, size, fraction: float = 1.0):
     """The stand-in for the CPU's picture of ``scene``: the OpenGL ray caster at ``fraction`` of ``size`` (at most
     :data:`FRACTION`), upscaled; its ``stats["stand_in"]`` is True. Raises what OpenGL raises."""
-    img = render_reduced(scene, camera, size, min(float(fraction), FRACTION), device="gl", technique="raycast")
+    img = render_reduced(scene, camera, size, drawn_at(fraction), device="gl", technique="raycast")
     img.stats["stand_in"] = True
     return img

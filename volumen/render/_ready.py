@@ -17,10 +17,18 @@ import os
 import threading
 from pathlib import Path
 
-__all__ = ["note_ready", "is_ready", "marker_dir"]
+__all__ = ["note_ready", "is_ready", "marker_dir", "when_ready"]
 
 _READY: set = set()
 _LOCK = threading.Lock()
+#: callables(key) told of each kernel noted ready in this process (``_standin`` ends a stand-in with them)
+_HOOKS: list = []
+
+
+def when_ready(hook) -> None:
+    """Call ``hook(key)`` for each kernel :func:`note_ready` records from now on in this process."""
+    with _LOCK:
+        _HOOKS.append(hook)
 
 
 def marker_dir() -> Path:
@@ -47,6 +55,9 @@ def note_ready(key: tuple) -> None:
         if key in _READY:
             return
         _READY.add(key)
+        hooks = tuple(_HOOKS)
+    for hook in hooks:
+        hook(key)
     try:
         marker = _marker(key)
         marker.parent.mkdir(parents=True, exist_ok=True)

@@ -26,7 +26,7 @@ import os
 import threading
 
 from ..core import is_chunked
-from ._ready import is_ready, note_ready
+from ._ready import is_ready, note_ready, when_ready
 from ._reduced import render_reduced
 from ._techniques import resolve_device
 from ._warm import kernel_key, warm
@@ -43,6 +43,18 @@ _lock = threading.Lock()
 #: kernel_key -> Event set when its child has ended
 _children: dict = {}
 _gl: dict = {}
+
+
+def _ended(key) -> None:
+    """A kernel was noted ready (by its own child, or by another warm-up, such as the app's, that got there
+    first): its stand-ins end."""
+    with _lock:
+        done = _children.get(key)
+    if done is not None:
+        done.set()
+
+
+when_ready(_ended)
 
 
 def usable() -> bool:

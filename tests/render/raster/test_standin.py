@@ -99,6 +99,18 @@ def test_stand_in_until_the_child_has_compiled_then_the_cpu(gl, head, stand_ins)
     assert _standin.compiling(scene, cam) is None and _ready.is_ready(kernel_key(scene, cam))
 
 
+def test_a_stand_in_ends_when_another_warm_up_compiled_the_kernel_first(gl, head, stand_ins):
+    scene, cam = _scene(head, "minip", "none"), Camera.orbit(head)
+    _compiled(scene, cam)
+    done = _standin.compiling(scene, cam)
+    assert isinstance(done, threading.Event) and not done.is_set()
+    note_ready(kernel_key(scene, cam))  # what the app's warm-up does when its child has cached this kernel
+    assert done.is_set()  # the viewer draws on the CPU now, not when the stand-in's own child ends
+    deadline = time.monotonic() + CHILD_S  # the stand-in's child runs to its end, as it would
+    while any(t.name == "volumen-standin" for t in threading.enumerate()) and time.monotonic() < deadline:
+        time.sleep(0.1)
+
+
 @pytest.mark.parametrize(("mode", "shading"), [("composite", "headlight"), ("mip", "none")])
 def test_the_stand_in_is_the_cpu_picture_drawn_by_opengl(gl, head, mode, shading):
     scene, cam = _scene(head, mode, shading), Camera.orbit(head, azimuth=30, elevation=15)

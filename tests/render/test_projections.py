@@ -69,3 +69,18 @@ def test_crop_box_in_voxels_and_world(noise):
     # the same box in world mm (unit spacing, origin 0): same picture
     imw = render(_scene(noise, "mip", clipping=Clipping(crop=crop, crop_space="world")), cam, size)
     np.testing.assert_array_equal(np.nan_to_num(imw.value, nan=-1), np.nan_to_num(im.value, nan=-1))
+
+
+def test_the_three_projections_are_one_kernel(noise):
+    """mip, minip and average run one compiled kernel (``Settings.proj`` picks the projection): after a MIP the
+    other two compile nothing, and ``warm`` takes them for one job."""
+    from volumen.render._warm import kernel_key
+    from volumen.render.raycast._march import _trace_tiles
+
+    cam, size = axis_camera(noise, "superior")
+    render(_scene(noise, "mip"), cam, size)
+    kernels = len(_trace_tiles.overloads)
+    for mode in ("minip", "average"):
+        assert render(_scene(noise, mode), cam, size).stats["samples"] > 0
+    assert len(_trace_tiles.overloads) == kernels
+    assert len({kernel_key(_scene(noise, m), cam) for m in REDUCE}) == 1

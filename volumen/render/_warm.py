@@ -74,8 +74,11 @@ def warm_scene(scene):
 def kernel_key(scene, camera=None) -> tuple:
     """What decides the kernels a picture compiles, as far as :func:`warm` tells jobs apart (two jobs with one
     key are warmed once)."""
+    from .raycast._pieces import PROJECTIONS
+
     sm, vol = scene.sampling, scene.volume
-    return (scene.mode, scene.shading.mode, str(vol.dtype), vol.is_color, scene.labels is not None,
+    mode = "projection" if scene.mode in PROJECTIONS else scene.mode  # one kernel for the three (_project)
+    return (mode, scene.shading.mode, str(vol.dtype), vol.is_color, scene.labels is not None,
             sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive, getattr(camera, "projection", None))
 
 

@@ -202,7 +202,8 @@ def test_every_frame_field_reaches_the_shader():
                  "part": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "env_power": "path tracing (not on gl)", "mblock": "path tracing (not on gl)",
                  "stride": "adaptive sampling (cpu and cuda; gl samples at full rate)",
-                 "cells": "transparent cells (cpu and cuda; gl takes every sample)"}
+                 "cells": "transparent cells (cpu and cuda; gl takes every sample)",
+                 "proj": "the shader's MODE define (raster._rc_uniforms.variant)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm",
               "envsh": "u_envsh", "nrm": "u_nmat"}

@@ -86,7 +86,8 @@ def test_a_marker_spares_a_later_session_the_stand_in(head, stand_ins):
     assert len(list(_ready.marker_dir().glob("*"))) == 1
     _ready._READY.clear()  # a new process: only the marker is left
     assert _ready.is_ready(key)
-    assert not _ready.is_ready(kernel_key(_scene(head, "minip", "none"), cam))  # another kernel's is not
+    assert _ready.is_ready(kernel_key(_scene(head, "minip", "none"), cam))  # the projections share one kernel
+    assert not _ready.is_ready(kernel_key(_scene(head, "composite", "none"), cam))  # another kernel's is not
 
 
 def test_stand_in_until_the_child_has_compiled_then_the_cpu(gl, head, stand_ins):

@@ -20,8 +20,8 @@ __all__ = ["MAX_LIGHTS", "MAX_PLANES", "MODES", "LIGHTS", "variant", "frame_unif
 #: most lights and clip planes one pass takes
 MAX_LIGHTS = 16
 MAX_PLANES = 16
-#: mode tag (``raycast._pieces``) -> MODE of raycast.glsl
-MODES = {"Composite": 0, "Preintegrated": 1, "Mip": 2, "Minip": 3, "Average": 4, "Isosurface": 5}
+#: mode tag (``raycast._pieces``) -> MODE of raycast.glsl; the projection tag's ``Settings.proj`` is added to it
+MODES = {"Composite": 0, "Preintegrated": 1, "Projection": 2, "Isosurface": 5}
 #: lighting tag -> LIGHT of raycast.glsl
 LIGHTS = {"Unlit": 0, "Phong": 1, "Headlight": 1, "Shadowed": 2, "Scatter": 3}
 #: uniforms of the packed camera (``raycast._geometry.pack_camera``): what a viewer changes per frame
@@ -33,7 +33,9 @@ LIGHT_UNIFORMS = ("u_nlights", "u_lpos", "u_ldir", "u_lcol", "u_lexp")
 def variant(frame) -> dict:
     """The ``#define`` s of the frame's program: ``{"MODE": int, "LIGHT": int, "MAX_LIGHTS": .., "MAX_PLANES": ..,
     "FACING": float}`` (``core.FACING``)."""
-    return {"MODE": MODES[type(frame.mode).__name__], "LIGHT": LIGHTS[type(frame.light).__name__],
+    tag = type(frame.mode).__name__
+    mode = MODES[tag] + (frame.settings.proj if tag == "Projection" else 0)
+    return {"MODE": mode, "LIGHT": LIGHTS[type(frame.light).__name__],
             "MAX_LIGHTS": MAX_LIGHTS, "MAX_PLANES": MAX_PLANES, "FACING": repr(float(FACING))}
 
 

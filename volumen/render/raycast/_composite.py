@@ -195,7 +195,7 @@ def _finish_pre(light, r, a, s, st, taken, have, out, px, py):
 
 @radius.register(Composite, LabelledComposite, Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
-def _radius(a, st, o, bk, bj, bi):
+def _radius(a, s, st, o, bk, bj, bi):
     return int(a.bflag[o, bk, bj, bi])
 
 

@@ -120,6 +120,7 @@ class Settings(NamedTuple):
     envmode: int = 0         #: 0: ambient radiance ``ka`` (uniform environment); 1: ``Arrays.env`` (``_environment``)
     env_power: float = 0.0   #: path tracing: weight of the environment against the lights in light selection
     mblock: int = 8          #: path tracing: block edge of ``Arrays.maj`` (voxels)
+    proj: int = 0            #: the projection (``_pieces.PROJECTIONS``): 0 maximum, 1 minimum, 2 mean
     hdr: bool = False        #: composite colour left unclipped (high dynamic range, for a tone curve), else at most 1
 
 

@@ -115,7 +115,7 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
 
 @radius.register(Isosurface)
 @njit(cache=True, fastmath=True, inline="always")
-def _radius(a, st, o, bk, bj, bi):
+def _radius(a, s, st, o, bk, bj, bi):
     if st[3] > 0.0:  # skip distances of the blocks no value of which reaches the threshold
         return int(a.bflag[o, bk, bj, bi])
     return 0  # looking for a fall: no block grid of those (rare: eye inside the surface)

@@ -23,7 +23,7 @@ from ._lightvol import NMETA, light_volumes
 from ._medium import Medium, label_scale
 from ._normals import DIRS, NO_CODES
 from ._octants import octant_sides
-from ._pieces import LIGHT_TAGS, MODE_TAGS, RECON_TAGS
+from ._pieces import LIGHT_TAGS, MODE_TAGS, PROJECTIONS, RECON_TAGS
 from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
@@ -271,6 +271,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
         bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
         lsolid=bool(solid_rows(t["llut"]).any()),
         color=prep.is_color, envmode=envmode, env_power=env_power,
+        proj=PROJECTIONS.index(scene.mode) if scene.mode in PROJECTIONS else 0,
         hdr=scene.display.resolved(scene.shading.mode, scene.mode).tonemap != "linear")
 
 

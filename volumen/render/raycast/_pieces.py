@@ -4,10 +4,11 @@ A kernel takes a *mode tag* and a *light tag*: empty NamedTuple instances
 whose classes Numba sees as distinct types. A :func:`piece` is a generic
 function whose implementation is picked by the class of its first argument
 when the caller is compiled, so ``step(mode, ...)`` inside the marching loop
-compiles to the composite step for a ``Composite()`` tag and to the MIP step
-for a ``Mip()`` tag -- one skeleton, one specialised kernel per (mode, light),
+compiles to the composite step for a ``Composite()`` tag and to the projections'
+step for a ``Projection()`` tag -- one skeleton, one specialised kernel per (mode, light),
 each compiled on its first use (and cached: the tags' types pickle by class),
-with no branch on the mode at run time.
+with no branch on the mode at run time (but among the three projections, which share one kernel:
+``Settings.proj``, ``_project``).
 
 The *reconstruction tag* (``Settings.recon``: :class:`Trilinear`, which also
 covers nearest-voxel sampling by ``Settings.nearest``, or :class:`BSpline`) rides
@@ -28,7 +29,7 @@ from ._inlining import inline_only
 
 __all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS",
            "LIGHT_TAGS",
-           "Composite", "LabelledComposite", "Preintegrated", "Mip", "Minip", "Average",
+           "Composite", "LabelledComposite", "Preintegrated", "Projection", "PROJECTIONS",
            "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter", "Trilinear", "BSpline", "RECON_TAGS"]
 
 
@@ -44,16 +45,10 @@ class Preintegrated(NamedTuple):
     """Emission-absorption compositing of pre-integrated segments."""
 
 
-class Mip(NamedTuple):
-    """Maximum intensity projection."""
-
-
-class Minip(NamedTuple):
-    """Minimum intensity projection."""
-
-
-class Average(NamedTuple):
-    """Mean along the ray."""
+class Projection(NamedTuple):
+    """Maximum, minimum or mean of the samples along the ray (``Settings.proj``: :data:`PROJECTIONS`): one kernel
+    for the three, which differ by a branch on a value every ray of the frame shares, not by a compile of their
+    own."""
 
 
 class Isosurface(NamedTuple):
@@ -90,8 +85,10 @@ class BSpline(NamedTuple):
 
 
 #: Scene.mode (and pre-integration, label-aware composite) -> mode tag class
-MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrated": Preintegrated, "mip": Mip,
-             "minip": Minip, "average": Average, "isosurface": Isosurface}
+MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrated": Preintegrated, "mip": Projection,
+             "minip": Projection, "average": Projection, "isosurface": Isosurface}
+#: the projection modes, by ``Settings.proj`` (the :class:`Projection` tag's kernel)
+PROJECTIONS = ("mip", "minip", "average")
 #: lighting model name -> light tag class
 LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "headlight": Headlight, "shadows": Shadowed, "scatter": Scatter}
 #: Sampling.interpolation -> reconstruction tag class
@@ -176,7 +173,7 @@ init = piece("init", "light, r, a, s", "-> (state, samples taken, done, previous
 step = piece("step", "light, r, a, s, st, k, t, v, have, span",
              "-> (state, extra samples taken, done); span: grid steps the sample stands for (adaptive sampling)")
 finish = piece("finish", "light, r, a, s, st, taken, have, out, px, py", "write the pixel")
-radius = piece("radius", "a, st, o, bk, bj, bi", "-> blocks to jump (0: take the sample); o: the ray's octant")
+radius = piece("radius", "a, s, st, o, bk, bj, bi", "-> blocks to jump (0: take the sample); o: the ray's octant")
 eager = piece("eager", "", "-> True when one skippable block suffices to jump")
 shade = piece("shade", "a, s, n, v, w", "-> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")
 uses_normals = piece("uses_normals", "", "-> whether shading reads the gradient")

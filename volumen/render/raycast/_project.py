@@ -3,8 +3,11 @@
 mip / minip: the largest / smallest sample; depth = where it was first met.
 average: the mean of the samples taken; depth = the ray's entry ``t0``. The
 pixel is the value's colour and opacity from the (uncorrected) table, and
-``value`` the projected value in data units. State: ``(value, depth)`` (mip,
-minip) or ``(sum, count)`` (average).
+``value`` the projected value in data units. State: ``(value, depth)`` (mip;
+minip keeps the largest negated value) or ``(sum, count)`` (average).
+
+The three are one kernel (the :class:`~._pieces.Projection` tag): the frame's ``Settings.proj`` picks the
+projection, a branch every ray of the frame takes the same way.
 """
 
 from __future__ import annotations
@@ -12,44 +15,31 @@ from __future__ import annotations
 from numba import njit
 
 from ._frame import FAR
-from ._pieces import Average, Minip, Mip, eager, finish, init, radius, step
+from ._pieces import Projection, eager, finish, init, radius, step
 
 __all__ = []
 
+MIP, MINIP, AVERAGE = 0, 1, 2  # Settings.proj: _pieces.PROJECTIONS
 
-@init.register(Mip)
+
+@init.register(Projection)
 @njit(cache=True, inline="always")
-def _init_mip(light, r, a, s):
-    return (-FAR, FAR), 0, False, False
+def _init(light, r, a, s):
+    return ((0.0, 0.0) if s.proj == AVERAGE else (-FAR, FAR)), 0, False, False
 
 
-@init.register(Minip)
-@njit(cache=True, inline="always")
-def _init_minip(light, r, a, s):
-    return (FAR, FAR), 0, False, False
-
-
-@init.register(Average)
-@njit(cache=True, inline="always")
-def _init_average(light, r, a, s):
-    return (0.0, 0.0), 0, False, False
-
-
-@step.register(Mip)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_mip(light, r, a, s, st, k, t, v, have, span):
-    return ((v, t) if v > st[0] else st), 0, False
+def _signed(s, v):
+    """The value the running extreme keeps: ``v`` for the maximum, ``-v`` for the minimum (a select, no branch)."""
+    return v if s.proj == MIP else -v
 
 
-@step.register(Minip)
+@step.register(Projection)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_minip(light, r, a, s, st, k, t, v, have, span):
-    return ((v, t) if v < st[0] else st), 0, False
-
-
-@step.register(Average)
-@njit(cache=True, fastmath=True, inline="always")
-def _step_average(light, r, a, s, st, k, t, v, have, span):
+def _step(light, r, a, s, st, k, t, v, have, span):
+    if s.proj != AVERAGE:
+        w = _signed(s, v)
+        return ((w, t) if w > st[0] else st), 0, False
     return (st[0] + v, st[1] + 1.0), 0, False
 
 
@@ -65,41 +55,29 @@ def _write(a, s, v, dep, out, px, py):
     out.value[py, px] = s.vmin + v * s.vscale
 
 
-@finish.register(Mip, Minip)
+@finish.register(Projection)
 @njit(cache=True, fastmath=True)
-def _finish_extreme(light, r, a, s, st, taken, have, out, px, py):
+def _finish(light, r, a, s, st, taken, have, out, px, py):
     out.nsamp[py, px] = taken
-    if taken > 0:
-        _write(a, s, st[0], st[1], out, px, py)
-
-
-@finish.register(Average)
-@njit(cache=True, fastmath=True)
-def _finish_average(light, r, a, s, st, taken, have, out, px, py):
-    out.nsamp[py, px] = taken
-    if st[1] > 0.0:
+    if s.proj != AVERAGE:
+        if taken > 0:
+            _write(a, s, _signed(s, st[0]), st[1], out, px, py)
+    elif st[1] > 0.0:
         _write(a, s, st[0] / st[1], r.t0, out, px, py)
 
 
-@radius.register(Mip)
+@radius.register(Projection)
 @njit(cache=True, fastmath=True, inline="always")
-def _radius_mip(a, st, o, bk, bj, bi):
-    return 1 if a.bmax[bk, bj, bi] <= st[0] else 0
-
-
-@radius.register(Minip)
-@njit(cache=True, fastmath=True, inline="always")
-def _radius_minip(a, st, o, bk, bj, bi):
-    return 1 if a.bmin[bk, bj, bi] >= st[0] else 0
-
-
-@radius.register(Average)
-@njit(cache=True, inline="always")
-def _radius_none(a, st, o, bk, bj, bi):
+def _radius(a, s, st, o, bk, bj, bi):
+    """1 where the block cannot beat the running maximum (minimum); the mean takes every sample."""
+    if s.proj == MIP:
+        return 1 if a.bmax[bk, bj, bi] <= st[0] else 0
+    if s.proj == MINIP:
+        return 1 if -a.bmin[bk, bj, bi] <= st[0] else 0
     return 0
 
 
-@eager.register(Mip, Minip, Average)
+@eager.register(Projection)
 @njit(cache=True, inline="always")
 def _eager_no():
     return False

@@ -112,7 +112,7 @@ def walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip):
     still holds the last sample."""
     o = octant(r)
     while tc <= r.t1:
-        rad = radius(mode, a, st, o, bk, bj, bi)
+        rad = radius(mode, a, s, st, o, bk, bj, bi)
         take_empty = rad > 0 and not (prev_skip or eager(mode))  # the first sample of a skipped run is taken
         coarse = rad <= 0 and s.stride > 1 and a.bcoarse[o, bk, bj, bi] > 0
         r1 = 1 if take_empty else max(int(a.bcoarse[o, bk, bj, bi]) if coarse else rad, 1)

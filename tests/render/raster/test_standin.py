@@ -35,6 +35,15 @@ def stand_ins(monkeypatch, tmp_path):
     monkeypatch.setattr(_ready, "_READY", set())
     monkeypatch.setattr(_ready, "marker_dir", lambda: tmp_path / "markers")
     monkeypatch.setattr(_standin, "_children", {})
+    yield
+    _children_end()  # a child still ending would note its kernel ready in the next test's fresh record
+
+
+def _children_end():
+    """Wait for every stand-in's child (and the thread that waits for it) to end, as they would on their own."""
+    deadline = time.monotonic() + CHILD_S
+    while any(t.name == "volumen-standin" for t in threading.enumerate()) and time.monotonic() < deadline:
+        time.sleep(0.1)
 
 
 @pytest.fixture(scope="module")
@@ -107,9 +116,6 @@ def test_a_stand_in_ends_when_another_warm_up_compiled_the_kernel_first(gl, head
     assert isinstance(done, threading.Event) and not done.is_set()
     note_ready(kernel_key(scene, cam))  # what the app's warm-up does when its child has cached this kernel
     assert done.is_set()  # the viewer draws on the CPU now, not when the stand-in's own child ends
-    deadline = time.monotonic() + CHILD_S  # the stand-in's child runs to its end, as it would
-    while any(t.name == "volumen-standin" for t in threading.enumerate()) and time.monotonic() < deadline:
-        time.sleep(0.1)
 
 
 @pytest.mark.parametrize(("mode", "shading"), [("composite", "headlight"), ("mip", "none")])

@@ -15,11 +15,12 @@ from __future__ import annotations
 from numba import njit
 
 from ._frame import FAR
-from ._pieces import Projection, eager, finish, init, radius, step
+from ._pieces import PROJECTIONS, Projection, eager, finish, init, radius, step
 
 __all__ = []
 
-MIP, MINIP, AVERAGE = 0, 1, 2  # Settings.proj: _pieces.PROJECTIONS
+#: ``Settings.proj`` of each projection (its place in ``_pieces.PROJECTIONS``)
+MIP, MINIP, AVERAGE = (PROJECTIONS.index(m) for m in ("mip", "minip", "average"))
 
 
 @init.register(Projection)

@@ -1,4 +1,5 @@
-"""One writer at a time per Numba cache index, across processes, and the data before the index.
+"""One writer at a time per Numba cache index, across processes, the data before the index, and an index that
+cannot be read back taken for stale.
 
 Numba's disk cache keeps one index file per cached function (signature -> data file), which
 ``numba.core.caching.IndexDataCacheFile.save`` reads, extends and writes back, and then writes the data file.
@@ -15,6 +16,14 @@ load a stale data file of that name left from before the sources changed: the nu
 the name, write the data file, then the index. Loading takes no lock: files are replaced whole (Numba writes a
 temporary file and renames it). Where no lock can be taken at all, it saves as Numba does.
 
+An index is one pickle of ``(source stamp, {signature: data file})``, and Numba unpickles the whole of it before
+it compares the stamp. An index written by older sources can name a type that the new sources renamed or
+removed (the signature of ``_trace_tiles`` names the mode tag of each kernel, and mip's tag ``Mip`` became
+``Projection``): unpickling it raised ``AttributeError`` and every drawing command failed with an internal error
+until the user deleted the cache. :func:`install` also replaces ``_load_index`` so that an index it cannot
+unpickle reads as empty, which is what Numba answers for a stale stamp: the kernel compiles, and saving it
+writes a fresh index over the old one. A file it cannot open still raises, as in Numba.
+
 Like the cache stamp (:mod:`._stamp`) it is about correctness, so it does not stand down outside the tested
 Numba range; it steps aside where Numba's class lacks the helpers it calls. Upstream: the same race, met by
 concurrent processes, is numba/numba#10128 (open), where Numba's developers proposed a file lock; this goes
@@ -27,14 +36,18 @@ import contextlib
 import hashlib
 import itertools
 import os
+import pickle
 import tempfile
 from pathlib import Path
 
-__all__ = ["install", "installed", "lock_path"]
+__all__ = ["install", "installed", "lock_path", "UNREADABLE"]
 
 _state = {"installed": False}
 #: what ``save`` calls on Numba's class
 _HELPERS = ("_load_index", "_save_index", "_save_data", "_data_name", "_index_path")
+#: what unpickling an index of older sources raises: a name or module gone, a pickle cut short or foreign
+UNREADABLE = (AttributeError, ImportError, EOFError, IndexError, KeyError, TypeError, ValueError,
+              pickle.UnpicklingError)
 
 
 def lock_path(index_path, beside: bool = True) -> Path:
@@ -84,8 +97,16 @@ def _save(self, key, data):
             self._save_index(overloads)
 
 
+def _load_index(self):
+    """Numba's ``_load_index``, where an index that cannot be unpickled reads as empty (stale)."""
+    try:
+        return _load_index.__wrapped__(self)
+    except UNREADABLE:
+        return {}
+
+
 def install() -> bool:
-    """Replace ``IndexDataCacheFile.save`` once (process-wide); whether it is replaced."""
+    """Replace ``IndexDataCacheFile.save`` and ``_load_index`` once (process-wide); whether they are replaced."""
     if _state["installed"]:
         return True
     try:
@@ -99,11 +120,13 @@ def install() -> bool:
             _HELPERS[-1] not in cls.__init__.__code__.co_names:
         return False
     _save.__wrapped__ = cls.save
+    _load_index.__wrapped__ = cls._load_index
     cls.save = _save
+    cls._load_index = _load_index
     _state["installed"] = True
     return True
 
 
 def installed() -> bool:
-    """Whether ``save`` is replaced in this process."""
+    """Whether ``save`` and ``_load_index`` are replaced in this process."""
     return _state["installed"]

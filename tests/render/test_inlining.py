@@ -95,10 +95,10 @@ def _shape_problems() -> list[str]:
     if not isinstance(locators, list) or not {"_locator_classes", "from_function"} <= set(init_names):
         out.append("caching.CacheImpl no longer picks a locator from its _locator_classes list with from_function: "
                    "cached kernels are keyed on their own file only (a stale cache after editing a helper)")
-    elif [c.__module__ for c in locators[:2]] != ["volumen.jit._stamp"] * 2:
-        out.append(f"the stamped locators are not first in CacheImpl._locator_classes: {locators[:2]}")
+    elif [c.__module__ for c in locators[:3]] != ["volumen.jit._stamp"] * 3:
+        out.append(f"the stamped locators are not first in CacheImpl._locator_classes: {locators[:3]}")
     else:
-        for cls in locators[:2]:
+        for cls in locators[:3]:
             base = cls.__mro__[2]  # (stamped class, _Stamped, Numba's locator, ...)
             if params(base.from_function) != ["py_func", "py_file"] or params(base.get_source_stamp) != ["self"]:
                 out.append(f"caching.{base.__name__}.from_function(py_func, py_file) / get_source_stamp(self) "

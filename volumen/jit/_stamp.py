@@ -9,12 +9,15 @@ registers its kernels' files with :func:`stamp_sources` *before defining them* (
 first); the cache locators below then give each registered file the stamp of its whole group: the
 modification times and sizes of every file in it, so editing any of them recompiles the group.
 
-This puts two locators at the front of ``numba.core.caching.CacheImpl._locator_classes`` (a private list,
+This puts three locators at the front of ``numba.core.caching.CacheImpl._locator_classes`` (a private list,
 the fourth patch of Numba's internals, guarded by :mod:`._guard`; upstream: numba/numba#1833, "Caching
 issue: functions in different modules", open; it goes when Numba's cache keys a kernel on the files of the
 functions it calls, which numba/numba#8396 is hoped to do). Unlike the inliner's patches it does not stand down
 outside the tested Numba range, because without it a cache could be stale (wrong); it steps aside only when
-Numba lacks the list or the locator methods it extends, and then says so once.
+Numba lacks the list or the locator methods it extends, and then says so once. The three are Numba's own
+``NUMBA_CACHE_DIR``, ``__pycache__`` beside the sources and, where that folder is not writable (an install a user
+cannot write to), the user's cache folder: without the third, such an install kept its kernels keyed on their
+own file only.
 """
 
 from __future__ import annotations
@@ -75,9 +78,10 @@ def source_stamp(files: tuple[Path, ...]) -> tuple:
 
 
 def _bases(caching) -> tuple:
-    """Numba's user-provided (``NUMBA_CACHE_DIR``) and in-tree locators (underscored names in older releases)."""
+    """Numba's user-provided (``NUMBA_CACHE_DIR``), in-tree and user-wide locators (underscored names in older
+    releases)."""
     return tuple(getattr(caching, name, None) or getattr(caching, "_" + name, None)
-                 for name in ("UserProvidedCacheLocator", "InTreeCacheLocator"))
+                 for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator"))
 
 
 def _locators():
@@ -97,7 +101,7 @@ def _locators():
         def get_source_stamp(self):
             return source_stamp(self._volumen_key)
 
-    user_provided, in_tree = _bases(caching)
+    user_provided, in_tree, user_wide = _bases(caching)
 
     class _UserProvided(_Stamped, user_provided):
         pass
@@ -105,7 +109,11 @@ def _locators():
     class _InTree(_Stamped, in_tree):
         pass
 
-    return _UserProvided, _InTree  # Numba's order: NUMBA_CACHE_DIR when set, else beside the sources
+    class _UserWide(_Stamped, user_wide):
+        pass
+
+    # Numba's order: NUMBA_CACHE_DIR when set, else beside the sources, else (a read-only install) the user's cache
+    return _UserProvided, _InTree, _UserWide
 
 
 def install() -> bool:

@@ -25,7 +25,7 @@ from numba import njit
 from ...jit import run_parts
 from ._tables import entry_prefix
 
-__all__ = ["cell_bits", "cell_visible", "NO_CELLS"]
+__all__ = ["cell_bits", "cell_visible", "cell_open", "NO_CELLS"]
 
 #: the placeholder of a frame that reads no cell bits
 NO_CELLS = np.zeros((1, 1, 1), np.uint8)
@@ -79,11 +79,17 @@ def cell_bits(u: np.ndarray, u0: float, ufac: float, lut_alpha: np.ndarray) -> n
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def cell_visible(a, x, y, z):
-    """Whether a sample at index position (x, y, z) can be visible (``a.cells``; positions clamped as the
-    samplers clamp them)."""
-    nz, ny, nx = a.vol.shape
+def cell_open(cells, vol, x, y, z):
+    """Whether a sample of ``vol`` at index position (x, y, z) can have an opacity above zero (``cells``: the bits
+    of :func:`cell_bits`; positions clamped as the samplers clamp them)."""
+    nz, ny, nx = vol.shape
     i = min(max(int(x), 0), nx - 1)
     j = min(max(int(y), 0), ny - 1)
     k = min(max(int(z), 0), nz - 1)
-    return (a.cells[k, j, np.uintp(i) >> 3] >> (i & 7)) & 1 != 0
+    return (cells[k, j, np.uintp(i) >> 3] >> (i & 7)) & 1 != 0
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def cell_visible(a, x, y, z):
+    """Whether a sample at index position (x, y, z) can be visible (``a.cells``)."""
+    return cell_open(a.cells, a.vol, x, y, z)

@@ -103,8 +103,8 @@ def light_visibility(li, w, lv, dist, a, s):
         return 1.0
     span = dist - off
     near = span if kind == DIRECT else min(NEAR_STEPS * s.ds0, span)  # marched; the lattice's beyond
-    tr = shadow_transmittance(frame_medium(a, s), a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly, lz, near,
-                              s.sh_step, s.ds0, s.kext)
+    tr = shadow_transmittance(frame_medium(a, s), a.cells, s.cells, a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly,
+                              lz, near, s.sh_step, s.ds0, s.kext)
     if kind == LATTICE and near < span and tr > 0.0:
         xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
         tr *= lattice_transmittance(a.lvm, a.lvd, li, xi, yi, zi)

@@ -11,6 +11,14 @@ function's opacity per reference step of the trilinear value (with a label map,
 the label-aware classification's: :mod:`._medium`). The light
 reaching the point is ``exp(-kext * tau)`` = ``1 - opacity accumulated``
 (``kext = 1`` for shadows; ``sigma_a + sigma_s`` for scattering).
+
+Where the frame has pre-classified cells (:mod:`._cells`), a sample in a cell they mark closed is not
+reconstructed: its optical depth is zero. That is exact: the bits say every table entry the cell's samples can
+read has zero opacity, and an entry's optical depth and its opacity are zero together (both come from the
+transfer function's opacity: ``-ln(1 - a)`` and ``1 - (1 - a) ** ratio``). The first
+``NEAR_STEPS`` reference steps of every light path are marched so at every lit sample, and in an opaque preset
+they mostly start in transparent tissue: the scattering frame of the whole-abdomen CT with three lights took 41 %
+of its time in them.
 """
 
 from __future__ import annotations
@@ -19,6 +27,7 @@ import math
 
 from numba import njit
 
+from ._cells import cell_open
 from ._geometry import region_interval, to_index
 from ._medium import depth_at
 
@@ -29,13 +38,16 @@ TAU_STOP = 14.0
 
 
 @njit(cache=True, fastmath=True)
-def shadow_transmittance(med, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0, kext):
+def shadow_transmittance(med, cells, use_cells, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0,
+                         kext):
     """Transmittance ``exp(-kext * tau)`` from world point ``o`` along unit ``L`` over ``[0, smax]`` mm.
 
     Parameters
     ----------
     med : Medium
         What the path reads (``_medium``): the samples, their optical depth per reference step.
+    cells, use_cells : the frame's pre-classified cells (``Arrays.cells``) and whether it has them
+        (``Settings.cells``): a sample in a closed cell has optical depth zero.
     geo, planes, nplanes : packed geometry (``_geometry``)
     ox, oy, oz : start, world mm; lx, ly, lz : unit direction toward the light
     smax : distance to the light, mm
@@ -55,7 +67,8 @@ def shadow_transmittance(med, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax
     t = ta
     for j in range(last + 1):  # one sampling site: the label-aware classification is compiled once
         tj = ta + j * step if j <= m else tb
-        s = depth_at(med, oi + tj * di, oj + tj * dj, ok + tj * dk)[0]
+        x, y, z = oi + tj * di, oj + tj * dj, ok + tj * dk
+        s = depth_at(med, x, y, z)[0] if not use_cells or cell_open(cells, med.vol, x, y, z) else 0.0
         if j > 0:
             acc += 0.5 * (sp + s) * (step if j <= m else tb - t)
             if acc > stop and j <= m:

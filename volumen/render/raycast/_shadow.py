@@ -15,10 +15,11 @@ reaching the point is ``exp(-kext * tau)`` = ``1 - opacity accumulated``
 Where the frame has pre-classified cells (:mod:`._cells`), a sample in a cell they mark closed is not
 reconstructed: its optical depth is zero. That is exact: the bits say every table entry the cell's samples can
 read has zero opacity, and an entry's optical depth and its opacity are zero together (both come from the
-transfer function's opacity: ``-ln(1 - a)`` and ``1 - (1 - a) ** ratio``). The first
-``NEAR_STEPS`` reference steps of every light path are marched so at every lit sample, and in an opaque preset
-they mostly start in transparent tissue: the scattering frame of the whole-abdomen CT with three lights took 41 %
-of its time in them.
+transfer function's opacity: ``-ln(1 - a)`` and ``1 - (1 - a) ** ratio``). A direct shadow ray crosses mostly
+transparent tissue in an opaque preset: on the whole-abdomen CT (``ct-bone``, 366 x 303 x 336, 782 x 415) a frame
+with direct shadows took 876 ms without the cells and 273 ms with them. The first ``NEAR_STEPS`` reference steps
+of a lattice path read them too, but there the saving is within the noise (0-5 %): a lit bone sample's path
+starts in the bone, whose cells are open.
 """
 
 from __future__ import annotations

@@ -25,12 +25,12 @@ def _one_ray(med, aff, geo, meta, v, u, kext, ds0):
     """The transmittances lattice ray ``(v, u)`` stores on its slices, stepped here one slice at a time."""
     pa, pb, pc, da, k0, nk, dsl, fwd = lattice_frame(meta)
     db, dc = lattice_offsets(meta, v, u)
-    _, _, t0, t1, length = lattice_ray(aff, geo, np.zeros((1, 6)), 0, meta, v, u)
+    _, _, t0, t1, length, sub = lattice_ray(aff, geo, np.zeros((1, 6)), 0, meta, v, u)
     acc, sp = 0.0, -1.0
     out = np.empty(nk, np.float32)
     for st in range(nk):
         i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
-        acc, sp = lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, acc, sp)
+        acc, sp = lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, sub, acc, sp)
         out[i] = lattice_transmittance_of(acc, kext / ds0)
     return out
 

@@ -1,5 +1,6 @@
 """The real-CT rows of ``volumen bench lighting``: the zoom at which the scan fills the picture (geometry only;
-the rows themselves are timed by the benchmark, never in tests)."""
+the rows themselves are timed by the benchmark, never in tests), and the moved-light row run small (what it
+draws, not how fast)."""
 
 from __future__ import annotations
 
@@ -42,3 +43,29 @@ def test_a_perspective_eye_stays_outside_the_box():
     whole = Volume(np.zeros((300, 512, 512), np.int16), spacing=(1.0, 0.7, 0.7))  # a whole CT: the picture limits
     cam = Camera.orbit(whole, zoom=filling_zoom(whole, Camera.orbit(whole), (782, 415)))
     assert cam.distance > 1.5 * np.abs((whole.corners() - np.asarray(cam.target)) @ cam.basis()[2]).max()
+
+
+def test_the_moved_light_row_sweeps_the_illumination_volume_every_frame():
+    """``_moved_light_row``: shadows with the light 3 degrees further each frame; each timed frame sweeps its
+    lattice again (its time is the row's ``build_s``), on a small abdomen."""
+    from volumen.bench._lighting import _lights, _moved_light_row
+    from volumen.bench._table import Table
+    from volumen.core import Camera
+    from volumen.data import phantom
+    from volumen.render import render
+
+    vol = phantom("abdomen", size=(46, 38, 42))
+    table = Table("t", [(k, k, "s") for k in ("sweep", "volume", "viewport", "distance", "lights", "shading", "ms",
+                                               "fps", "build_s")])
+    said = []
+    _moved_light_row(table, render, "abdomen", "ct-bone", (vol, 0.0), Camera.orbit(vol), (48, 32), 2, said.append)
+    (row,) = table.rows
+    assert row["shading"] == "shadows adaptive" and row["lights"] == 1 and row["ms"] > 0
+    assert row["build_s"] > 0  # the timed frames swept a lattice: the light had moved
+    assert "the light moved every frame" in said[0]
+    a, b = _lights(vol, 1)[0], _lights(vol, 1, azimuth=3.0)[0]
+    centre = np.asarray(vol.center)
+    ra, rb = np.asarray(a.position) - centre, np.asarray(b.position) - centre
+    assert abs(np.linalg.norm(ra) - np.linalg.norm(rb)) < 1e-9  # turned about the centre
+    angle = np.degrees(np.arccos(np.clip(ra @ rb / (ra @ ra), -1, 1)))
+    assert 1.0 < angle <= 3.0 + 1e-9  # by at most 3 degrees (less off the turning axis's plane)

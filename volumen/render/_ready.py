@@ -2,7 +2,8 @@
 
 A kernel (``_warm.kernel_key``) is ready when this process drew it on the CPU (``render`` says so), when a child
 of ``warm`` put it in Numba's disk cache, or when a marker says an earlier process did either: each kernel noted
-ready leaves an empty file beside Numba's cache (``NUMBA_CACHE_DIR``, else the ray caster's ``__pycache__``),
+ready leaves an empty file beside Numba's cache (``NUMBA_CACHE_DIR``, else the ray caster's ``__pycache__``, else,
+where that is not writable, the user's cache folder, where Numba then caches too),
 named by a hash of its key, the ray caster's source stamp (``volumen.jit.source_stamp``, what Numba's cache is
 keyed on), the Numba release and the host CPU. So a new session with a filled cache draws its first picture on
 the CPU at once, as it did before stand-ins. A marker of another build or machine does not match. A marker whose
@@ -31,11 +32,24 @@ def when_ready(hook) -> None:
         _HOOKS.append(hook)
 
 
+def _writable(folder: Path) -> bool:
+    """Whether ``folder`` (or, while it does not exist, the folder it would be made in) can be written to."""
+    return os.access(folder if folder.exists() else folder.parent, os.W_OK)
+
+
 def marker_dir() -> Path:
-    """The folder of the markers: in ``NUMBA_CACHE_DIR`` when set, else in the ray caster's ``__pycache__``."""
+    """The folder of the markers, beside Numba's cache: in ``NUMBA_CACHE_DIR`` when set, else in the ray caster's
+    ``__pycache__``, else (an install the user cannot write to) in the user's cache folder, as Numba's locators
+    pick (``volumen.jit._stamp``)."""
     root = os.environ.get("NUMBA_CACHE_DIR")
-    base = Path(root) if root else Path(__file__).resolve().parent / "raycast" / "__pycache__"
-    return base / "volumen-kernels"
+    if root:
+        return Path(root) / "volumen-kernels"
+    tree = Path(__file__).resolve().parent / "raycast" / "__pycache__"
+    if _writable(tree):
+        return tree / "volumen-kernels"
+    from numba.misc.appdirs import AppDirs
+
+    return Path(AppDirs(appname="numba", appauthor=False).user_cache_dir) / "volumen-kernels"
 
 
 def _marker(key: tuple) -> Path:
@@ -63,7 +77,7 @@ def note_ready(key: tuple) -> None:
         marker.parent.mkdir(parents=True, exist_ok=True)
         marker.touch()
     except OSError:
-        pass  # a read-only install: later sessions show a stand-in first
+        pass  # no folder to write to: later sessions show a stand-in first
 
 
 def is_ready(key: tuple) -> bool:

@@ -197,6 +197,7 @@ def test_every_frame_field_reaches_the_shader():
     elsewhere = {"u0": "upload", "ufac": "upload", "vmin": "value read-back", "vscale": "value read-back",
                  "bounces": "path tracing (not on gl)", "iso_r": "u_iso_rgb", "iso_g": "u_iso_rgb",
                  "iso_b": "u_iso_rgb", "nlab": "label maps (not on gl: DeviceLimitError)",
+                 "labels": "label maps' tag of the light paths (not on gl)",
                  "lsolid": "label maps (not on gl)",
                  "lattice": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "part": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",

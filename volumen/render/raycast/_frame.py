@@ -26,7 +26,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ._pieces import Trilinear
+from ._pieces import ScanOnly, Trilinear
 
 __all__ = ["Arrays", "Settings", "Outputs", "Frame", "PER_VOLUME", "FAR"]
 
@@ -114,6 +114,7 @@ class Settings(NamedTuple):
     nplanes: int = 0         #: clip planes in use
     bounces: int = 1         #: path tracing: most scattering events per path
     nlab: int = 0            #: label-aware classification (rows of ``Arrays.llut``; 0: off)
+    labels: Any = ScanOnly()  #: label tag (``_pieces``): ``WithLabels()`` exactly when nlab > 0
     lsolid: bool = False     #: some shown structure is solid (an opacity of its own, ``_labelled.solid_rows``)
     color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
     part: bool = False       #: draw the samples of ``Arrays.whole``'s grid inside ``geo`` only (a brick, ``_ray``)

@@ -34,7 +34,7 @@ from ._params import (
     LV_PC,
     MAX_STEP,
 )
-from ._pieces import Trilinear
+from ._pieces import ScanOnly, Trilinear, labelled
 
 __all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of", "sweep_medium"]
@@ -60,7 +60,7 @@ def _depth(med, ca, cb, cc):
 def _depth_slice(med, k, cb, cc):
     """``_depth`` at a point of slice ``k`` (integer): bilinear within the slice, the same value trilinear gives
     (read as such without labels; with labels, :func:`._medium.depth_at` classifies it)."""
-    if med.nlab > 0:
+    if labelled(med.labels):
         return _depth(med, np.float64(k), cb, cc)
     volt, sig = med.vol, med.sig
     nb = volt.shape[1]
@@ -197,6 +197,7 @@ class Sweep(NamedTuple):
     lscale: float
     nlab: int
     recon: Any = Trilinear()  #: reconstruction tag (``_medium.Medium.recon``)
+    labels: Any = ScanOnly()  #: label tag (``_medium.Medium.labels``)
 
     @classmethod
     def of(cls, med, axes, aff, geo, planes, meta, nplanes, ds0, kext):
@@ -204,13 +205,13 @@ class Sweep(NamedTuple):
         [z, y, x]), given ``permute(array, axes)`` views of its volume and label map in ``axes``."""
         volt, labt = axes(med.vol), axes(med.lab)
         return cls(volt, med.sig, aff, geo, planes, meta, int(nplanes), float(ds0), float(kext), float(med.u0),
-                   float(med.ufac), labt, med.llut, med.lut, float(med.lscale), int(med.nlab), med.recon)
+                   float(med.ufac), labt, med.llut, med.lut, float(med.lscale), int(med.nlab), med.recon, med.labels)
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def sweep_medium(sw):
     """The :class:`._medium.Medium` a sweep reads."""
-    return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab, sw.recon)
+    return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab, sw.recon, sw.labels)
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)

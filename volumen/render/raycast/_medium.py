@@ -24,7 +24,7 @@ from numba import njit
 from ..optics import MAX_OPACITY, optical_depth
 from ._bspline import reconstruct
 from ._labelled import classify
-from ._pieces import Trilinear
+from ._pieces import ScanOnly, Trilinear, WithLabels, labelled
 
 __all__ = ["Medium", "frame_medium", "depth_at", "event_color", "depth_bound", "label_scale"]
 
@@ -42,6 +42,7 @@ class Medium(NamedTuple):
     lscale: float  #: ``ds0 / (ds * kext)``: optical depth of a step's opacity -> per reference step
     nlab: int      #: label-aware classification when > 0
     recon: Any = Trilinear()  #: reconstruction tag (``_pieces``: ``Settings.recon``)
+    labels: Any = ScanOnly()  #: label tag (``_pieces``: ``Settings.labels``): ``WithLabels()`` exactly when nlab > 0
 
 
 def label_scale(ds: float, ds0: float, kext: float) -> float:
@@ -52,7 +53,8 @@ def label_scale(ds: float, ds0: float, kext: float) -> float:
 @njit(cache=True, fastmath=True, inline="always")
 def frame_medium(a, s):
     """The :class:`Medium` of a packed frame (``a``, ``s``: ``_frame.Arrays``, ``_frame.Settings``)."""
-    return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab, s.recon)
+    return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab, s.recon,
+                  s.labels)
 
 
 @njit(cache=True, fastmath=True, _nrt=False)
@@ -68,7 +70,7 @@ def depth_at(m, x, y, z):
     B-spline: ``m.recon``)."""
     v = reconstruct(m.recon, m.vol, m.u0, m.ufac, x, y, z, False)
     idx = min(max(int(v + 0.5), 0), m.sig.shape[0] - 1)
-    if m.nlab <= 0:
+    if not labelled(m.labels):
         return m.sig[idx], idx
     return optical_depth(_classified(m, x, y, z, idx)[3]) * m.lscale, idx
 
@@ -77,12 +79,24 @@ def depth_at(m, x, y, z):
 def event_color(m, x, y, z, idx):
     """Straight colour of a scattering event at ``(x, y, z)`` (table index ``idx``): the transfer function's,
     or the classified sample's (its premultiplied colour over its opacity) with labels."""
-    if m.nlab <= 0:
+    if not labelled(m.labels):
         return m.lut[idx, 0], m.lut[idx, 1], m.lut[idx, 2]
     cr, cg, cb, al = _classified(m, x, y, z, idx)
     if al <= 0.0:
         return 0.0, 0.0, 0.0
     return cr / al, cg / al, cb / al
+
+
+@labelled.register(ScanOnly)
+@njit(cache=True, inline="always")
+def _scan_only():
+    return False
+
+
+@labelled.register(WithLabels)
+@njit(cache=True, inline="always")
+def _with_labels():
+    return True
 
 
 def depth_bound(sig: np.ndarray, llut: np.ndarray, lscale: float, nlab: int) -> float:

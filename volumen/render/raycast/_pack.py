@@ -23,7 +23,7 @@ from ._lightvol import NMETA, light_volumes
 from ._medium import Medium, label_scale
 from ._normals import DIRS, NO_CODES
 from ._octants import octant_sides
-from ._pieces import LIGHT_TAGS, MODE_TAGS, PROJECTIONS, RECON_TAGS
+from ._pieces import LIGHT_TAGS, MODE_TAGS, PROJECTIONS, RECON_TAGS, label_tag
 from ._precompute import NLUT
 from ._scatter import medium
 from ._shade import headlight, pack_lights
@@ -246,7 +246,7 @@ def _light_volumes(scene, prep, t, st, lights, model, build):
     inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
     pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
     med = Medium(prep.u, t["sig"], prep.u0, prep.ufac, t["lab"], t["llut"], t["lut"],
-                 label_scale(st.ds, st.ds0, kext), st.nlab, st.recon)
+                 label_scale(st.ds, st.ds0, kext), st.nlab, st.recon, st.labels)
     keys = _light_keys(scene, lights[:nlights], geo, planes, kext, med)
     method = "fast" if sh.mode == "pathtrace" else sh.shadows.method
     return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], med, geo, planes,
@@ -258,6 +258,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
     sh, smp = scene.shading, scene.sampling
     ph, shw = sh.phong, sh.shadows
     c = scene.isosurface.color
+    nlab = len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0
     return Settings(
         ds=ds0 / smp.samples_per_voxel, ds0=ds0, et=smp.early_termination, ka=ph.ambient, kd=ph.diffuse,
         ks=ph.specular, shine=ph.shininess, u0=prep.u0, ufac=prep.ufac, vmin=prep.vmin, vscale=prep.scale,
@@ -268,7 +269,7 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
         skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"] is not _NO_COARSE else 1, cells=t["cells"].size > 1,
         block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
-        bounces=sh.pathtrace.bounces, nlab=len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0,
+        bounces=sh.pathtrace.bounces, nlab=nlab, labels=label_tag(nlab),
         lsolid=bool(solid_rows(t["llut"]).any()),
         color=prep.is_color, envmode=envmode, env_power=env_power,
         proj=PROJECTIONS.index(scene.mode) if scene.mode in PROJECTIONS else 0,

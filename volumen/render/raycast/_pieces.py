@@ -10,6 +10,10 @@ each compiled on its first use (and cached: the tags' types pickle by class),
 with no branch on the mode at run time (but among the three projections, which share one kernel:
 ``Settings.proj``, ``_project``).
 
+The *label tag* (``Settings.labels``: :class:`ScanOnly`, or :class:`WithLabels` where a label map classifies the
+samples) rides there too, so the light paths of a frame without labels carry no label classification, not even a
+branch around it: a call in the shadow rays' loop that never ran still cost 7 % of a scattering frame.
+
 The *reconstruction tag* (``Settings.recon``: :class:`Trilinear`, which also
 covers nearest-voxel sampling by ``Settings.nearest``, or :class:`BSpline`) rides
 in the frame's settings, whose type Numba keys the compiled code on: a B-spline
@@ -30,7 +34,8 @@ from ._inlining import inline_only
 __all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS",
            "LIGHT_TAGS",
            "Composite", "LabelledComposite", "Preintegrated", "Projection", "PROJECTIONS",
-           "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter", "Trilinear", "BSpline", "RECON_TAGS"]
+           "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter", "Trilinear", "BSpline", "RECON_TAGS",
+           "ScanOnly", "WithLabels", "label_tag", "labelled"]
 
 
 class Composite(NamedTuple):
@@ -82,6 +87,19 @@ class Trilinear(NamedTuple):
 
 class BSpline(NamedTuple):
     """Tricubic B-spline reconstruction (the approximating cubic B-spline, ``_bspline``): values and gradients."""
+
+
+class ScanOnly(NamedTuple):
+    """The transfer function alone classifies the samples (no label map)."""
+
+
+class WithLabels(NamedTuple):
+    """The label-aware classification (``_labelled``) classifies the samples."""
+
+
+def label_tag(nlab: int):
+    """The label tag of a frame with ``nlab`` label-table rows (``Settings.nlab``; 0: no label map)."""
+    return WithLabels() if nlab > 0 else ScanOnly()
 
 
 #: Scene.mode (and pre-integration, label-aware composite) -> mode tag class
@@ -177,3 +195,4 @@ radius = piece("radius", "a, s, st, o, bk, bj, bi", "-> blocks to jump (0: take 
 eager = piece("eager", "", "-> True when one skippable block suffices to jump")
 shade = piece("shade", "a, s, n, v, w", "-> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")
 uses_normals = piece("uses_normals", "", "-> whether shading reads the gradient")
+labelled = piece("labelled", "", "-> whether the label map classifies the samples (per label tag: ``_medium``)")

@@ -4,8 +4,8 @@ the label classification.
 The light paths (shadow rays, the illumination-volume sweeps, the path tracer's tracking) read the medium through
 ``_medium.depth_at``. Until the tag, a run-time branch on ``nlab`` chose the label-aware classification there, so
 every shadow ray's loop held a call that never ran in a frame without labels, and paid for it: the whole-abdomen
-CT's scattering frame (``ct-bone``, 3 lights, 782 x 415) took 127 ms with the branch and 118 ms without it, the same
-picture to the bit.
+CT's scattering frame (``ct-bone``, 3 lights, 782 x 415, adaptive) took 2-7 % longer with the branch than without it
+(docs/design.md), the same picture to the bit.
 """
 
 from __future__ import annotations

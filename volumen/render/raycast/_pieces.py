@@ -10,15 +10,17 @@ each compiled on its first use (and cached: the tags' types pickle by class),
 with no branch on the mode at run time (but among the three projections, which share one kernel:
 ``Settings.proj``, ``_project``).
 
-The *label tag* (``Settings.labels``: :class:`ScanOnly`, or :class:`WithLabels` where a label map classifies the
-samples) rides there too, so the light paths of a frame without labels carry no label classification, not even a
-branch around it: a call in the shadow rays' loop that never ran still cost 7 % of a scattering frame.
-
 The *reconstruction tag* (``Settings.recon``: :class:`Trilinear`, which also
 covers nearest-voxel sampling by ``Settings.nearest``, or :class:`BSpline`) rides
 in the frame's settings, whose type Numba keys the compiled code on: a B-spline
 frame compiles kernels of its own on first use, and the trilinear ones are
 unchanged by it (``_bspline``).
+
+The *label tag* (``Settings.labels``: :class:`ScanOnly`, or :class:`WithLabels` exactly where a label map
+classifies the samples, ``Settings.nlab > 0``) rides there too, and in the light paths' medium
+(``_medium.Medium.labels``). So the light paths of a frame without labels hold no call to the label
+classification, not even one behind a branch: such a call in the shadow rays' loop never ran and still cost 2-7 %
+of a scattering frame.
 """
 
 from __future__ import annotations

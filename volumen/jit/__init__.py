@@ -2,6 +2,7 @@
 
 * :func:`run_parts`, :func:`run_claiming`, :func:`claim`, :func:`fetch_add`: the one thread driver of every
   compiled pass (ray casting, marching cubes, per-volume precomputation);
+* :func:`prefetch`: a hint that an array element will be read soon (nothing on the GPU);
 * :func:`stamp_sources`: Numba's on-disk cache keyed on every source a kernel is compiled from;
 * :mod:`._savelock`: one process at a time writes a cache index (installed on import);
 * :data:`NUMBA_TESTED`, :func:`patches_allowed`: the fence around the patches to Numba's internals;
@@ -12,12 +13,13 @@ Importing this package imports Numba; ``import volumen`` does not import it.
 
 from ._guard import ENV, NUMBA_TESTED, in_tested_range, numba_version, patches_allowed
 from ._notice import announce
+from ._prefetch import prefetch
 from ._savelock import install as _lock_cache_saves
 from ._stamp import source_stamp, stamp_sources, stamped_with
 from ._threads import claim, fetch_add, run_claiming, run_parts
 
 _lock_cache_saves()
 
-__all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "stamp_sources", "stamped_with", "source_stamp",
-           "NUMBA_TESTED",
+__all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "prefetch", "stamp_sources", "stamped_with",
+           "source_stamp", "NUMBA_TESTED",
            "ENV", "numba_version", "in_tested_range", "patches_allowed", "announce"]

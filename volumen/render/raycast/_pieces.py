@@ -31,6 +31,7 @@ from typing import NamedTuple
 from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
+from ...jit._prefetch import register_cuda as register_prefetch
 from ._inlining import inline_only
 
 __all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS",
@@ -130,7 +131,8 @@ _cuda: dict = {"overload": None}
 
 
 def for_cuda() -> None:
-    """Register every piece with numba-cuda's own overload registry (once; the CUDA kernels call it on import).
+    """Register every piece, and the prefetch hint, with numba-cuda's own overload registry (once; the CUDA
+    kernels call it on import).
 
     numba-cuda (0.21 and later) types a kernel with its own typing context: an overload registered through
     ``numba.extending`` with ``inline="always"``, as :func:`piece` registers for the CPU, is inlined there with
@@ -147,6 +149,7 @@ def for_cuda() -> None:
     warnings.filterwarnings("ignore", message=r"variable 'choose__locals__impl", category=CudaIRWarning)
     for stub, choose in _PIECES:
         cuda_overload(stub, inline="always")(choose)
+    register_prefetch(cuda_overload)  # the march's prefetch hint (``volumen.jit.prefetch``): nothing on the GPU
     _cuda["overload"] = cuda_overload
 
 

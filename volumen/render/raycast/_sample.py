@@ -3,7 +3,7 @@
 Positions are ``(x, y, z)`` = (i, j, k) in voxel indices, voxel centres at
 integers; arrays are indexed ``[z, y, x]``. Positions outside
 ``[0, n-1]`` are clamped (the ray caster never asks for them, except by
-rounding).
+rounding). :func:`prefetch_cell` asks for a cell's cache lines ahead of its reads (``_march``).
 """
 
 from __future__ import annotations
@@ -11,7 +11,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_value", "sample_table", "trilinear", "grad_at", "world_grad", "jitter01"]
+from ...jit import prefetch
+
+__all__ = ["prefetch_cell", "sample_value", "sample_table", "trilinear", "grad_at", "world_grad", "jitter01"]
 
 
 @njit(cache=True, fastmath=True)
@@ -25,6 +27,23 @@ def _cell(x, n):
     xc = min(max(x, 0.0), np.float64(top))
     i0 = int(xc)
     return np.uintp(i0), np.uintp(min(i0 + 1, top)), xc - i0
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def prefetch_cell(arr, x, y, z):
+    """Ask for the cache lines of the voxel cell of ``arr[z, y, x]`` at index position (x, y, z) (clamped to the
+    array): its four rows of two voxels (``volumen.jit.prefetch``; the upper voxel of a row is on the same line but
+    at a line's end)."""
+    nz, ny, nx = arr.shape
+    i = min(max(int(x), 0), nx - 1)
+    j = min(max(int(y), 0), ny - 1)
+    k = min(max(int(z), 0), nz - 1)
+    j1 = min(j + 1, ny - 1)
+    k1 = min(k + 1, nz - 1)
+    prefetch(arr, k, j, i)
+    prefetch(arr, k, j1, i)
+    prefetch(arr, k1, j, i)
+    prefetch(arr, k1, j1, i)
 
 
 @njit(cache=True, fastmath=True, inline="always")

@@ -1,5 +1,5 @@
-"""A prefetch hint for compiled loops: ``prefetch(arr, k, j, i)`` asks the CPU to start bringing the cache line
-of ``arr[k, j, i]`` in, and goes on at once (``llvm.prefetch``: no fault, no result, no change to any value).
+"""A prefetch hint for compiled loops: ``prefetch(arr, index)`` asks the CPU to start bringing the cache line of
+``arr[index]`` in, and goes on at once (``llvm.prefetch``: no fault, no result, no change to any value).
 
 A ray caster's samples read the volume and its normal codes at places no hardware prefetcher can guess (the
 ray's direction is arbitrary), and each read waits for memory: on a whole-abdomen CT (366 x 303 x 336 int16, 74
@@ -20,20 +20,34 @@ from numba.extending import intrinsic, overload
 __all__ = ["prefetch", "register_cuda"]
 
 
-def prefetch(arr, k, j, i):
-    """Hint that ``arr[k, j, i]`` (a 3-D array; indices inside it) will be read soon; nothing in Python."""
+def prefetch(arr, index):
+    """Hint that ``arr[index]`` (an integer, or a tuple of one per dimension; inside the array) will be read soon;
+    nothing in Python."""
+
+
+def _dims(index):
+    """How many indices ``index``'s type holds (an integer, or a tuple of integers), or None."""
+    if isinstance(index, types.Integer):
+        return 1
+    if isinstance(index, types.BaseTuple) and all(isinstance(t, types.Integer) for t in index.types):
+        return len(index.types)
+    return None
 
 
 @intrinsic
-def _hint(typingctx, arr, k, j, i):
+def _hint(typingctx, arr, index):
     """``llvm.prefetch`` of the element's address: a read, kept in every cache level."""
-    if not (isinstance(arr, types.Array) and arr.ndim == 3):
+    if not (isinstance(arr, types.Array) and _dims(index) == arr.ndim):
         return None
 
     def codegen(context, builder, signature, args):
-        aryty = signature.args[0]
+        aryty, idxty = signature.args
         ary = context.make_array(aryty)(context, builder, args[0])
-        inds = [context.cast(builder, v, t, types.intp) for v, t in zip(args[1:], signature.args[1:], strict=True)]
+        if isinstance(idxty, types.Integer):
+            inds = [context.cast(builder, args[1], idxty, types.intp)]
+        else:
+            inds = [context.cast(builder, builder.extract_value(args[1], d), t, types.intp)
+                    for d, t in enumerate(idxty.types)]
         ptr = cgutils.get_item_pointer(context, builder, aryty, ary, inds, wraparound=False)
         byte = ir.IntType(8).as_pointer()
         i32 = ir.IntType(32)
@@ -42,18 +56,18 @@ def _hint(typingctx, arr, k, j, i):
         builder.call(fn, [builder.bitcast(ptr, byte), i32(0), i32(3), i32(1)])  # read, keep, data cache
         return context.get_dummy_value()
 
-    return types.none(arr, k, j, i), codegen
+    return types.none(arr, index), codegen
 
 
 @overload(prefetch, target="cpu")
-def _prefetch_cpu(arr, k, j, i):
-    if isinstance(arr, types.Array) and arr.ndim == 3:
-        return lambda arr, k, j, i: _hint(arr, k, j, i)
+def _prefetch_cpu(arr, index):
+    if isinstance(arr, types.Array) and _dims(index) == arr.ndim:
+        return lambda arr, index: _hint(arr, index)
     return None
 
 
-def _nothing(arr, k, j, i):
-    return lambda arr, k, j, i: None
+def _nothing(arr, index):
+    return lambda arr, index: None
 
 
 def register_cuda(cuda_overload) -> None:

@@ -40,10 +40,10 @@ def prefetch_cell(arr, x, y, z):
     k = min(max(int(z), 0), nz - 1)
     j1 = min(j + 1, ny - 1)
     k1 = min(k + 1, nz - 1)
-    prefetch(arr, k, j, i)
-    prefetch(arr, k, j1, i)
-    prefetch(arr, k1, j, i)
-    prefetch(arr, k1, j1, i)
+    prefetch(arr, (k, j, i))
+    prefetch(arr, (k, j1, i))
+    prefetch(arr, (k1, j, i))
+    prefetch(arr, (k1, j1, i))
 
 
 @njit(cache=True, fastmath=True, inline="always")

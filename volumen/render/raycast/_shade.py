@@ -37,7 +37,7 @@ from ...core import FACING, Light
 from ..optics import phong_terms, power, spot_factor
 from ._environment import sh_irradiance, sh_phase
 from ._geometry import to_index
-from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, lattice_transmittance
+from ._lightvol import DIRECT, LATTICE, LV_KIND, NEAR_STEPS, NO_SITE, lattice_ahead, lattice_read, lattice_site
 from ._medium import frame_medium
 from ._pieces import Headlight, Phong, Scatter, Shadowed, Unlit, piece, shade, uses_normals
 from ._scatter import phase_weight
@@ -103,11 +103,16 @@ def light_visibility(li, w, lv, dist, a, s):
         return 1.0
     span = dist - off
     near = span if kind == DIRECT else min(NEAR_STEPS * s.ds0, span)  # marched; the lattice's beyond
+    beyond = kind == LATTICE and near < span
+    site = NO_SITE
+    if beyond:  # where the lattice will be read, asked for before the near march
+        xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
+        site = lattice_site(a.lvm, li, xi, yi, zi)
+        lattice_ahead(a.lvd, site)
     tr = shadow_transmittance(frame_medium(a, s), a.cells, s.cells, a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly,
                               lz, near, s.sh_step, s.ds0, s.kext)
-    if kind == LATTICE and near < span and tr > 0.0:
-        xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
-        tr *= lattice_transmittance(a.lvm, a.lvd, li, xi, yi, zi)
+    if beyond and tr > 0.0:
+        tr *= lattice_read(a.lvd, site)
     return tr
 
 

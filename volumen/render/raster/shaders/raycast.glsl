@@ -295,7 +295,7 @@ float slice_value(int base, int nv, int nu, float s, float pb, float pc, float o
 
 float pick(int ax, vec3 p) { return ax == 0 ? p.z : (ax == 1 ? p.y : p.x); }
 
-float lattice_transmittance(int li, vec3 p) {   // _lightvol.lattice_transmittance; meta fields LV_*
+float lattice_transmittance(int li, vec3 p) {   // _lightvol.lattice_site + lattice_read; meta fields LV_*
     float ca = pick(int(lvm(li, 5)), p), cb = pick(int(lvm(li, 6)), p), cc = pick(int(lvm(li, 7)), p);
     int nk = int(lvm(li, 2)), nv = int(lvm(li, 3)), nu = int(lvm(li, 4));
     float pa = lvm(li, 8), kfar = lvm(li, 11), k0 = lvm(li, 12);

@@ -2,10 +2,11 @@
 (``_march._ahead``), a light path for its lattice nodes before its near march (``_lightvol.lattice_ahead``), and
 nothing else changes.
 
-A hint changes no value, so the pictures are the same to the bit with or without it (the compiled kernels against
-their Python source run in ``test_cuda_sim.py``, where ``prefetch`` is a Python function that does nothing; the
-GPU kernels compile it to nothing, ``test_cuda_backend.py``'s PTX check). What it buys is measured, not asserted:
-a Phong frame of the whole-abdomen CT took about 0.9x the time it took without it (docs/design.md section 6).
+A hint changes no value: the whole-abdomen CT's frames and lattices came out the same to the bit as before the
+hints (their MD5s, docs/design.md section 6). Run as Python (``NUMBA_DISABLE_JIT``, the CUDA simulator of
+``test_cuda_sim.py``) ``prefetch`` does nothing, and the GPU kernels compile it to nothing
+(``test_cuda_backend.py``'s PTX check). What it buys is measured, not asserted: a Phong frame of that CT took
+about 0.9x the time it took without it.
 """
 
 from __future__ import annotations

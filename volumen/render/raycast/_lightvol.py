@@ -31,7 +31,8 @@ itself): the first ``NEAR_STEPS`` reference steps of each path are marched
 directly (:mod:`._shadow`), and the volume is read where they end. A path finds that place first
 (:func:`lattice_site`), asks the cache for its node rows (:func:`lattice_ahead`), marches, and then reads them
 (:func:`lattice_read`): three lights' lattices of the whole-abdomen CT are 780 MB, read at random, and their
-reads waited on memory (a scattering frame 0.9x the time so, the same values).
+reads waited on memory (a scattering frame took about 0.9x the time once the rows were asked for first, with the
+same values).
 
 The volumes are cached on the volume's ``Prepared`` object, keyed by the
 light's world position, the transfer function, the clip box, the resolution,

@@ -31,9 +31,9 @@ def _cell(x, n):
 
 @njit(cache=True, fastmath=True, inline="always")
 def prefetch_cell(arr, x, y, z):
-    """Ask for the cache lines of the voxel cell of ``arr[z, y, x]`` at index position (x, y, z) (clamped to the
-    array): its four rows of two voxels (``volumen.jit.prefetch``; the upper voxel of a row is on the same line but
-    at a line's end)."""
+    """Ask for the cache lines of the voxel cell of ``arr[z, y, x]`` at index position (x, y, z), clamped to the
+    array (``volumen.jit.prefetch``): the line of each of its four rows' lower voxel, which holds the upper one too
+    except where a row crosses a line's end."""
     nz, ny, nx = arr.shape
     i = min(max(int(x), 0), nx - 1)
     j = min(max(int(y), 0), ny - 1)

@@ -172,6 +172,33 @@ def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
 
 
 @njit(cache=True, fastmath=False, inline="always")
+def _inside(geo, planes, nplanes, x, y, z):
+    """Whether world point (x, y, z) lies in the drawn region (volume box, crop, clip planes; boundaries in)."""
+    i, j, k = to_index(geo, x, y, z, 1.0)
+    if not (geo[G_BOX] <= i <= geo[G_BOX + 3] and geo[G_BOX + 1] <= j <= geo[G_BOX + 4]
+            and geo[G_BOX + 2] <= k <= geo[G_BOX + 5]):
+        return False
+    if not (geo[G_WORLD] <= x <= geo[G_WORLD + 3] and geo[G_WORLD + 1] <= y <= geo[G_WORLD + 4]
+            and geo[G_WORLD + 2] <= z <= geo[G_WORLD + 5]):
+        return False
+    for p in range(nplanes):
+        side = (x - planes[p, 0]) * planes[p, 3] + (y - planes[p, 1]) * planes[p, 4] + (z - planes[p, 2]) * planes[p, 5]
+        if side < 0.0:
+            return False
+    return True
+
+
+@njit(cache=True, fastmath=False, inline="always")
+def segment_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t1):
+    """:func:`region_interval` of ``[0, t1]``; without its divisions where both ends lie in the region (which is
+    convex, so the whole segment does: ``(0, t1)``)."""
+    if _inside(geo, planes, nplanes, ox, oy, oz) and _inside(geo, planes, nplanes, ox + t1 * dx, oy + t1 * dy,
+                                                             oz + t1 * dz):
+        return 0.0, t1
+    return region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, t1)
+
+
+@njit(cache=True, fastmath=False, inline="always")
 def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
     """``(t0, t1)`` of the view ray inside the drawn region and the camera's [near, far] (empty when t1 < t0)."""
     return region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, cam[C_NEAR], cam[C_FAR])

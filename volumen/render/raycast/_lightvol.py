@@ -102,11 +102,12 @@ def _pick(ax, x, y, z):
 
 
 @njit(cache=True, fastmath=True)
-def _slice_node(nv, nu, s, pb, pc, ov, ou, h, cb, cc):
-    """``(index in the slice of the lower node, fu, fv)`` where the ray through (cb, cc) crosses a slice at
-    parameter ``s``; index -1 outside the lattice (transmittance 1 there)."""
-    u = (pc + (cc - pc) / s - ou) / h
-    v = (pb + (cb - pb) / s - ov) / h
+def _slice_node(nv, nu, q, ub, uc, cb, cc, pb, pc):
+    """``(index in the slice of the lower node, fu, fv)`` where the ray through (cb, cc) crosses a slice, in node
+    units ``u = uc + (cc - pc) q``, ``v = ub + (cb - pb) q`` (:func:`lattice_site`); index -1 outside the lattice
+    (transmittance 1 there)."""
+    u = uc + (cc - pc) * q
+    v = ub + (cb - pb) * q
     if not (u >= 0.0 and v >= 0.0 and u <= nu - 1 and v <= nv - 1):
         return -1, 0.0, 0.0
     u0 = min(int(u), nu - 2)
@@ -158,11 +159,16 @@ def lattice_site(lvm, li, x, y, z):
     ov = lvm[li, LV_OV]
     ou = lvm[li, LV_OU]
     h = lvm[li, LV_H]
-    inv = 1.0 / (kfar - pa)
-    n0, fu0, fv0 = _slice_node(nv, nu, (k0 + i0 - pa) * inv, pb, pc, ov, ou, h, cb, cc)
+    # the ray from P through the position crosses slice k at b = pb + (cb - pb) / s_k, s_k = (k - pa) / (kfar - pa):
+    # in node units (b - ov) / h = ub + (cb - pb) q_k, with q_k = (kfar - pa) / ((k - pa) h), one division a slice
+    ih = 1.0 / h
+    ub = (pb - ov) * ih
+    uc = (pc - ou) * ih
+    ph = (kfar - pa) * ih
+    n0, fu0, fv0 = _slice_node(nv, nu, ph / (k0 + i0 - pa), ub, uc, cb, cc, pb, pc)
     if w <= 0.0 or i1 == i0:
         return (n0 + off + i0 * nv * nu if n0 >= 0 else -1), fu0, fv0, -1, 0.0, 0.0, 0.0, nu
-    n1, fu1, fv1 = _slice_node(nv, nu, (k0 + i1 - pa) * inv, pb, pc, ov, ou, h, cb, cc)
+    n1, fu1, fv1 = _slice_node(nv, nu, ph / (k0 + i1 - pa), ub, uc, cb, cc, pb, pc)
     return ((n0 + off + i0 * nv * nu if n0 >= 0 else -1), fu0, fv0, (n1 + off + i1 * nv * nu if n1 >= 0 else -1),
             fu1, fv1, w, nu)
 

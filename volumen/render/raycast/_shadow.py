@@ -29,7 +29,7 @@ import math
 from numba import njit
 
 from ._cells import cell_open
-from ._geometry import region_interval, to_index
+from ._geometry import segment_interval, to_index
 from ._medium import depth_at
 
 __all__ = ["shadow_transmittance", "TAU_STOP"]
@@ -55,7 +55,7 @@ def shadow_transmittance(med, cells, use_cells, geo, planes, nplanes, ox, oy, oz
     step, ds0 : march step and reference step, mm
     kext : extinction scale
     """
-    ta, tb = region_interval(geo, planes, nplanes, ox, oy, oz, lx, ly, lz, 0.0, smax)
+    ta, tb = segment_interval(geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax)
     if not tb > ta:
         return 1.0
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)

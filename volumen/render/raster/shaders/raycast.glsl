@@ -280,10 +280,9 @@ float shadow_transmittance(vec3 o, vec3 l, float smax) {
 float lvd(int i) { return texelFetch(u_lvd, ivec2(i % u_lvd_w, i / u_lvd_w), 0).r; }
 float lvm(int li, int f) { return u_lvm[li * 4 + f / 4][f % 4]; }
 
-float slice_value(int base, int nv, int nu, float s, float pb, float pc, float ov, float ou, float h, float cb,
-                  float cc) {
-    float u = (pc + (cc - pc) / s - ou) / h;
-    float v = (pb + (cb - pb) / s - ov) / h;
+float slice_value(int base, int nv, int nu, float q, float ub, float uc, float cb, float cc, float pb, float pc) {
+    float u = uc + (cc - pc) * q;
+    float v = ub + (cb - pb) * q;
     if (!(u >= 0.0 && v >= 0.0 && u <= float(nu - 1) && v <= float(nv - 1))) return 1.0;
     int u0 = min(int(u), nu - 2), v0 = min(int(v), nv - 2);
     float fu = u - float(u0), fv = v - float(v0);
@@ -304,12 +303,13 @@ float lattice_transmittance(int li, vec3 p) {   // _lightvol.lattice_site + latt
     if (kf < 0.0) { if (low) return 1.0; kf = 0.0; }
     if (kf > float(nk - 1)) { if (!low) return 1.0; kf = float(nk - 1); }
     int i0 = min(int(kf), max(nk - 2, 0)), i1 = min(i0 + 1, nk - 1);
-    float w = kf - float(i0), inv = 1.0 / (kfar - pa);
-    float pb = lvm(li, 9), pc = lvm(li, 10), ov = lvm(li, 13), ou = lvm(li, 14), h = lvm(li, 15);
+    float w = kf - float(i0);
+    float pb = lvm(li, 9), pc = lvm(li, 10), ih = 1.0 / lvm(li, 15);
+    float ub = (pb - lvm(li, 13)) * ih, uc = (pc - lvm(li, 14)) * ih, ph = (kfar - pa) * ih;
     int off = u_lvoff[li];
-    float t0 = slice_value(off + i0 * nv * nu, nv, nu, (k0 + float(i0) - pa) * inv, pb, pc, ov, ou, h, cb, cc);
+    float t0 = slice_value(off + i0 * nv * nu, nv, nu, ph / (k0 + float(i0) - pa), ub, uc, cb, cc, pb, pc);
     if (w <= 0.0 || i1 == i0) return t0;
-    float t1 = slice_value(off + i1 * nv * nu, nv, nu, (k0 + float(i1) - pa) * inv, pb, pc, ov, ou, h, cb, cc);
+    float t1 = slice_value(off + i1 * nv * nu, nv, nu, ph / (k0 + float(i1) - pa), ub, uc, cb, cc, pb, pc);
     return t0 + w * (t1 - t0);
 }
 

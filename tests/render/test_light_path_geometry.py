@@ -7,24 +7,9 @@ import numpy as np
 import pytest
 
 from volumen.core import Clipping, ClipPlane, Volume
+from volumen.render.raycast import _params as lv
 from volumen.render.raycast._geometry import pack_geometry, pack_planes, region_interval, segment_interval
 from volumen.render.raycast._lightvol import lattice_site, plan_lattice
-from volumen.render.raycast._params import (
-    LV_AXA,
-    LV_AXB,
-    LV_AXC,
-    LV_H,
-    LV_K0,
-    LV_KFAR,
-    LV_NK,
-    LV_NU,
-    LV_NV,
-    LV_OU,
-    LV_OV,
-    LV_PA,
-    LV_PB,
-    LV_PC,
-)
 
 
 def _oblique_volume(shape=(30, 34, 40)):
@@ -67,12 +52,12 @@ def test_a_short_path_gets_the_region_interval_and_inside_the_whole_path(clippin
 def _ray_point(m, v, u, i):
     """Index position (x, y, z) where lattice ray (v, u) crosses its slice i (the plan's geometry: from the light
     P through (kfar, ov + v h, ou + u h))."""
-    pa, pb, pc, kfar, k0, h = (m[j] for j in (LV_PA, LV_PB, LV_PC, LV_KFAR, LV_K0, LV_H))
+    pa, pb, pc, kfar, k0, h = (m[j] for j in (lv.LV_PA, lv.LV_PB, lv.LV_PC, lv.LV_KFAR, lv.LV_K0, lv.LV_H))
     s = (k0 + i - pa) / (kfar - pa)
     p = np.zeros(3)  # data axes (z, y, x)
-    p[int(m[LV_AXA])] = k0 + i
-    p[int(m[LV_AXB])] = pb + s * (m[LV_OV] + v * h - pb)
-    p[int(m[LV_AXC])] = pc + s * (m[LV_OU] + u * h - pc)
+    p[int(m[lv.LV_AXA])] = k0 + i
+    p[int(m[lv.LV_AXB])] = pb + s * (m[lv.LV_OV] + v * h - pb)
+    p[int(m[lv.LV_AXC])] = pc + s * (m[lv.LV_OU] + u * h - pc)
     return p[2], p[1], p[0]
 
 
@@ -83,7 +68,7 @@ def test_a_position_on_a_lattice_ray_reads_that_ray(light):
     lights on either side of each sweep axis."""
     shape = (30, 34, 40)
     m = plan_lattice(np.array(light), np.zeros(3), np.array([39.0, 33.0, 29.0]), shape, 2.0)
-    nk, nv, nu = (int(m[j]) for j in (LV_NK, LV_NV, LV_NU))
+    nk, nv, nu = (int(m[j]) for j in (lv.LV_NK, lv.LV_NV, lv.LV_NU))
     rng = np.random.default_rng(8)
     for i, v, u in zip(rng.integers(0, nk - 1, 200), rng.integers(1, nv - 2, 200), rng.integers(1, nu - 2, 200),
                        strict=True):

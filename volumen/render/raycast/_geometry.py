@@ -147,6 +147,12 @@ def to_index(geo, x, y, z, w):
 
 
 @njit(cache=True, fastmath=False, inline="always")
+def _side(planes, p, x, y, z):
+    """Signed distance (mm) of world point (x, y, z) from clip plane ``p``: the kept side is positive."""
+    return (x - planes[p, 0]) * planes[p, 3] + (y - planes[p, 1]) * planes[p, 4] + (z - planes[p, 2]) * planes[p, 5]
+
+
+@njit(cache=True, fastmath=False, inline="always")
 def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
     """``[t0, t1]`` intersected with the drawn region (volume box, crop, clip planes) along ``o + t d``
     (world mm; ``d`` of any length); empty when the result has t1 < t0."""
@@ -159,7 +165,7 @@ def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
     t0, t1 = _slab(oy, dy, geo[G_WORLD + 1], geo[G_WORLD + 4], t0, t1)
     t0, t1 = _slab(oz, dz, geo[G_WORLD + 2], geo[G_WORLD + 5], t0, t1)
     for p in range(nplanes):
-        s = (ox - planes[p, 0]) * planes[p, 3] + (oy - planes[p, 1]) * planes[p, 4] + (oz - planes[p, 2]) * planes[p, 5]
+        s = _side(planes, p, ox, oy, oz)
         dn = dx * planes[p, 3] + dy * planes[p, 4] + dz * planes[p, 5]
         if dn == 0.0:
             if s < 0.0:
@@ -182,8 +188,7 @@ def _inside(geo, planes, nplanes, x, y, z):
             and geo[G_WORLD + 2] <= z <= geo[G_WORLD + 5]):
         return False
     for p in range(nplanes):
-        side = (x - planes[p, 0]) * planes[p, 3] + (y - planes[p, 1]) * planes[p, 4] + (z - planes[p, 2]) * planes[p, 5]
-        if side < 0.0:
+        if _side(planes, p, x, y, z) < 0.0:
             return False
     return True
 

@@ -30,8 +30,20 @@ class DeviceVolume:
 
     def __init__(self):
         self._arrays: dict = {}
+        self._outputs = None
         self.uploads: list[str] = []
         self.light_set = None
+
+    def outputs(self, w: int, h: int):
+        """The kernels' :class:`~volumen.render.raycast.Outputs` for a ``w`` x ``h`` picture, kept on the device
+        while the size stays (every kernel writes every pixel, as into the CPU's ``numpy.empty`` ones)."""
+        from numba import cuda
+
+        from ..raycast import Outputs
+
+        if self._outputs is None or self._outputs.depth.shape != (h, w):
+            self._outputs = Outputs.empty(w, h, cuda.device_array)
+        return self._outputs
 
     def begin_frame(self) -> None:
         """Start counting uploads anew."""

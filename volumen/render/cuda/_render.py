@@ -38,7 +38,7 @@ def render_cuda(scene, camera, size: tuple[int, int]):
     t = time.perf_counter()
     arrays = f.device_arrays(dev.put)
     timings = dict(f.timings, upload=time.perf_counter() - t)
-    out = Outputs.empty(w, h, cuda.device_array)
+    out = dev.outputs(w, h)
     t = time.perf_counter()
     blocks, threads = _kernels.grid_2d(w, h)
     _kernels.trace[blocks, threads](arrays, f.settings, out, f.mode, f.light)

@@ -71,8 +71,9 @@ class Arrays(NamedTuple):
 
 
 #: fields of :class:`Arrays` that belong to the volume, or to it and a transfer function (cached objects, never
-#: changed in place)
-PER_VOLUME = ("vol", "nrm", "ncode", "gcode", "ndir", "bmin", "bmax", "lab", "rgb", "cells")
+#: changed in place): a device keeps its copy while the object is the same, without comparing contents (``bflag``
+#: is 4.7 MB at 366 x 303 x 336: comparing it took 1 ms of a 7.6 ms CUDA frame)
+PER_VOLUME = ("vol", "nrm", "ncode", "gcode", "ndir", "bmin", "bmax", "bflag", "lab", "rgb", "cells")
 
 
 class Settings(NamedTuple):

@@ -92,8 +92,7 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     """``(skip, bflag, bmin, bmax)``: empty-space skipping and its block grids."""
     smp, mode = scene.sampling, scene.mode
     if not (smp.skip_empty and mode != "average"):
-        z = np.zeros((1, 1, 1), np.float32)
-        return False, np.zeros((1, 1, 1, 1), np.uint8), z, z
+        return False, _NO_FLAGS, _NO_BLOCKS, _NO_BLOCKS
     bmin, bmax = prep.blocks(smp.block_size)
     if mode == "composite" and lab is not None:  # the scan's visible blocks and the solid structures'
         vis = block_visibility(lut[:, 3], bmin, bmax) | label_blocks(lab[0], lab[1], smp.block_size)
@@ -105,7 +104,7 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
         bflag = prep.memo(("skip-iso", smp.block_size, u_iso),
                           lambda: octant_sides(iso_visibility(u_iso, bmin, bmax)))
     else:  # mip / minip decide per ray from bmin / bmax
-        bflag = np.zeros((1, 1, 1, 1), np.uint8)
+        bflag = _NO_FLAGS
     return True, bflag, bmin, bmax
 
 
@@ -183,6 +182,9 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
 _NO_LAB = np.zeros((1, 1, 1), np.uint8)
 _NO_LLUT = np.zeros((1, 5), np.float32)
 _NO_MAGS = np.zeros((1, 1, 1), np.uint8)
+#: no skip flags / block grids (no empty-space skipping, or a projection's rays, which read bmin / bmax only)
+_NO_FLAGS = np.zeros((1, 1, 1, 1), np.uint8)
+_NO_BLOCKS = np.zeros((1, 1, 1), np.float32)
 #: no majorant grid (the path tracer adds its own: ``_progressive``)
 NO_MAJ = np.zeros((1, 1, 1), np.float32)
 #: the environment of the unlit models

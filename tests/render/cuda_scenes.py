@@ -117,6 +117,13 @@ def upload_sequence():
                                         lights=(replace(lights[0], intensity=0.5),)), cam)]
 
 
+def resized_sequence():
+    """(label, Scene, Camera, size): one scene drawn at its size, a smaller one, then its own again (the device
+    keeps its outputs while the size stays and makes new ones when it changes)."""
+    scene, cam, size = scenes()["composite-phong"]
+    return [("first", scene, cam, size), ("smaller", scene, cam, (7, 5)), ("again", scene, cam, size)]
+
+
 def main(path: str) -> int:
     from volumen.render import render
 
@@ -136,6 +143,10 @@ def main(path: str) -> int:
         im = render(scene, cam, SIZE, device="cuda")
         log.append((label, im.stats["uploads"], im.stats["light_volumes_built"]))
     out["uploads"] = np.array(json.dumps(log))
+    for label, scene, cam, size in resized_sequence():
+        im = render(scene, cam, size, device="cuda")
+        out[f"resized/{label}/rgba"] = im.rgba
+        out[f"resized/{label}/depth"] = im.depth
     np.savez(path, **out)
     return 0
 

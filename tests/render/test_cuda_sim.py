@@ -71,6 +71,16 @@ def test_cuda_pixels_equal_cpu_pixels(name, simulated):
         assert int(simulated[f"{name}/built"]) >= 1
 
 
+def test_outputs_follow_the_picture_size(simulated):
+    """The device's outputs, kept between frames of one size, are made anew when the size changes: each frame
+    of a size change and back equals the CPU's."""
+    for label, scene, cam, size in cuda_scenes.resized_sequence():
+        cpu = render(scene, cam, size, device="cpu")
+        assert simulated[f"resized/{label}/rgba"].shape == (size[1], size[0], 4)
+        _close(cpu.rgba, simulated[f"resized/{label}/rgba"], f"resized {label} rgba")
+        _close(cpu.depth, simulated[f"resized/{label}/depth"], f"resized {label} depth")
+
+
 def test_lit_models_differ_so_the_comparison_means_something(simulated):
     """Every lighting model changes the picture: equal pixels are not equal by accident of a dark scene."""
     names = ["composite-none", "composite-phong", "shadows-direct", "scattering-direct", "pathtrace"]

@@ -188,3 +188,33 @@ def test_label_blocks_flag_blocks_near_a_solid_structure():
         got = label_blocks(packed_labels(data), llut, block)
         assert want.sum() > 0 and (want == 0).sum() > 0
         np.testing.assert_array_equal(got, want)
+
+
+def test_skip_flags_of_a_labelled_scene_are_kept_while_only_the_camera_moves(organs):
+    """A labelled composite's skip flags (the scan's visible blocks and the solid structures') are built once per
+    transfer function, label map and table: a camera move gets the same object (a device keeps its copy), a
+    hidden structure new flags, each equal to flags built afresh from the frame's own tables."""
+    from volumen.render.raycast import pack_frame
+    from volumen.render.raycast._labelled import label_blocks
+    from volumen.render.raycast._octants import octant_sides
+    from volumen.render.raycast._tables import block_visibility
+
+    vol, labels = organs
+    lo, hi = vol.value_range()
+    clear = TransferFunction(color=((lo, 1, 1, 1), (hi, 1, 1, 1)), opacity=((lo, 0.0), (hi, 0.0)))
+    scene = _label_scene(vol, labels).with_(transfer=clear)  # the flags are the structures' alone
+
+    def flags(sc, azimuth):
+        f = pack_frame(sc, Camera.orbit(vol, azimuth=azimuth), (64, 64))
+        a, bs = f.arrays, f.settings.block
+        fresh = octant_sides(block_visibility(a.lut[:, 3], a.bmin, a.bmax) | label_blocks(a.lab, a.llut, bs))
+        np.testing.assert_array_equal(a.bflag, fresh)
+        return a.bflag
+
+    first = flags(scene, 0.0)
+    assert flags(scene, 30.0) is first
+    others = tuple(n for n in labels.names.values() if n != "liver")
+    hidden = flags(_label_scene(vol, labels, show=others).with_(transfer=clear), 0.0)
+    assert hidden is not first and not np.array_equal(hidden, first)
+    soft = TransferFunction.preset("ct-soft-tissue", value_range=(lo, hi))
+    assert flags(scene.with_(transfer=soft), 0.0) is not first

@@ -95,8 +95,10 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
         return False, _NO_FLAGS, _NO_BLOCKS, _NO_BLOCKS
     bmin, bmax = prep.blocks(smp.block_size)
     if mode == "composite" and lab is not None:  # the scan's visible blocks and the solid structures'
-        vis = block_visibility(lut[:, 3], bmin, bmax) | label_blocks(lab[0], lab[1], smp.block_size)
-        bflag = octant_sides(vis)
+        solid = label_blocks(lab[0], lab[1], smp.block_size)  # one object per (label map, table, block); the
+        # memo holds it, so its id names it while the entry lives
+        bflag = prep.memo(("skip-labels", smp.block_size, (lut[:, 3] > 0).tobytes(), id(solid)),
+                          lambda: (solid, octant_sides(block_visibility(lut[:, 3], bmin, bmax) | solid)))[1]
     elif mode == "composite":  # depends only on which table entries are visible: kept while the camera moves
         bflag = prep.memo(("skip", smp.block_size, (lut[:, 3] > 0).tobytes()),
                           lambda: octant_sides(block_visibility(lut[:, 3], bmin, bmax)))

@@ -67,3 +67,29 @@ def test_preintegration_beats_post_classification_at_low_rate():
     err_pre = np.abs(go(0.25, True) - ref).mean()
     assert ref[..., 3].mean() > 0.2
     assert err_pre < 0.5 * err_post, (err_pre, err_post)
+
+
+def test_preintegrated_table_is_kept_while_only_the_camera_moves():
+    """The pre-integrated table depends on the transfer function, the value range and the step: a camera move
+    gets the same object (not rebuilt every frame), another step or transfer function its own, each equal to
+    the table built afresh."""
+    from volumen.core import Camera
+    from volumen.render.raycast import pack_frame
+    from volumen.render.raycast._tables import preintegrated_table
+
+    vol = Volume(np.rint(np.mgrid[:20, :16, :12][0] * 30.0).astype(np.int16))
+    tf = TransferFunction(color=((0, 1, 0.8, 0.6), (600, 1, 0.8, 0.6)), opacity=((0, 0), (250, 0.6), (600, 0)))
+    scene = Scene(volume=vol, transfer=tf, shading=Shading(mode="none"), sampling=Sampling(preintegrate=True))
+
+    def table(sc, azimuth):
+        f = pack_frame(sc, Camera.orbit(vol, azimuth=azimuth), (16, 16))
+        fresh = preintegrated_table(sc.transfer, f.prep.vmin, f.prep.vmax, f.settings.ds / f.settings.ds0)
+        np.testing.assert_array_equal(f.arrays.pre, fresh)
+        return f.arrays.pre
+
+    first = table(scene, 0.0)
+    assert table(scene, 40.0) is first
+    finer = table(scene.with_(sampling=Sampling(preintegrate=True, samples_per_voxel=3.0)), 0.0)
+    assert finer is not first and not np.array_equal(finer, first)
+    other = table(scene.with_(transfer=tf.shifted(50.0)), 0.0)
+    assert other is not first and not np.array_equal(other, first)

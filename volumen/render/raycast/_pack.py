@@ -148,12 +148,19 @@ def _color_table(prep, tf, ratio):
                         lambda: color_table(tf, prep.vmin, prep.vmax, ratio))
 
 
+def _preintegrated(prep, tf, ratio):
+    """:func:`preintegrated_table` of ``tf`` over the volume's range, kept as the colour table is (building it
+    took 11 ms of every pre-integrated frame)."""
+    return shared_table(("pre", tf, prep.vmin, prep.vmax, ratio),
+                        lambda: preintegrated_table(tf, prep.vmin, prep.vmax, ratio))
+
+
 def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     """The transfer-function tables, normals and skipping grids of the frame (fields of :class:`Arrays`)."""
     tf, mode, sh = scene.transfer, scene.mode, scene.shading
     preint = scene.sampling.preintegrate and mode == "composite"
     lut = _color_table(prep, tf, ratio * kext if (mode == "composite" and not preint) else None)
-    pre = preintegrated_table(tf, prep.vmin, prep.vmax, ratio * kext) if preint else np.zeros((1, 1, 4), np.float32)
+    pre = _preintegrated(prep, tf, ratio * kext) if preint else _NO_PRE
     gradop = tf.gradient_opacity is not None and mode == "composite"
     shaded = model != "unlit" and not medium_model
     ncode, gcode = NO_CODES, _NO_MAGS
@@ -184,6 +191,8 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
 _NO_LAB = np.zeros((1, 1, 1), np.uint8)
 _NO_LLUT = np.zeros((1, 5), np.float32)
 _NO_MAGS = np.zeros((1, 1, 1), np.uint8)
+#: no pre-integrated table (post-classification)
+_NO_PRE = np.zeros((1, 1, 4), np.float32)
 #: no skip flags / block grids (no empty-space skipping, or a projection's rays, which read bmin / bmax only)
 _NO_FLAGS = np.zeros((1, 1, 1, 1), np.uint8)
 _NO_BLOCKS = np.zeros((1, 1, 1), np.float32)

@@ -94,13 +94,14 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     if not (smp.skip_empty and mode != "average"):
         return False, _NO_FLAGS, _NO_BLOCKS, _NO_BLOCKS
     bmin, bmax = prep.blocks(smp.block_size)
+    seen = (lut[:, 3] > 0).tobytes()  # which table entries are visible: the flags' key
     if mode == "composite" and lab is not None:  # the scan's visible blocks and the solid structures'
         solid = label_blocks(lab[0], lab[1], smp.block_size)  # one object per (label map, table, block); the
         # memo holds it, so its id names it while the entry lives
-        bflag = prep.memo(("skip-labels", smp.block_size, (lut[:, 3] > 0).tobytes(), id(solid)),
+        bflag = prep.memo(("skip-labels", smp.block_size, seen, id(solid)),
                           lambda: (solid, octant_sides(block_visibility(lut[:, 3], bmin, bmax) | solid)))[1]
     elif mode == "composite":  # depends only on which table entries are visible: kept while the camera moves
-        bflag = prep.memo(("skip", smp.block_size, (lut[:, 3] > 0).tobytes()),
+        bflag = prep.memo(("skip", smp.block_size, seen),
                           lambda: octant_sides(block_visibility(lut[:, 3], bmin, bmax)))
     elif mode == "isosurface":
         bflag = prep.memo(("skip-iso", smp.block_size, u_iso),
@@ -141,26 +142,20 @@ def _cell_table(scene, prep, lut, lab, skip):
                               lambda: cell_bits(prep.u, prep.u0, prep.ufac, alpha), NO_CELLS, "cells")
 
 
-def _color_table(prep, tf, ratio):
-    """:func:`color_table` of ``tf`` over the volume's range, kept while only the camera moves (the frames, and
-    the volumes with the same range, share it: nothing writes into it)."""
-    return shared_table(("lut", tf, prep.vmin, prep.vmax, ratio),
-                        lambda: color_table(tf, prep.vmin, prep.vmax, ratio))
-
-
-def _preintegrated(prep, tf, ratio):
-    """:func:`preintegrated_table` of ``tf`` over the volume's range, kept as the colour table is (building it
-    took 11 ms of every pre-integrated frame)."""
-    return shared_table(("pre", tf, prep.vmin, prep.vmax, ratio),
-                        lambda: preintegrated_table(tf, prep.vmin, prep.vmax, ratio))
+def _range_table(build, prep, tf, ratio):
+    """``build(tf, vmin, vmax, ratio)`` over the volume's range (:func:`color_table`,
+    :func:`preintegrated_table`), kept while only the camera moves: the frames, and the volumes with the same
+    range, share it (nothing writes into it; the pre-integrated table took 11 ms of every frame to rebuild)."""
+    return shared_table((build.__name__, tf, prep.vmin, prep.vmax, ratio),
+                        lambda: build(tf, prep.vmin, prep.vmax, ratio))
 
 
 def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     """The transfer-function tables, normals and skipping grids of the frame (fields of :class:`Arrays`)."""
     tf, mode, sh = scene.transfer, scene.mode, scene.shading
     preint = scene.sampling.preintegrate and mode == "composite"
-    lut = _color_table(prep, tf, ratio * kext if (mode == "composite" and not preint) else None)
-    pre = _preintegrated(prep, tf, ratio * kext) if preint else _NO_PRE
+    lut = _range_table(color_table, prep, tf, ratio * kext if (mode == "composite" and not preint) else None)
+    pre = _range_table(preintegrated_table, prep, tf, ratio * kext) if preint else _NO_PRE
     gradop = tf.gradient_opacity is not None and mode == "composite"
     shaded = model != "unlit" and not medium_model
     ncode, gcode = NO_CODES, _NO_MAGS

@@ -1,7 +1,8 @@
 """Compile the CUDA kernels of ``volumen.render.cuda`` to PTX without a GPU (run as a script by test_cuda_ptx).
 
-Prints ``PTX-OK <kernel> <bytes>`` per kernel, or ``PTX-SKIP <reason>`` when
-no CUDA compiler (numba-cuda with libNVVM) is available. Numba asks the
+Prints ``PTX-OK <kernel> <bytes> <seconds>`` per kernel (``--only``: those named), or ``PTX-SKIP <reason>`` when
+no CUDA compiler (numba-cuda with libNVVM) is available, and ``PATCHES on`` / ``off``: whether volumen's
+inliner patches (``raycast._inlining.install_cuda``) were in numba-cuda's compiler. Numba asks the
 current device for its compute capability when it compiles a device
 function; with no device, that question is answered with ``--cc`` here.
 """
@@ -11,6 +12,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import sys
+import time
 import types as pytypes
 
 import numpy as np
@@ -20,6 +22,7 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--cc", default="9.0", help="compute capability to compile for (H100: 9.0)")
     ap.add_argument("--out", help="folder to write <kernel>.ptx into")
+    ap.add_argument("--only", nargs="*", help="compile only these kernels")
     opts = ap.parse_args()
     cc = tuple(int(x) for x in opts.cc.split("."))
     if importlib.util.find_spec("numba_cuda") is None:
@@ -64,13 +67,19 @@ def main() -> int:
     med = Medium(a.vol, a.sig, 0.0, 1.0, a.lab, a.llut, a.lut, 1.0, 0)
     sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
     sig_sweep = (ty(sw), ty(np.zeros((2, 2, 2), np.float32)))
+    from volumen.render.raycast import _inlining
+
+    print("PATCHES", "on" if _inlining._state["cuda"] else "off")
     failed = 0
     for name, kern, s in (("trace", _kernels.trace, sig), ("trace-mip-bspline", _kernels.trace, sig_mip),
                           ("paths", _kernels.paths, sig_paths),
                           ("sweep", _kernels.sweep, sig_sweep)):
+        if opts.only and name not in opts.only:
+            continue
         try:
+            t0 = time.perf_counter()
             ptx, _ = cuda.compile_ptx(kern.py_func, s, cc=cc, fastmath=True)
-            print(f"PTX-OK {name} {len(ptx)}")
+            print(f"PTX-OK {name} {len(ptx)} {time.perf_counter() - t0:.1f}", flush=True)
             if opts.out:
                 with open(f"{opts.out}/{name}.ptx", "w") as fh:
                     fh.write(ptx)

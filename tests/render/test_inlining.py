@@ -60,6 +60,45 @@ def test_outside_the_tested_range_the_patches_stand_down_and_say_so_once(monkeyp
 
 
 
+def test_outside_its_tested_range_the_cuda_patches_stand_down_and_say_so_once(monkeypatch):
+    """numba-cuda's copy of the compiler is patched (``_inlining.install_cuda``) only in ``NUMBA_CUDA_TESTED``."""
+    import numba_cuda
+
+    from volumen.jit import NUMBA_CUDA_TESTED, _guard, cuda_patches_allowed
+
+    monkeypatch.setattr(_guard, "_warned", set())
+    monkeypatch.setattr(numba_cuda, "__version__", ".".join(map(str, NUMBA_CUDA_TESTED[0])) + ".4")
+    assert cuda_patches_allowed()
+    monkeypatch.setattr(numba_cuda, "__version__", ".".join(map(str, NUMBA_CUDA_TESTED[1])) + ".0")
+    with pytest.warns(RuntimeWarning, match="numba-cuda .* outside the range") as caught:
+        assert not cuda_patches_allowed() and not cuda_patches_allowed()
+    assert len(caught) == 1
+    monkeypatch.setattr(numba_cuda, "__version__", ".".join(map(str, NUMBA_CUDA_TESTED[0])) + ".4")
+    monkeypatch.setenv(ENV, "0")
+    assert not cuda_patches_allowed()
+
+
+def test_numba_cuda_internals_the_patches_replace_have_the_shape_they_expect():
+    """The same three internals in numba-cuda's copy of the compiler, which the CUDA kernels compile through (the
+    PTX check, ``test_cuda_backend.py``, compiles them patched and one unpatched, to the same PTX)."""
+    import inspect
+
+    from numba.cuda import dispatcher
+    from numba.cuda.core import inline_closurecall
+    from numba.cuda.typing import templates
+
+    copy_ir = next(c for c in inline_closurecall.InlineWorker.inline_ir.__code__.co_consts
+                   if getattr(c, "co_name", "") == "copy_ir")
+    nested = [copy_ir, *(c for c in copy_ir.co_consts if hasattr(c, "co_names"))]
+    assert "the_ir" in copy_ir.co_varnames and any({"copy", "deepcopy"} <= set(c.co_names) for c in nested)
+    assert inline_closurecall.copy is __import__("copy") or isinstance(inline_closurecall.copy, _BlockCopier)
+    gct = dispatcher.CUDADispatcher.get_call_template
+    assert list(inspect.signature(getattr(gct, "__wrapped__", gct)).parameters) == ["self", "args", "kws"]
+    assert "_can_compile" in getattr(gct, "__wrapped__", gct).__code__.co_names
+    generic = templates._OverloadFunctionTemplate.generic
+    assert list(inspect.signature(getattr(generic, "__wrapped__", generic)).parameters) == ["self", "args", "kws"]
+
+
 def _shape_problems() -> list[str]:
     """What no longer looks as the four patches expect in the installed Numba: each the internal, the change, and
     what it costs (``render/raycast/_inlining.py``, ``jit/_stamp.py``)."""
@@ -244,18 +283,24 @@ def _copy_blocks(the_ir, copier):
     return blocks
 
 
-def test_ir_copy_is_deep_and_its_blocks_share_one_new_scope():
+def _copy_blocks_in_a_comprehension(the_ir, copier):
+    """numba-cuda's ``copy_ir``: the blocks copied in a dict comprehension (its own frame before Python 3.12)."""
+    return {label: copier.deepcopy(block) for label, block in the_ir.blocks.items()}
+
+
+@pytest.mark.parametrize("copy_blocks", [_copy_blocks, _copy_blocks_in_a_comprehension], ids=["numba", "numba-cuda"])
+def test_ir_copy_is_deep_and_its_blocks_share_one_new_scope(copy_blocks):
     the_ir = run_frontend(_branchy)
     assert len(the_ir.blocks) > 3
     copier = _BlockCopier(ir.Block)
-    first = _copy_blocks(the_ir, copier)
+    first = copy_blocks(the_ir, copier)
     scopes = {id(b.scope) for b in first.values()}
     assert len(scopes) == 1 and id(the_ir.blocks[min(the_ir.blocks)].scope) not in scopes
     for label, block in first.items():
         orig = the_ir.blocks[label]
         assert block is not orig and len(block.body) == len(orig.body)
         assert all(a is not b and str(a) == str(b) for a, b in zip(block.body, orig.body, strict=True))
-    second = _copy_blocks(the_ir, copier)  # the same IR copied again: a new copy, sharing nothing with the first
+    second = copy_blocks(the_ir, copier)  # the same IR copied again: a new copy, sharing nothing with the first
     assert {id(b.scope) for b in second.values()}.isdisjoint(scopes)
     assert all(s.body[0] is not f.body[0] for s, f in zip(second.values(), first.values(), strict=True))
 

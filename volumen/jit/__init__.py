@@ -5,13 +5,22 @@
 * :func:`prefetch`: a hint that an array element will be read soon (nothing on the GPU);
 * :func:`stamp_sources`: Numba's on-disk cache keyed on every source a kernel is compiled from;
 * :mod:`._savelock`: one process at a time writes a cache index (installed on import);
-* :data:`NUMBA_TESTED`, :func:`patches_allowed`: the fence around the patches to Numba's internals;
+* :data:`NUMBA_TESTED`, :func:`patches_allowed` (numba-cuda's: :data:`NUMBA_CUDA_TESTED`,
+  :func:`cuda_patches_allowed`): the fence around the patches to Numba's internals;
 * :func:`announce`: one line when a command starts compiling (the command line's, for its drawing commands).
 
 Importing this package imports Numba; ``import volumen`` does not import it.
 """
 
-from ._guard import ENV, NUMBA_TESTED, in_tested_range, numba_version, patches_allowed
+from ._guard import (
+           ENV,
+           NUMBA_CUDA_TESTED,
+           NUMBA_TESTED,
+           cuda_patches_allowed,
+           in_tested_range,
+           numba_version,
+           patches_allowed,
+)
 from ._notice import announce
 from ._prefetch import prefetch
 from ._savelock import install as _lock_cache_saves
@@ -22,4 +31,5 @@ _lock_cache_saves()
 
 __all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "prefetch", "stamp_sources", "stamped_with",
            "source_stamp", "NUMBA_TESTED",
-           "ENV", "numba_version", "in_tested_range", "patches_allowed", "announce"]
+           "NUMBA_CUDA_TESTED", "ENV", "numba_version", "in_tested_range", "patches_allowed", "cuda_patches_allowed",
+           "announce"]

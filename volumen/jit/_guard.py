@@ -14,10 +14,14 @@ from __future__ import annotations
 import os
 import warnings
 
-__all__ = ["NUMBA_TESTED", "ENV", "numba_version", "in_tested_range", "patches_allowed"]
+__all__ = ["NUMBA_TESTED", "NUMBA_CUDA_TESTED", "ENV", "numba_version", "in_tested_range", "patches_allowed",
+           "cuda_patches_allowed"]
 
 #: Numba releases the patches were tested with: ``[first, end)`` (pyproject.toml: ``numba>=first,<end``)
 NUMBA_TESTED = ((0, 61), (0, 69))
+#: numba-cuda releases the same patches were tested with in numba-cuda's own copy of Numba's compiler
+#: (``_inlining.install_cuda``): ``[first, end)``
+NUMBA_CUDA_TESTED = ((0, 30), (0, 31))
 #: set to ``0`` to compile without volumen's patches (a check, or a Numba regression suspected)
 ENV = "VOLUMEN_NUMBA_PATCHES"
 _warned: set[str] = set()
@@ -27,8 +31,12 @@ def numba_version() -> tuple[int, ...]:
     """The installed Numba's release as integers (``"0.68.1"`` -> ``(0, 68, 1)``; a suffix is dropped)."""
     import numba
 
+    return _release(numba.__version__)
+
+
+def _release(text: str) -> tuple[int, ...]:
     parts = []
-    for p in numba.__version__.split("+")[0].split("."):
+    for p in text.split("+")[0].split("."):
         digits = "".join(c for c in p if c.isdigit())
         if not digits:
             break
@@ -65,3 +73,20 @@ def patches_allowed() -> bool:
                             f"but more slowly the first time (docs/design.md section 9)")
         return False
     return True
+
+
+def cuda_patches_allowed() -> bool:
+    """Whether the patches may apply to numba-cuda's copy of the compiler: :func:`patches_allowed`, and the installed
+    numba-cuda in :data:`NUMBA_CUDA_TESTED` (outside it, warns once that the CUDA kernels compile unpatched)."""
+    if not patches_allowed():
+        return False
+    import numba_cuda
+
+    first, end = NUMBA_CUDA_TESTED
+    if first <= _release(numba_cuda.__version__)[:2] < end:
+        return True
+    lo, hi = (".".join(map(str, v)) for v in NUMBA_CUDA_TESTED)
+    _warn_once("cuda-range", f"numba-cuda {numba_cuda.__version__} is outside the range volumen's patches to its "
+                             f"compiler were tested with (>= {lo}, < {hi}): they stand down, so CUDA kernels compile "
+                             f"correctly but more slowly the first time (docs/design.md section 9)")
+    return False

@@ -32,7 +32,7 @@ from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
 from ...jit._prefetch import register_cuda as register_prefetch
-from ._inlining import inline_only
+from ._inlining import inline_only, install_cuda
 
 __all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS",
            "LIGHT_TAGS",
@@ -144,6 +144,8 @@ def for_cuda() -> None:
         return
     from numba.cuda.core.errors import NumbaIRAssumptionWarning as CudaIRWarning
     from numba.cuda.extending import overload as cuda_overload
+
+    install_cuda()  # the inliner's patches (``_inlining``) in numba-cuda's own copy of the compiler
 
     # numba-cuda's own copy of numba/numba#9489's warning (silenced for the CPU above)
     warnings.filterwarnings("ignore", message=r"variable 'choose__locals__impl", category=CudaIRWarning)

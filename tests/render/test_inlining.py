@@ -1,4 +1,5 @@
-"""The three patches to Numba's inliner (``raycast._inlining``), their fence, and the one thread driver.
+"""The three patches to Numba's inliner (``raycast._inlining``; numba-cuda's copy of it too), their fences, and the
+one thread driver.
 
 The patches make the kernels' cold compile shorter (``volumen bench compile``: about 1.5x on MIP, more on the
 lit composite kernels); these tests check what they promise: that they are in place with the installed Numba
@@ -11,6 +12,7 @@ its own, and that ``run_parts`` and ``run_claiming`` visit every item once on ev
 from __future__ import annotations
 
 import contextlib
+import copy
 import re
 from pathlib import Path
 
@@ -91,7 +93,7 @@ def test_numba_cuda_internals_the_patches_replace_have_the_shape_they_expect():
                    if getattr(c, "co_name", "") == "copy_ir")
     nested = [copy_ir, *(c for c in copy_ir.co_consts if hasattr(c, "co_names"))]
     assert "the_ir" in copy_ir.co_varnames and any({"copy", "deepcopy"} <= set(c.co_names) for c in nested)
-    assert inline_closurecall.copy is __import__("copy") or isinstance(inline_closurecall.copy, _BlockCopier)
+    assert inline_closurecall.copy is copy or isinstance(inline_closurecall.copy, _BlockCopier)
     gct = dispatcher.CUDADispatcher.get_call_template
     assert list(inspect.signature(getattr(gct, "__wrapped__", gct)).parameters) == ["self", "args", "kws"]
     assert "_can_compile" in getattr(gct, "__wrapped__", gct).__code__.co_names

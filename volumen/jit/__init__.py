@@ -13,13 +13,13 @@ Importing this package imports Numba; ``import volumen`` does not import it.
 """
 
 from ._guard import (
-           ENV,
-           NUMBA_CUDA_TESTED,
-           NUMBA_TESTED,
-           cuda_patches_allowed,
-           in_tested_range,
-           numba_version,
-           patches_allowed,
+    ENV,
+    NUMBA_CUDA_TESTED,
+    NUMBA_TESTED,
+    cuda_patches_allowed,
+    in_tested_range,
+    numba_version,
+    patches_allowed,
 )
 from ._notice import announce
 from ._prefetch import prefetch

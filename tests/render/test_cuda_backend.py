@@ -75,7 +75,8 @@ def _same_code(path: Path) -> list[str]:
     names (each named by its contents instead; their declarations compared as a set)."""
     text = re.sub(r"B\d+v\d+B", "BvB", path.read_text())
     consts = dict(re.findall(r"^\.const .*? (_cudapy_cmem(?:\$\d+)?)\[\d+\] = (\{.*?\});", text, flags=re.M))
-    named = {name: f"cmem{sorted(set(consts.values())).index(v)}" for name, v in consts.items()}
+    order = sorted(set(consts.values()))
+    named = {name: f"cmem{order.index(v)}" for name, v in consts.items()}
     text = re.sub(r"_cudapy_cmem(?:\$\d+)?", lambda m: named.get(m.group(0), m.group(0)), text)
     lines = [ln for ln in text.splitlines() if "NumbaEnv" not in ln]
     return [ln for ln in lines if not ln.startswith(".const")] + sorted(ln for ln in lines if ln.startswith(".const"))

@@ -48,15 +48,28 @@ def _release(text: str) -> tuple[int, ...]:
 
 def in_tested_range(version: tuple[int, ...] | None = None) -> bool:
     """Whether ``version`` (default: the installed Numba's) lies in :data:`NUMBA_TESTED`."""
-    v = numba_version() if version is None else tuple(version)
-    first, end = NUMBA_TESTED
-    return first <= v[:2] < end
+    return _within(numba_version() if version is None else tuple(version), NUMBA_TESTED)
+
+
+def _within(version: tuple[int, ...], tested) -> bool:
+    first, end = tested
+    return first <= version[:2] < end
 
 
 def _warn_once(key: str, message: str) -> None:
     if key not in _warned:
         _warned.add(key)
-        warnings.warn(message, RuntimeWarning, stacklevel=3)
+        warnings.warn(message, RuntimeWarning, stacklevel=4)  # the caller of (cuda_)patches_allowed
+
+
+def _fenced(name: str, text: str, inside: bool, tested) -> bool:
+    """``inside``; when not, warns once (per ``name``) that release ``text`` of ``name`` is outside ``tested``."""
+    if not inside:
+        first, end = (".".join(map(str, v)) for v in tested)
+        _warn_once(name, f"{name} {text} is outside the range volumen's patches to its compiler were tested with "
+                         f"(>= {first}, < {end}): they stand down, so its kernels compile correctly but more slowly "
+                         f"the first time (docs/design.md section 9)")
+    return inside
 
 
 def patches_allowed() -> bool:
@@ -64,15 +77,9 @@ def patches_allowed() -> bool:
     is not ``0``. Outside the range, warns once that the kernels compile unpatched (correct, slower)."""
     if os.environ.get(ENV, "1").strip() == "0":
         return False
-    if not in_tested_range():
-        import numba
+    import numba
 
-        first, end = (".".join(map(str, v)) for v in NUMBA_TESTED)
-        _warn_once("range", f"Numba {numba.__version__} is outside the range volumen's patches to Numba's compiler "
-                            f"were tested with (>= {first}, < {end}): they stand down, so kernels compile correctly "
-                            f"but more slowly the first time (docs/design.md section 9)")
-        return False
-    return True
+    return _fenced("Numba", numba.__version__, in_tested_range(), NUMBA_TESTED)
 
 
 def cuda_patches_allowed() -> bool:
@@ -82,11 +89,5 @@ def cuda_patches_allowed() -> bool:
         return False
     import numba_cuda
 
-    first, end = NUMBA_CUDA_TESTED
-    if first <= _release(numba_cuda.__version__)[:2] < end:
-        return True
-    lo, hi = (".".join(map(str, v)) for v in NUMBA_CUDA_TESTED)
-    _warn_once("cuda-range", f"numba-cuda {numba_cuda.__version__} is outside the range volumen's patches to its "
-                             f"compiler were tested with (>= {lo}, < {hi}): they stand down, so CUDA kernels compile "
-                             f"correctly but more slowly the first time (docs/design.md section 9)")
-    return False
+    text = numba_cuda.__version__
+    return _fenced("numba-cuda", text, _within(_release(text), NUMBA_CUDA_TESTED), NUMBA_CUDA_TESTED)

@@ -52,25 +52,32 @@ def test_every_reference_is_drawn():
 
 
 @pytest.mark.parametrize("name", ["torso/mip", "torso/composite/headlight"])
-def test_integer_data_sampled_directly_draws_the_same(name):
-    """An int16 volume is sampled in place (no normalized float copy): the same pictures as its float32 copy.
+def test_every_sample_type_draws_the_same_with_the_one_int16_kernel(name):
+    """An int16 volume is sampled in place; float32, int32 and read-only int16 copies of it are made int16
+    (quantized, shifted, shifted: ``_precompute.int16_samples``) and drawn by the same compiled kernel, no
+    compile of their own, to the same pictures.
 
-    Two modes: every mode and shading reads its samples through the one ``_sample.reconstruct``, and each
-    float32 variant costs 15-90 s of cold compilation (the float32 isosurface, MinIP and pre-integrated
-    kernels are checked by test_isosurface, test_projections and test_sampling)."""
+    Two modes: every mode and shading reads its samples through the one ``_sample.reconstruct``."""
     from volumen.core import Volume
     from volumen.render.raycast import prepare
+    from volumen.render.raycast._march import _trace_tiles
 
     scene, cam, size = reference_scenes.scenes()[name]
     v = scene.volume
     meta = dict(spacing=v.spacing, affine=v.affine, modality=v.modality, units=v.units)
     ints = Volume(np.rint(v.data).astype(np.int16), **meta)
-    floats = Volume(ints.data.astype(np.float32), **meta)
-    assert prepare(ints).u is ints.data and prepare(floats).u is not floats.data
-    unsigned = Volume((ints.data - ints.data.min()).astype(np.uint16), **meta)  # would wrap in place: copied
-    assert prepare(unsigned).u.dtype == np.float32
+    frozen = ints.data.copy()
+    frozen.flags.writeable = False
+    others = {"float32": Volume(ints.data.astype(np.float32), **meta),
+              "int32": Volume(ints.data.astype(np.int32), **meta),
+              "read-only int16": Volume(frozen, **meta)}
+    assert prepare(ints).u is ints.data
     a = render(scene.with_(volume=ints), cam, size).rgba
-    b = render(scene.with_(volume=floats), cam, size).rgba
-    d = np.abs(a.astype(np.float64) - b)
-    print(f"{name}: int16 in place vs float32 copy: mean |diff| {d.mean():.2e}, max {d.max():.2e}")
-    assert d.mean() <= 1e-4
+    kernels = len(_trace_tiles.signatures)
+    for kind, vol in others.items():
+        assert prepare(vol).u.dtype == np.int16 and prepare(vol).u is not vol.data
+        b = render(scene.with_(volume=vol), cam, size).rgba
+        d = np.abs(a.astype(np.float64) - b)
+        print(f"{name}: int16 in place vs {kind}: mean |diff| {d.mean():.2e}, max {d.max():.2e}")
+        assert d.mean() <= 1e-4, kind
+    assert len(_trace_tiles.signatures) == kernels

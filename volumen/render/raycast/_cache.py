@@ -16,7 +16,7 @@ import numpy as np
 
 from ._color import NO_RGB, luminance_samples, rgb8
 from ._normals import encode_normals
-from ._precompute import NLUT, build_blocks, normal_params, normalize
+from ._precompute import NLUT, build_blocks, int16_samples, normal_params
 
 __all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes", "shared_table"]
 
@@ -27,10 +27,10 @@ class Prepared:
     Attributes
     ----------
     u : (nz, ny, nx)
-        The samples: the volume's own data array when it is of a signed integer
-        type and C-contiguous (no copy), else a float32 copy normalized to table
-        units. Either way ``(u - u0) * ufac`` maps ``[vmin, vmax]`` onto
-        ``[0, NLUT - 1]``, the transfer-function table's index.
+        The samples, int16 for every volume (``_precompute.int16_samples``): the volume's own data array when
+        it is int16, C-contiguous and writable (no copy), else an int16 copy, shifted (integers) or quantized
+        (floats). Either way ``(u - u0) * ufac`` maps ``[vmin, vmax]`` onto ``[0, NLUT - 1]``, the
+        transfer-function table's index.
     u0, ufac : float
     vmin, vmax : float
         Value range (data units) the table spans.
@@ -58,12 +58,7 @@ class Prepared:
             hi = lo + 1.0
         self.vmin, self.vmax = float(lo), float(hi)
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
-        # signed integers are sampled in place (no copy of the volume); unsigned ones would wrap around in the
-        # kernels' differences of neighbouring samples, so they get the normalized copy as floats do
-        if data.dtype.kind == "i" and data.flags.c_contiguous:
-            self.u, self.u0, self.ufac = data, self.vmin * steps, 1.0 / (self.scale * steps)
-        else:  # floats (NaN to clear) and strided views: one normalized float32 copy
-            self.u, self.u0, self.ufac = normalize(data, self.vmin, self.vmax), 0.0, 1.0
+        self.u, self.u0, self.ufac = int16_samples(data, self.vmin, self.vmax, steps)
         self.u_copied = self.u is not data
         self.affine = np.array(volume.affine, dtype=float)
         self._normals: dict[tuple[bool, bool], tuple[np.ndarray, float]] = {}
@@ -120,7 +115,7 @@ class Prepared:
         return self._memo[key]
 
     def nbytes(self) -> int:
-        """Bytes of the arrays built here (the normalized copy of the samples if one was made, colours, normals'
+        """Bytes of the arrays built here (the int16 copy of the samples if one was made, colours, normals'
         codes, block grids, the memo's tables), not counting the volume's own data."""
         parts = [self.u if self.u_copied else None, self.rgb, list(self._codes.values()),
                  list(self._blocks.values()), list(self._memo.values())]

@@ -30,11 +30,9 @@ __all__ = ["cell_bits", "cell_visible", "cell_open", "NO_CELLS"]
 #: the placeholder of a frame that reads no cell bits
 NO_CELLS = np.zeros((1, 1, 1), np.uint8)
 
-#: table units by which a cell's range is widened on both sides: a sample of int16 data, computed in float64 with
-#: rounding error just past its corners' range, still finds its table entry inside the range checked. A
-#: normalized float32 copy (``_precompute.normalize``) blends with errors up to about 1e-4 units, but its values
-#: are clamped to [0, NLUT - 1], where every half-integer edge between table entries is a float32 number that
-#: rounding cannot step past.
+#: table units by which a cell's range is widened on both sides: a sample (int16 for every volume:
+#: ``_precompute.int16_samples``), computed in float64 with rounding error just past its corners' range, still
+#: finds its table entry inside the range checked.
 _MARGIN = 1e-6
 
 

@@ -34,7 +34,8 @@ def luminance_samples(volume) -> tuple[np.ndarray, int]:
 
     8-bit channels: ``rint(luminance x LUMA_STEPS)`` as int16, at most 1/256 of a level off the exact luma
     (the channels themselves resolve 1 level), sampled in place by the same int16 kernels as CT's at half the
-    memory of a float32 copy. Other types: ``Volume.luminance()`` (float32), 1 step per unit.
+    memory of a float32 copy. Other types: ``Volume.luminance()`` (float32), 1 step per unit, which
+    ``_precompute.int16_samples`` quantizes to int16 as any float volume.
     """
     if volume.data.dtype == np.uint8:
         return np.rint(volume.luminance() * np.float32(LUMA_STEPS)).astype(np.int16), LUMA_STEPS

@@ -41,7 +41,7 @@ class Arrays(NamedTuple):
     cam: np.ndarray     #: packed camera, float64 (18,) (``_geometry.pack_camera``)
     geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
-    vol: np.ndarray     #: samples [z, y, x]: the data itself (signed integers) or a normalized float32 copy
+    vol: np.ndarray     #: int16 samples [z, y, x]: the data itself or an int16 copy (``_precompute.int16_samples``)
     nrm: np.ndarray     #: gradient matrix and 1 / gmax (4, 3) float64 (``_precompute.normal_params``)
     ncode: np.ndarray   #: normal direction code per voxel [z, y, x] uint16 (``_normals``), (1, 1, 1) when unused
     gcode: np.ndarray   #: gradient-magnitude code per voxel [z, y, x] uint8, (1, 1, 1) when unused

@@ -1,17 +1,19 @@
-"""Per-volume precomputation: normalized samples, the normals' parameters, min/max block grid.
+"""Per-volume precomputation: int16 samples, the normals' parameters, min/max block grid.
 
 All three are built once per volume and cached (see :mod:`._cache`); the
 kernels then only read arrays.
 
-* ``normalized``: float32 ``[z, y, x]``, the data mapped linearly so that the
-  volume's value range ``[vmin, vmax]`` becomes ``[0, NLUT - 1]``: a sample is
-  directly an index into the transfer-function table. NaN becomes 0.
+* samples: int16 ``[z, y, x]`` for every volume (:func:`int16_samples`), so one compiled kernel per mode
+  serves CT, MRI and float data alike: int16 data itself, integer data of any other type shifted (exact),
+  floats and wider ranges quantized to 65,536 levels over the value range (1/16 of a table entry). With the
+  pair ``(u0, ufac)``, ``(u - u0) * ufac`` is the index into the transfer-function table. NaN becomes the
+  value range's low end.
 * normals: the parameters (:func:`normal_params`: the index -> world gradient
   matrix and ``gmax``, the largest |g|); the per-voxel direction codes the kernels
   read are built from them in :mod:`._normals`. Gradients are central differences
   (or 3x3x3 Sobel) in index space, turned into world space through the inverse
   transpose of the affine, so the voxel spacing and obliquity are accounted for.
-* block grid: per block of ``B^3`` voxels, the min and max of ``normalized``
+* block grid: per block of ``B^3`` voxels, the min and max of the samples in table units
   over the voxels it touches **dilated by one voxel** on every side, so a
   trilinear (or nearest) sample anywhere inside the block is bounded by them.
 """
@@ -24,34 +26,53 @@ from numba import njit
 from ...jit import run_parts
 from ._sample import world_grad
 
-__all__ = ["NLUT", "normalize", "normal_params", "build_blocks"]
+__all__ = ["NLUT", "LEVELS", "int16_samples", "normal_params", "build_blocks"]
 
 #: entries of the 1-D transfer-function table, evenly over the volume's value range
 NLUT = 4096
 
 
+#: int16 levels a quantized volume's value range is spread over
+LEVELS = 65536
+_LOW = -32768
+
+
 @njit(cache=True, nogil=True)  # no fastmath: it must see NaN
-def _normalize_kernel(part, parts, data, vmin, scale, out):
-    """Planes of part ``part`` of ``parts`` (contiguous) (``volumen.jit.run_parts``)."""
+def _shift_kernel(part, parts, data, vmin, scale, out):
+    """Planes of part ``part`` of ``parts`` (``volumen.jit.run_parts``): ``rint((x - vmin) * scale)`` clamped to
+    ``[0, LEVELS - 1]``, NaN to 0, stored less 32768."""
     nz, ny, nx = data.shape
-    top = np.float32(NLUT - 1)
+    top = np.float64(LEVELS - 1)
     for k in range(part * nz // parts, (part + 1) * nz // parts):
         for j in range(ny):
             for i in range(nx):
-                v = (np.float64(data[k, j, i]) - vmin) * scale
+                v = np.rint((np.float64(data[k, j, i]) - vmin) * scale)
                 if not (v >= 0.0):  # NaN or below
                     v = 0.0
                 elif v > top:
                     v = top
-                out[k, j, i] = v
+                out[k, j, i] = np.int16(np.int64(v) + _LOW)
 
 
-def normalize(data: np.ndarray, vmin: float, vmax: float) -> np.ndarray:
-    """float32 copy of ``data`` with ``[vmin, vmax]`` mapped onto ``[0, NLUT - 1]``."""
-    out = np.empty(data.shape, np.float32)
-    scale = (NLUT - 1) / (vmax - vmin) if vmax > vmin else 0.0
-    run_parts(_normalize_kernel, data.shape[0], data, float(vmin), float(scale), out)
-    return out
+def int16_samples(data: np.ndarray, vmin: float, vmax: float, steps: int = 1) -> tuple[np.ndarray, float, float]:
+    """``(u, u0, ufac)``: the samples the kernels read, with ``(u - u0) * ufac`` mapping ``[vmin, vmax]`` (data
+    units; ``steps`` samples of ``data`` per unit) onto ``[0, NLUT - 1]``.
+
+    * int16, C-contiguous and writable: ``data`` itself (no copy);
+    * other integers whose range spans at most :data:`LEVELS` values: an int16 copy shifted by a whole number
+      (exact);
+    * floats and wider integer ranges: ``[vmin, vmax]`` quantized to :data:`LEVELS` levels (a step of
+      1/16 of a table entry), out-of-range values clamped, NaN at ``vmin``.
+    """
+    per_entry = (NLUT - 1) / ((vmax - vmin) * steps)  # table entries per sample unit
+    if data.dtype == np.int16 and data.flags.c_contiguous and data.flags.writeable:
+        return data, vmin * steps, per_entry
+    lo = vmin * steps
+    exact = data.dtype.kind in "iu" and (vmax - vmin) * steps < LEVELS
+    scale = 1.0 if exact else (LEVELS - 1) / ((vmax - vmin) * steps)
+    out = np.empty(data.shape, np.int16)
+    run_parts(_shift_kernel, data.shape[0], data, float(lo), float(scale), out)
+    return out, float(_LOW), per_entry / scale
 
 
 @njit(cache=True, fastmath=True, nogil=True)

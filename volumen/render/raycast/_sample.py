@@ -77,7 +77,7 @@ def trilinear(vol, cx, cy, cz):
 @njit(cache=True, fastmath=True, inline="always")
 def sample_table(vol, u0, ufac, x, y, z, nearest):
     """The value at (x, y, z) in transfer-function table units: ``(v - u0) * ufac`` of the stored samples
-    (the raw data, or an already normalized copy with ``u0 = 0, ufac = 1``)."""
+    (the int16 samples of ``_precompute.int16_samples``)."""
     return (sample_value(vol, x, y, z, nearest) - u0) * ufac
 
 

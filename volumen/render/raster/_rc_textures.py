@@ -59,9 +59,7 @@ def _filtered(tex, linear: bool):
 
 
 def _table_units(u, u0: float, ufac: float) -> np.ndarray:
-    """float32 ``(u - u0) * ufac`` in slabs (a float32 copy either way, made without a float64 one)."""
-    if u.dtype == np.float32 and u0 == 0.0 and ufac == 1.0:
-        return u
+    """float32 ``(u - u0) * ufac`` of the int16 samples ``u``, in slabs (made without a float64 copy)."""
     out = np.empty(u.shape, np.float32)
     step = max(1, (1 << 22) // max(1, u.shape[1] * u.shape[2]))
     for z0 in range(0, u.shape[0], step):

@@ -26,6 +26,7 @@ def test_the_other_kernels_warm_once_per_kind_and_stop_with_the_window(head64, m
     assert not w.after(_job(head64, device="gl"))  # only the CPU's kernels
     assert w.after(job) and w.running
     assert not w.after(job)  # one warm-up per kind of volume
+    assert w._wanted(_job(head64.with_data(head64.data.astype("float32")))) == w._wanted(job)  # one kind: int16
     deadline = time.monotonic() + 5.0
     while not mp.active_children() and time.monotonic() < deadline:
         time.sleep(0.05)

@@ -44,6 +44,23 @@ def test_the_cropped_scene_compiles_nothing_the_scene_did_not():
     assert not [m for m in seen.modules if m.startswith("volumen.")]
 
 
+def test_every_sample_type_shares_the_kernels_of_one_key():
+    """The kernels read int16 samples for every volume (``raycast._precompute.int16_samples``): float32, uint16 and
+    int16 copies of one volume have one kernel key, and once one is drawn the others compile nothing."""
+    vol = phantom("head", size=40)
+    base = Scene(volume=vol, transfer=TransferFunction.preset("ct-bone"), shading=Shading(mode="headlight"))
+    cam = Camera.orbit(vol)
+    scenes = [base.with_(volume=vol.with_data(vol.data.astype(t))) for t in ("int16", "float32", "uint16")]
+    assert len({kernel_key(s, cam) for s in scenes}) == 1
+    render(scenes[0], cam, (16, 16))
+    seen = _Compiled()
+    with event.install_listener("numba:compile", seen):
+        for s in scenes[1:]:
+            render(s, cam, (16, 16))
+    # at most the int16 copy's own small kernel, once per source type (``_precompute._shift_kernel``, if not cached)
+    assert {m for m in seen.modules if m.startswith("volumen.")} <= {"volumen.render.raycast._precompute"}
+
+
 def test_a_voxel_crop_box_moves_with_the_crop():
     vol = phantom("head", size=(64, 60, 56))  # (z, y, x) = (56, 60, 64): centred 48-voxel ranges start at 4, 6, 8
     nz, ny, nx = vol.shape

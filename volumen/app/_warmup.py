@@ -2,12 +2,13 @@
 
 Each ray-casting mode and shading model has its own kernel, compiled on its first use (10-37 s each on 2 cores;
 docs/design.md section 9): without this, the 3-D view waits that long the first time the user picks shadows.
-After the first finished CPU ray-cast picture of a kind of volume (its sample type; colour or not),
-:class:`Warmup` compiles the kernels of the modes and shading models in :data:`VARIANTS` (the common ones: not
-path tracing, label maps or pre-integration, which compile on first use) with ``volumen.render.warm`` in one
-child process at low priority (niceness :data:`NICE`), which yields the cores to the pictures being drawn;
-picking one of them later loads it from Numba's disk cache. Closing the window stops the child, and the child
-dies with the app however it ends. Set ``VOLUMEN_WARM=0`` to turn it off (it then compiles on first use).
+After the first finished CPU ray-cast picture of a kind of volume (colour or not: every sample type reaches the
+kernels as int16), :class:`Warmup` compiles the kernels of the modes and shading models in :data:`VARIANTS`
+(the common ones: not path tracing, label maps or pre-integration, which compile on first use) with
+``volumen.render.warm`` in one child process at low priority (niceness :data:`NICE`), which yields the cores to
+the pictures being drawn; picking one of them later loads it from Numba's disk cache. Closing the window stops
+the child, and the child dies with the app however it ends. Set ``VOLUMEN_WARM=0`` to turn it off (it then
+compiles on first use).
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ class Warmup:
         if (os.environ.get(ENV, "1").strip() == "0" or job.technique.name != "raycast" or vol is None
                 or is_chunked(vol.data) or resolve_device(raycast_device(job), "raycast") != "cpu"):
             return None
-        return str(vol.dtype), vol.is_color
+        return vol.is_color
 
     def after(self, job) -> bool:
         """Called after a finished picture of ``job``: start warming when it is the first CPU ray-cast picture of

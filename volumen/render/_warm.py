@@ -52,9 +52,8 @@ def cores() -> int:
 
 def warm_scene(scene):
     """A scene whose picture needs the same kernels as ``scene``'s: the volume cropped to at most
-    :data:`WARM_EDGE` voxels per axis about its centre (the same sample type, so the same compiled signatures;
-    world positions kept, so the camera and lights still frame it; a voxel crop box moved with it; no metadata),
-    unless a label map is on its grid."""
+    :data:`WARM_EDGE` voxels per axis about its centre (world positions kept, so the camera and lights still
+    frame it; a voxel crop box moved with it; no metadata), unless a label map is on its grid."""
     vol = scene.volume
     if scene.labels is not None or max(vol.shape) <= WARM_EDGE:
         return scene
@@ -73,12 +72,13 @@ def warm_scene(scene):
 
 def kernel_key(scene, camera=None) -> tuple:
     """What decides the kernels a picture compiles, as far as :func:`warm` tells jobs apart (two jobs with one
-    key are warmed once)."""
+    key are warmed once). Not the volume's sample type: the kernels read int16 samples for every volume
+    (``raycast._precompute.int16_samples``), so a CT, an MRI and a float volume share them."""
     from .raycast._pieces import PROJECTIONS
 
     sm, vol = scene.sampling, scene.volume
     mode = "projection" if scene.mode in PROJECTIONS else scene.mode  # one kernel for the three (_project)
-    return (mode, scene.shading.mode, str(vol.dtype), vol.is_color, scene.labels is not None,
+    return (mode, scene.shading.mode, vol.is_color, scene.labels is not None,
             sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive, getattr(camera, "projection", None))
 
 

@@ -33,8 +33,8 @@ NLUT = 4096
 
 
 #: int16 levels a quantized volume's value range is spread over
-LEVELS = 65536
-_LOW = -32768
+LEVELS = 1 << 16
+_LOW = int(np.iinfo(np.int16).min)
 
 
 @njit(cache=True, nogil=True)  # no fastmath: it must see NaN
@@ -64,12 +64,12 @@ def int16_samples(data: np.ndarray, vmin: float, vmax: float, steps: int = 1) ->
     * floats and wider integer ranges: ``[vmin, vmax]`` quantized to :data:`LEVELS` levels (a step of
       1/16 of a table entry), out-of-range values clamped, NaN at ``vmin``.
     """
-    per_entry = (NLUT - 1) / ((vmax - vmin) * steps)  # table entries per sample unit
+    lo, span = vmin * steps, (vmax - vmin) * steps  # the range in sample units
+    per_entry = (NLUT - 1) / span  # table entries per sample unit
     if data.dtype == np.int16 and data.flags.c_contiguous and data.flags.writeable:
-        return data, vmin * steps, per_entry
-    lo = vmin * steps
-    exact = data.dtype.kind in "iu" and (vmax - vmin) * steps < LEVELS
-    scale = 1.0 if exact else (LEVELS - 1) / ((vmax - vmin) * steps)
+        return data, lo, per_entry
+    exact = data.dtype.kind in "iu" and span < LEVELS
+    scale = 1.0 if exact else (LEVELS - 1) / span
     out = np.empty(data.shape, np.int16)
     run_parts(_shift_kernel, data.shape[0], data, float(lo), float(scale), out)
     return out, float(_LOW), per_entry / scale

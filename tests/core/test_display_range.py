@@ -20,6 +20,7 @@ from volumen.core import (
     default_window,
     display_range,
     fitted_preset,
+    table_range,
 )
 from volumen.data import phantom
 from volumen.render import render_volume
@@ -162,3 +163,21 @@ def test_a_real_template_with_outliers_is_drawn_brighter_and_with_its_contrast()
 
     (lit, spread, solid), (lit0, spread0, solid0) = measures(got), measures(old)
     assert lit > 1.5 * lit0 and spread > 2.0 * spread0 and solid > 1.5 * solid0
+
+
+def test_the_table_range_is_the_data_range_but_past_far_outliers(mr, clean):
+    """``table_range``: the data range for a CT, the MR phantoms (outliers 4 times the brightest tissue, or none)
+    and a PET (its hot lesion is the finding); for a float MRI whose outliers lie about 10,000 times past its
+    tissue it ends at :data:`REACH` display ranges (the voxels past it are clamped there)."""
+    from volumen.core._display import REACH
+
+    ct = phantom("head", size=32)
+    for v in (ct, mr, clean):
+        assert table_range(v) == v.value_range()
+    far = phantom("mr_head", size=64, dtype="float32", gain=1e4)
+    lo, hi = far.value_range()
+    dlo, top = display_range(far)
+    assert table_range(far) == (lo, dlo + REACH * (top - dlo))
+    assert hi > 1000 * (top - dlo)
+    pet = Volume(far.data, spacing=far.spacing, modality="PT")
+    assert table_range(pet) == pet.value_range()

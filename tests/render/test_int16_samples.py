@@ -84,3 +84,20 @@ def test_steps_per_unit_scale_the_samples_units():
     vmin, vmax = 0.0, float(x.max()) / 128
     u, u0, ufac = int16_samples(x, vmin, vmax, steps=128)
     np.testing.assert_allclose(_index(u, u0, ufac), _expected(x / 128.0, vmin, vmax), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("dtype", [np.int16, np.uint16, np.float32])
+def test_a_range_short_of_the_data_clamps_its_far_values_to_the_last_table_entry(dtype):
+    """``core.table_range`` may end below the data's maximum (far outliers): the samples are then a copy (int16
+    too), the values in range keep their index (exactly for integers, within half a level for floats) and those
+    above sit at the last entry, never past it (the kernels' table reads are not bounds-checked)."""
+    x = RNG.integers(0, 700, (6, 5, 8)).astype(dtype)
+    x.flat[:3] = (0, 699, 30000)
+    vmin, vmax = 0.0, 699.0 * 16.5 / 16  # not a whole number of units: the clamp still stays in the table
+    u, u0, ufac = int16_samples(x, vmin, vmax, in_place=False)
+    assert u is not x
+    idx = _index(u, u0, ufac)
+    assert idx.max() <= NLUT - 1 and idx.flat[2] >= NLUT - 1 - (NLUT - 1) / 699
+    keep = x < 699.5
+    level = 0.0 if dtype != np.float32 else 0.5 * (NLUT - 1) / (LEVELS - 1)
+    assert np.abs(idx[keep] - _expected(x[keep], vmin, vmax)).max() <= level + 1e-9

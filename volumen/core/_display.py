@@ -17,6 +17,13 @@ Kept at the data range, where the brightest few voxels are the finding or the cu
 * the projections' ``mip-gray`` (an angiogram's MIP is its brightest voxels: ``_transfer.fitted_preset``).
 
 The percentile is read on a strided sample (``_values``).
+
+The renderers' tables (:func:`table_range`) span the data range too, down to the same outliers' far end: where the
+maximum lies more than :data:`REACH` display ranges past the minimum (an MRI written as floats whose few outliers
+are thousands of times brighter than its tissue), a table of 4,096 entries spread over it gave the tissue one
+entry, and every transfer function drew it black. There the table ends at :data:`REACH` display ranges, so the
+display range has at least 1/16 of it, and the voxels past that end are clamped to it: they classify as the
+transfer function's value there (its brightest, for one that ends below) and a MIP reads them as that value.
 """
 
 from __future__ import annotations
@@ -27,7 +34,8 @@ from ._ct import hu_offset
 from ._values import strided_values
 from ._volume import is_chunked
 
-__all__ = ["display_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE", "LABEL_VALUES", "BONE_ISO_HU"]
+__all__ = ["display_range", "table_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE", "LABEL_VALUES",
+           "BONE_ISO_HU", "REACH"]
 
 #: the percentile of the foreground values that the display range may end at
 TOP_PERCENTILE = 99.9
@@ -39,6 +47,8 @@ LABEL_VALUES = 64
 BONE_ISO_HU = 300.0
 #: modalities whose brightest voxels are the finding (or that are not images of tissue)
 _KEEP_TOP = ("PT", "NM", "SEG", "RTDOSE")
+#: how many display ranges past the minimum a renderer's table reaches at most (:func:`table_range`)
+REACH = 16.0
 
 
 def display_range(volume) -> tuple[float, float]:
@@ -58,6 +68,15 @@ def display_range(volume) -> tuple[float, float]:
     if top > lo and hi - lo > OUTLIER_FACTOR * (top - lo):
         return lo, top
     return lo, hi
+
+
+def table_range(volume) -> tuple[float, float]:
+    """``(lo, hi)``: the value range a renderer's transfer-function table spans (the ray caster's samples and
+    table, the texture slicer's): the data range, its top cut to :data:`REACH` display ranges past the minimum
+    (module docstring); the values above ``hi`` are clamped to it."""
+    lo, hi = volume.value_range()
+    dlo, top = display_range(volume)
+    return lo, min(hi, dlo + REACH * (top - dlo))
 
 
 def default_iso(volume) -> float:

@@ -9,7 +9,9 @@ motion artefact, a marker capsule, a template's resampling overshoot. Those *out
 phantom is for: defaults spanned to the data's maximum (a data-relative transfer function, the first slice
 window, the isosurface level) put the tissue low on their ramp, and the picture comes out dark and foggy
 (``core._display``). ``outliers`` is their share of the head's voxels, each ``gain`` times the brightest tissue
-(times 0.8-1.2); 0 makes none.
+(times 0.8-1.2); 0 makes none. ``dtype`` ``"float32"`` keeps the signal as floats, unrounded and unclipped, as a
+processing pipeline writes an MRI: with a large ``gain`` its outliers then lie thousands of times past the tissue,
+the failure class of a table and samples spanned to the maximum (``render/raycast/_precompute.sample_range``).
 
 Built from the head phantom's Hounsfield units (``_head``, without its CT noise): each tissue's value is mapped
 to an MR signal by a table (:data:`SIGNAL`), linearly between, so partial-volume edges stay edges. Deterministic
@@ -43,11 +45,15 @@ SIGNAL = ((-1000.0, 0.0),    # air
       (2000.0, 900.0))   # the marker bead: a capsule, bright in MR (the one exception: a small sphere on the skin)
 
 
-def mr_head(size=None, *, noise: float = 12.0, outliers: float = 0.0005, gain: float = 4.0, seed: int = 0) -> Volume:
+def mr_head(size=None, *, noise: float = 12.0, outliers: float = 0.0005, gain: float = 4.0, seed: int = 0,
+            dtype: str = "uint16") -> Volume:
     """Build the MR head phantom (see the module docstring); ``size`` as the head phantom's. ``noise``: the
-    Gaussian sigma of each channel before the magnitude (signal units)."""
+    Gaussian sigma of each channel before the magnitude (signal units); ``dtype``: ``"uint16"`` (rounded, clipped
+    to 0..65535) or ``"float32"``."""
     if not 0.0 <= outliers < 0.1:
         raise ValueError(f"outliers must be a share of the head's voxels in [0, 0.1), got {outliers}")
+    if dtype not in ("uint16", "float32"):
+        raise ValueError(f"dtype must be 'uint16' or 'float32', got {dtype!r}")
     ct = head(size, noise=0.0, seed=seed)
     hu, signal = np.asarray(SIGNAL, float).T
     s = np.interp(np.asarray(ct.data, np.float32), hu, signal).astype(np.float32)
@@ -58,7 +64,7 @@ def mr_head(size=None, *, noise: float = 12.0, outliers: float = 0.0005, gain: f
     inside = np.flatnonzero(np.asarray(ct.data) > -500)
     picked = rng.choice(inside, size=int(round(outliers * inside.size)), replace=False)
     s.flat[picked] = gain * tissue_max * rng.uniform(0.8, 1.2, picked.size)
-    data = np.clip(np.rint(s), 0, 65535).astype(np.uint16)
+    data = s if dtype == "float32" else np.clip(np.rint(s), 0, 65535).astype(np.uint16)
     truth = dict(ct.meta.get("truth", {}), tissue_max=tissue_max)
     return Volume(data, spacing=ct.spacing, affine=ct.affine, modality="MR", units="", name="mr_head",
                   meta={"truth": truth})

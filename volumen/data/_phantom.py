@@ -64,7 +64,8 @@ def phantom(name: str, size=None, **params) -> Volume:
             The head as an MRI (uint16 scanner units, about 0-900, modality MR, Rician noise),
             with a few voxels far brighter than any tissue, as real MRIs have. Params: ``noise`` (default
             12), ``outliers`` (share of the head's voxels, default 0.0005; 0: none), ``gain`` (times the
-            brightest tissue, default 4), ``seed``. Not in HU: the one phantom that is not a CT.
+            brightest tissue, default 4), ``seed``, ``dtype`` (``"uint16"``, or ``"float32"``: unrounded,
+            unclipped). Not in HU: the one phantom that is not a CT.
         ``"torso"``
             The trunk with lungs and airway, spine, ribs, contrast-filled aorta and branches,
             and a colon with haustral folds and one polyp (default 160 voxels along z,

@@ -14,6 +14,7 @@ import weakref
 
 import numpy as np
 
+from ...core import table_range
 from ._color import NO_RGB, luminance_samples, rgb8
 from ._normals import encode_normals
 from ._precompute import NLUT, build_blocks, int16_samples, normal_params
@@ -33,7 +34,9 @@ class Prepared:
         transfer-function table's index.
     u0, ufac : float
     vmin, vmax : float
-        Value range (data units) the table spans.
+        Value range (data units) the table spans: ``core.table_range`` (the data's, less the far outliers of an
+        MRI whose few brightest voxels lie thousands of times past its tissue; they are clamped to ``vmax``). A
+        brick of an out-of-core volume spans the whole volume's (``bricked.BrickVolume.value_range``).
     scale : float
         Data units per normalized unit.
     is_color, rgb
@@ -51,14 +54,15 @@ class Prepared:
         self.is_color = bool(volume.is_color)
         self.rgb = rgb8(volume.data) if self.is_color else NO_RGB
         data, steps = luminance_samples(volume) if self.is_color else (volume.data, 1)
-        lo, hi = (np.nanmin(data) / steps, np.nanmax(data) / steps) if self.is_color else volume.value_range()
+        lo, hi = (np.nanmin(data) / steps, np.nanmax(data) / steps) if self.is_color else _range(volume)
+        clamped = not self.is_color and hi < volume.value_range()[1]
         if not np.isfinite(lo):
             lo, hi = 0.0, 1.0
         if not hi > lo:
             hi = lo + 1.0
         self.vmin, self.vmax = float(lo), float(hi)
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
-        self.u, self.u0, self.ufac = int16_samples(data, self.vmin, self.vmax, steps)
+        self.u, self.u0, self.ufac = int16_samples(data, self.vmin, self.vmax, steps, in_place=not clamped)
         self.u_copied = self.u is not data
         self.affine = np.array(volume.affine, dtype=float)
         self._normals: dict[tuple[bool, bool], tuple[np.ndarray, float]] = {}
@@ -177,6 +181,12 @@ _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 def _key(volume) -> tuple:
     d = volume.data
     return (id(d), d.shape, d.dtype.str, np.asarray(volume.affine, float).tobytes())
+
+
+def _range(volume) -> tuple[float, float]:
+    """A scalar volume's table range: ``core.table_range``; a brick's, the whole volume's (its table is the same
+    for every brick, ``bricked.BrickVolume``)."""
+    return volume.value_range() if hasattr(volume, "whole_range") else table_range(volume)
 
 
 def prepare(volume) -> Prepared:

@@ -7,7 +7,7 @@ kernels then only read arrays.
   serves CT, MRI and float data alike: int16 data itself, integer data of any other type shifted (exact),
   floats and wider ranges quantized to 65,536 levels over the value range (1/16 of a table entry). With the
   pair ``(u0, ufac)``, ``(u - u0) * ufac`` is the index into the transfer-function table. NaN becomes the
-  value range's low end.
+  value range's low end; values past the range (``core.table_range``: an MRI's far outliers) are clamped to it.
 * normals: the parameters (:func:`normal_params`: the index -> world gradient
   matrix and ``gmax``, the largest |g|); the per-voxel direction codes the kernels
   read are built from them in :mod:`._normals`. Gradients are central differences
@@ -38,11 +38,10 @@ _LOW = int(np.iinfo(np.int16).min)
 
 
 @njit(cache=True, nogil=True)  # no fastmath: it must see NaN
-def _shift_kernel(part, parts, data, vmin, scale, out):
+def _shift_kernel(part, parts, data, vmin, scale, top, out):
     """Planes of part ``part`` of ``parts`` (``volumen.jit.run_parts``): ``rint((x - vmin) * scale)`` clamped to
-    ``[0, LEVELS - 1]``, NaN to 0, stored less 32768."""
+    ``[0, top]``, NaN to 0, stored less 32768."""
     nz, ny, nx = data.shape
-    top = np.float64(LEVELS - 1)
     for k in range(part * nz // parts, (part + 1) * nz // parts):
         for j in range(ny):
             for i in range(nx):
@@ -54,11 +53,13 @@ def _shift_kernel(part, parts, data, vmin, scale, out):
                 out[k, j, i] = np.int16(np.int64(v) + _LOW)
 
 
-def int16_samples(data: np.ndarray, vmin: float, vmax: float, steps: int = 1) -> tuple[np.ndarray, float, float]:
+def int16_samples(data: np.ndarray, vmin: float, vmax: float, steps: int = 1,
+                  in_place: bool = True) -> tuple[np.ndarray, float, float]:
     """``(u, u0, ufac)``: the samples the kernels read, with ``(u - u0) * ufac`` mapping ``[vmin, vmax]`` (data
     units; ``steps`` samples of ``data`` per unit) onto ``[0, NLUT - 1]``.
 
-    * int16, C-contiguous and writable: ``data`` itself (no copy);
+    * int16, C-contiguous and writable, ``in_place`` (``[vmin, vmax]`` holds all its values): ``data`` itself
+      (no copy);
     * other integers whose range spans at most :data:`LEVELS` values: an int16 copy shifted by a whole number
       (exact);
     * floats and wider integer ranges: ``[vmin, vmax]`` quantized to :data:`LEVELS` levels (a step of
@@ -66,12 +67,13 @@ def int16_samples(data: np.ndarray, vmin: float, vmax: float, steps: int = 1) ->
     """
     lo, span = vmin * steps, (vmax - vmin) * steps  # the range in sample units
     per_entry = (NLUT - 1) / span  # table entries per sample unit
-    if data.dtype == np.int16 and data.flags.c_contiguous and data.flags.writeable:
+    if in_place and data.dtype == np.int16 and data.flags.c_contiguous and data.flags.writeable:
         return data, lo, per_entry
     exact = data.dtype.kind in "iu" and span < LEVELS
     scale = 1.0 if exact else (LEVELS - 1) / span
+    top = min(LEVELS - 1.0, np.floor(span * scale + 1e-6))  # vmax (in whole units when exact): table entry 4095
     out = np.empty(data.shape, np.int16)
-    run_parts(_shift_kernel, data.shape[0], data, float(lo), float(scale), out)
+    run_parts(_shift_kernel, data.shape[0], data, float(lo), float(scale), float(top), out)
     return out, float(_LOW), per_entry / scale
 
 

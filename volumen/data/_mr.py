@@ -11,7 +11,7 @@ window, the isosurface level) put the tissue low on their ramp, and the picture 
 (``core._display``). ``outliers`` is their share of the head's voxels, each ``gain`` times the brightest tissue
 (times 0.8-1.2); 0 makes none. ``dtype`` ``"float32"`` keeps the signal as floats, unrounded and unclipped, as a
 processing pipeline writes an MRI: with a large ``gain`` its outliers then lie thousands of times past the tissue,
-the failure class of a table and samples spanned to the maximum (``render/raycast/_precompute.sample_range``).
+the failure class of a table and samples spanned to the maximum (``core.table_range``).
 
 Built from the head phantom's Hounsfield units (``_head``, without its CT noise): each tissue's value is mapped
 to an MR signal by a table (:data:`SIGNAL`), linearly between, so partial-volume edges stay edges. Deterministic

@@ -51,10 +51,11 @@ _KEEP_TOP = ("PT", "NM", "SEG", "RTDOSE")
 REACH = 16.0
 
 
-def display_range(volume) -> tuple[float, float]:
+def display_range(volume, data_range: tuple[float, float] | None = None) -> tuple[float, float]:
     """``(lo, hi)``: the data range (``Volume.value_range``), its top cut to the foreground's
-    :data:`TOP_PERCENTILE`-th percentile where the maximum is an outlier (module docstring)."""
-    lo, hi = volume.value_range()
+    :data:`TOP_PERCENTILE`-th percentile where the maximum is an outlier (module docstring). ``data_range``:
+    ``volume.value_range()`` where the caller has it (a pass over the data less)."""
+    lo, hi = volume.value_range() if data_range is None else data_range
     if (volume.is_color or not hi > lo or is_chunked(volume.data) or str(volume.modality or "").upper() in _KEEP_TOP
             or hu_offset(volume) is not None):
         return lo, hi
@@ -70,13 +71,13 @@ def display_range(volume) -> tuple[float, float]:
     return lo, hi
 
 
-def table_range(volume) -> tuple[float, float]:
+def table_range(volume, data_range: tuple[float, float] | None = None) -> tuple[float, float]:
     """``(lo, hi)``: the value range a renderer's transfer-function table spans (the ray caster's samples and
-    table, the texture slicer's): the data range, its top cut to :data:`REACH` display ranges past the minimum
-    (module docstring); the values above ``hi`` are clamped to it."""
-    lo, hi = volume.value_range()
-    dlo, top = display_range(volume)
-    return lo, min(hi, dlo + REACH * (top - dlo))
+    table, the texture slicer's): the data range (``data_range``, else ``volume.value_range()``), its top cut to
+    :data:`REACH` display ranges past the minimum (module docstring); the values above ``hi`` are clamped to it."""
+    lo, hi = volume.value_range() if data_range is None else data_range
+    top = display_range(volume, (lo, hi))[1]
+    return lo, min(hi, lo + REACH * (top - lo))
 
 
 def default_iso(volume) -> float:

@@ -54,8 +54,10 @@ class Prepared:
         self.is_color = bool(volume.is_color)
         self.rgb = rgb8(volume.data) if self.is_color else NO_RGB
         data, steps = luminance_samples(volume) if self.is_color else (volume.data, 1)
-        lo, hi = (np.nanmin(data) / steps, np.nanmax(data) / steps) if self.is_color else _range(volume)
-        clamped = not self.is_color and hi < volume.value_range()[1]
+        full = (np.nanmin(data) / steps, np.nanmax(data) / steps) if self.is_color else volume.value_range()
+        # a brick's table is the whole volume's (``bricked.BrickVolume``): its range as it is
+        lo, hi = full if self.is_color or hasattr(volume, "whole_range") else table_range(volume, full)
+        clamped = hi < full[1]
         if not np.isfinite(lo):
             lo, hi = 0.0, 1.0
         if not hi > lo:
@@ -181,12 +183,6 @@ _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 def _key(volume) -> tuple:
     d = volume.data
     return (id(d), d.shape, d.dtype.str, np.asarray(volume.affine, float).tobytes())
-
-
-def _range(volume) -> tuple[float, float]:
-    """A scalar volume's table range: ``core.table_range``; a brick's, the whole volume's (its table is the same
-    for every brick, ``bricked.BrickVolume``)."""
-    return volume.value_range() if hasattr(volume, "whole_range") else table_range(volume)
 
 
 def prepare(volume) -> Prepared:

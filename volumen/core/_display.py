@@ -18,12 +18,13 @@ Kept at the data range, where the brightest few voxels are the finding or the cu
 
 The percentile is read on a strided sample (``_values``).
 
-The renderers' tables (:func:`table_range`) span the data range too, down to the same outliers' far end: where the
-maximum lies more than :data:`REACH` display ranges past the minimum (an MRI written as floats whose few outliers
-are thousands of times brighter than its tissue), a table of 4,096 entries spread over it gave the tissue one
-entry, and every transfer function drew it black. There the table ends at :data:`REACH` display ranges, so the
-display range has at least 1/16 of it, and the voxels past that end are clamped to it: they classify as the
-transfer function's value there (its brightest, for one that ends below) and a MIP reads them as that value.
+The renderers' tables (:func:`table_range`) span the data range too, but stop short of such outliers where
+they lie very far out: where the maximum lies more than :data:`REACH` display ranges past the minimum (an MRI
+written as floats whose few outliers are thousands of times brighter than its tissue), a table of 4,096 entries
+spread over it gave the tissue one entry, and every transfer function drew it black. There the table ends at
+:data:`REACH` display ranges, so the display range has at least 1/16 of it, and the voxels past that end are
+clamped to it: they classify as the transfer function's value there (its brightest, for one that ends below) and
+a MIP reads them as that value.
 """
 
 from __future__ import annotations

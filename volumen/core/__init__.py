@@ -7,7 +7,7 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 from . import gestures
 from ._camera import VIEWS, Camera, default_view
 from ._ct import is_ct
-from ._display import default_iso, display_range, table_range
+from ._display import default_iso, display_range, drawable_range, table_range
 from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
@@ -50,6 +50,7 @@ __all__ = [
     "default_iso",
     "display_range",
     "table_range",
+    "drawable_range",
     "fitted_preset",
     "is_ct",
     "FACING",

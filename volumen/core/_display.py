@@ -35,8 +35,8 @@ from ._ct import hu_offset
 from ._values import strided_values
 from ._volume import is_chunked
 
-__all__ = ["display_range", "table_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE", "LABEL_VALUES",
-           "BONE_ISO_HU", "REACH"]
+__all__ = ["display_range", "table_range", "drawable_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE",
+           "LABEL_VALUES", "BONE_ISO_HU", "REACH"]
 
 #: the percentile of the foreground values that the display range may end at
 TOP_PERCENTILE = 99.9
@@ -79,6 +79,14 @@ def table_range(volume, data_range: tuple[float, float] | None = None) -> tuple[
     lo, hi = volume.value_range() if data_range is None else data_range
     top = display_range(volume, (lo, hi))[1]
     return lo, min(hi, lo + REACH * (top - lo))
+
+
+def drawable_range(lo: float, hi: float) -> tuple[float, float]:
+    """A table's range as a renderer can divide by it: ``(0, 1)`` where no value is finite, ``hi`` one unit past
+    ``lo`` where the data are flat."""
+    if not np.isfinite(lo):
+        return 0.0, 1.0
+    return float(lo), float(hi) if hi > lo else float(lo) + 1.0
 
 
 def default_iso(volume) -> float:

@@ -23,7 +23,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from ...core import table_range
+from ...core import drawable_range, table_range
 from ._context import gl_thread
 
 __all__ = ["NLUT", "value_range", "value_texture", "classified_texture", "tf_texture", "clear_cache"]
@@ -58,12 +58,7 @@ def _key(volume) -> tuple:
 def value_range(volume) -> tuple[float, float]:
     """``(vmin, vmax)`` the textures map to [0, 1] (values past it clamped): the finite data range less an MRI's
     far outliers (``core.table_range``, as the ray caster's table), widened to 1 unit when flat."""
-    lo, hi = table_range(volume)
-    if not np.isfinite(lo):
-        lo, hi = 0.0, 1.0
-    if not hi > lo:
-        hi = lo + 1.0
-    return float(lo), float(hi)
+    return drawable_range(*table_range(volume))
 
 
 def _entry(volume) -> _Entry:

@@ -14,7 +14,7 @@ import weakref
 
 import numpy as np
 
-from ...core import table_range
+from ...core import drawable_range, table_range
 from ._color import NO_RGB, luminance_samples, rgb8
 from ._normals import encode_normals
 from ._precompute import NLUT, build_blocks, int16_samples, normal_params
@@ -57,12 +57,8 @@ class Prepared:
         full = (np.nanmin(data) / steps, np.nanmax(data) / steps) if self.is_color else volume.value_range()
         # a brick's table is the whole volume's (``bricked.BrickVolume``): its range as it is
         lo, hi = full if self.is_color or hasattr(volume, "whole_range") else table_range(volume, full)
-        clamped = hi < full[1]
-        if not np.isfinite(lo):
-            lo, hi = 0.0, 1.0
-        if not hi > lo:
-            hi = lo + 1.0
-        self.vmin, self.vmax = float(lo), float(hi)
+        self.vmin, self.vmax = drawable_range(lo, hi)
+        clamped = self.vmax < full[1]
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
         self.u, self.u0, self.ufac = int16_samples(data, self.vmin, self.vmax, steps, in_place=not clamped)
         self.u_copied = self.u is not data

@@ -181,3 +181,69 @@ def test_the_table_range_is_the_data_range_but_past_far_outliers(mr, clean):
     assert hi > 1000 * (top - dlo)
     pet = Volume(far.data, spacing=far.spacing, modality="PT")
     assert table_range(pet) == pet.value_range()
+
+
+@pytest.mark.parametrize("fill", [-1000.0, -1e6, float(np.finfo(np.float32).min)])
+def test_a_fill_value_far_below_an_mri_starts_neither_its_display_nor_its_table_range(fill):
+    """A resampler's fill outside the field of view (``data.fill_outside_field``): the display range starts at the
+    MRI's own noise floor (the fill-0 copy's 0.1st percentile above its minimum, within 1 % of its range) and ends
+    where the fill-0 copy's ends; the table starts at most :data:`REACH` display ranges under its top."""
+    from volumen.core._display import REACH
+    from volumen.data import fill_outside_field
+
+    mr = phantom("mr_head", size=48, dtype="float32")
+    plain, filled = fill_outside_field(mr, 0.0), fill_outside_field(mr, fill)
+    lo0, hi0 = display_range(plain)
+    lo, hi = display_range(filled)
+    assert lo0 == 0.0 and hi == hi0
+    assert 0.0 < lo <= 0.01 * (hi0 - lo0)
+    start, end = table_range(filled)
+    assert start == max(fill, hi - REACH * (hi - lo)) and end == table_range(plain)[1]
+    assert default_iso(filled) == pytest.approx(default_iso(plain), abs=0.01 * (hi0 - lo0))
+
+
+def test_a_negative_minimum_that_is_not_a_fill_starts_the_range():
+    """Kept at the data's minimum: an MRI whose noise floor reaches a little below 0 (a bias-corrected float
+    MRI), a skull-stripped MRI whose background is exactly 0 below its darkest tissue (not negative), and a CT
+    (the fill of a float CT is the table's business: the next test)."""
+    mr = phantom("mr_head", size=48, dtype="float32", outliers=0.0)
+    noisy = Volume(mr.data - np.float32(5.0), spacing=mr.spacing, modality="MR")
+    assert display_range(noisy)[0] == noisy.value_range()[0]
+    d = np.where(mr.data > 300, mr.data, 0).astype(np.float32)
+    stripped = Volume(d, spacing=mr.spacing, modality="MR")
+    assert display_range(stripped)[0] == 0.0
+    from volumen.data import fill_outside_field
+
+    ct = fill_outside_field(phantom("head", size=32), -1e6)
+    assert display_range(ct) == ct.value_range()
+
+
+def test_a_float_ct_table_starts_no_lower_than_the_int16_floor():
+    """A float CT whose fill is -1e6 or the lowest float: its table starts at :data:`CT_FLOOR_HU` (HU; the int16
+    floor), so the 4,096 entries are not spread over the fill. A CT stored as int16 never reaches past it: its
+    table stays its data range, also with -32768 padding."""
+    from volumen.core._display import CT_FLOOR_HU
+    from volumen.data import fill_outside_field
+
+    head = phantom("head", size=32)
+    for fill in (-1e6, float(np.finfo(np.float32).min)):
+        ct = fill_outside_field(head, fill)
+        assert table_range(ct) == (CT_FLOOR_HU, ct.value_range()[1])
+    padded = fill_outside_field(head, -32768.0)
+    padded = Volume(padded.data.astype(np.int16), spacing=padded.spacing, modality="CT")
+    assert table_range(padded) == padded.value_range() == (-32768.0, float(head.data.max()))
+
+
+def test_slices_of_an_mri_with_a_fill_far_below_are_windowed_as_without_it():
+    """``slice_image`` with no window (``volumen slices``): an MRI filled with -1e6 outside its field of view gives
+    the slices of its fill-0 copy within 1 grey level on average (measured 0.07-0.17); the fill was in the slice's
+    1st percentile before, and the head came out white (every pixel above 0 at 255; mean |diff| 48-123)."""
+    from volumen.core import slice_image
+    from volumen.data import fill_outside_field
+
+    mr = phantom("mr_head", size=48, dtype="float32")
+    plain, filled = fill_outside_field(mr, 0.0), fill_outside_field(mr, -1e6)
+    for plane in ("axial", "coronal", "sagittal"):
+        a, b = (slice_image(v, plane).astype(float) for v in (plain, filled))
+        print(plane, float(np.abs(a - b).mean()))
+        assert float(np.abs(a - b).mean()) <= 1.0

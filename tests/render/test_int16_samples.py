@@ -101,3 +101,22 @@ def test_a_range_short_of_the_data_clamps_its_far_values_to_the_last_table_entry
     keep = x < 699.5
     level = 0.0 if dtype != np.float32 else 0.5 * (NLUT - 1) / (LEVELS - 1)
     assert np.abs(idx[keep] - _expected(x[keep], vmin, vmax)).max() <= level + 1e-9
+
+
+def test_an_int16_mri_with_a_fill_far_below_is_copied_and_its_fill_sits_at_the_first_entry():
+    """``core.table_range`` may start above the data's minimum (an int16 MRI whose fill outside the field of view
+    is -32768): ``Prepared`` then samples a copy, not the data in place, whose fill voxels sit at table entry 0
+    and never under it (the kernels' table reads are not bounds-checked), and whose tissue keeps its index
+    exactly."""
+    from volumen.core import Volume
+    from volumen.data import fill_outside_field, phantom
+    from volumen.render.raycast._cache import Prepared
+
+    mr = fill_outside_field(phantom("mr_head", size=32), -32768.0)
+    vol = Volume(mr.data.astype(np.int16), spacing=mr.spacing, modality="MR")
+    p = Prepared(vol, None)
+    assert p.u is not vol.data and p.vmin > -32768.0
+    idx = _index(p.u, p.u0, p.ufac)
+    fill = vol.data == -32768
+    assert fill.any() and idx.min() == 0.0 and np.all(idx[fill] == 0.0)
+    np.testing.assert_allclose(idx[~fill], _expected(vol.data[~fill], p.vmin, p.vmax), rtol=0, atol=1e-9)

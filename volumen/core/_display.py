@@ -16,6 +16,15 @@ Kept at the data range, where the brightest few voxels are the finding or the cu
 * a chunked (out-of-core) volume: its sample is three planes, which can miss a bright region the maximum sees;
 * the projections' ``mip-gray`` (an angiogram's MIP is its brightest voxels: ``_transfer.fitted_preset``).
 
+The low end is cut the same way where the minimum is a fill value, not the background: a resampler or a
+registration writes the voxels outside the scan's field of view as one value far below any the scanner gave
+(-1000, -1e6, the lowest float). Spanned from it, the background sits high on every ramp and the field of view
+is drawn as an opaque, milky cylinder: a wall. So where the minimum is negative and lies more than
+:data:`FLOOR_GAP` of the range below the :data:`TOP_PERCENTILE`-th percentile from the bottom of the voxels above
+it, the range starts at that percentile; the fill voxels classify as the transfer function's low end
+(transparent). An MRI's background is never negative: its minimum is 0 or its noise floor, so a range that
+starts there, or at a small negative noise floor, is kept.
+
 The percentile is read on a strided sample (``_values``).
 
 The renderers' tables (:func:`table_range`) span the data range too, but stop short of such outliers where
@@ -24,7 +33,9 @@ written as floats whose few outliers are thousands of times brighter than its ti
 spread over it gave the tissue one entry, and every transfer function drew it black. There the table ends at
 :data:`REACH` display ranges, so the display range has at least 1/16 of it, and the voxels past that end are
 clamped to it: they classify as the transfer function's value there (its brightest, for one that ends below) and
-a MIP reads them as that value.
+a MIP reads them as that value. Below, the table starts at most :data:`REACH` display ranges under the display
+range's top, and a CT's no lower than :data:`CT_FLOOR_HU` (a float CT whose fill is -1e6 gave its whole
+range to the fill, one entry to 250 HU), and the voxels under that start are clamped to it.
 """
 
 from __future__ import annotations
@@ -36,7 +47,7 @@ from ._values import strided_values
 from ._volume import is_chunked
 
 __all__ = ["display_range", "table_range", "drawable_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE",
-           "LABEL_VALUES", "BONE_ISO_HU", "REACH"]
+           "LABEL_VALUES", "BONE_ISO_HU", "REACH", "FLOOR_GAP", "CT_FLOOR_HU"]
 
 #: the percentile of the foreground values that the display range may end at
 TOP_PERCENTILE = 99.9
@@ -50,12 +61,17 @@ BONE_ISO_HU = 300.0
 _KEEP_TOP = ("PT", "NM", "SEG", "RTDOSE")
 #: how many display ranges past the minimum a renderer's table reaches at most (:func:`table_range`)
 REACH = 16.0
+#: a negative minimum is a fill value where the voxels above it start more than this share of the range above it
+#: (half of the transparent tenth at the bottom of ``mr-default``: a background lifted past it turns milky)
+FLOOR_GAP = 0.05
+#: a CT's table starts no lower than this (HU): int16, which every DICOM CT is stored in, reaches no lower
+CT_FLOOR_HU = -32768.0
 
 
 def display_range(volume, data_range: tuple[float, float] | None = None) -> tuple[float, float]:
-    """``(lo, hi)``: the data range (``Volume.value_range``), its top cut to the foreground's
-    :data:`TOP_PERCENTILE`-th percentile where the maximum is an outlier (module docstring). ``data_range``:
-    ``volume.value_range()`` where the caller has it (a pass over the data less)."""
+    """``(lo, hi)``: the data range (``Volume.value_range``), its bottom cut where the minimum is a fill value and
+    its top cut to the foreground's :data:`TOP_PERCENTILE`-th percentile where the maximum is an outlier (module
+    docstring). ``data_range``: ``volume.value_range()`` where the caller has it (a pass over the data less)."""
     lo, hi = volume.value_range() if data_range is None else data_range
     if (volume.is_color or not hi > lo or is_chunked(volume.data) or str(volume.modality or "").upper() in _KEEP_TOP
             or hu_offset(volume) is not None):
@@ -67,6 +83,10 @@ def display_range(volume, data_range: tuple[float, float] | None = None) -> tupl
     if v.size == 0:
         return lo, hi
     top = float(np.percentile(v, TOP_PERCENTILE))
+    if lo < 0.0:
+        bottom = float(np.percentile(v, 100.0 - TOP_PERCENTILE))
+        if bottom - lo > FLOOR_GAP * (top - lo):
+            lo = bottom
     if top > lo and hi - lo > OUTLIER_FACTOR * (top - lo):
         return lo, top
     return lo, hi
@@ -75,10 +95,15 @@ def display_range(volume, data_range: tuple[float, float] | None = None) -> tupl
 def table_range(volume, data_range: tuple[float, float] | None = None) -> tuple[float, float]:
     """``(lo, hi)``: the value range a renderer's transfer-function table spans (the ray caster's samples and
     table, the texture slicer's): the data range (``data_range``, else ``volume.value_range()``), its top cut to
-    :data:`REACH` display ranges past the minimum (module docstring); the values above ``hi`` are clamped to it."""
+    :data:`REACH` display ranges past the display range's bottom, its bottom to as many under its top, and a
+    CT's to :data:`CT_FLOOR_HU` (module docstring); the values past ``lo`` and ``hi`` are clamped to them."""
     lo, hi = volume.value_range() if data_range is None else data_range
-    top = display_range(volume, (lo, hi))[1]
-    return lo, min(hi, lo + REACH * (top - lo))
+    bottom, top = display_range(volume, (lo, hi))
+    start = max(lo, top - REACH * (top - bottom))
+    offset = hu_offset(volume)
+    if offset is not None:
+        start = max(start, offset + CT_FLOOR_HU)
+    return start, min(hi, bottom + REACH * (top - bottom))
 
 
 def drawable_range(lo: float, hi: float) -> tuple[float, float]:

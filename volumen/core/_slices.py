@@ -199,7 +199,8 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
     ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
     data with no window is shown as stored, 0..255). With no window a CT (:func:`is_ct`) gets the
-    ``soft-tissue`` window (:func:`default_window`), anything else the slice's 1st..99th percentile. A volume whose
+    ``soft-tissue`` window (:func:`default_window`), anything else the slice's 1st..99th percentile, its values
+    below the display range (a resampler's fill outside the field of view: ``_display``) raised to it. A volume whose
     ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
@@ -207,6 +208,8 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
         window = default_window(volume)  # soft tissue, on the stored values
     if window is None and volume.is_color and img.dtype == np.uint8:
         window = Window(level=127.5, width=255.0)
+    if window is None and not volume.is_color:  # a fill far below (``display_range``) is not in the percentiles
+        img = np.maximum(img, np.asarray(display_range(volume)[0], img.dtype))
     out = window_to_uint8(img, window)
     if volume.meta.get("display_inverted"):  # MONOCHROME1: low values are white
         out = 255 - out

@@ -35,8 +35,9 @@ class Prepared:
     u0, ufac : float
     vmin, vmax : float
         Value range (data units) the table spans: ``core.table_range`` (the data's, less the far outliers of an
-        MRI whose few brightest voxels lie thousands of times past its tissue; they are clamped to ``vmax``). A
-        brick of an out-of-core volume spans the whole volume's (``bricked.BrickVolume.value_range``).
+        MRI whose few brightest voxels lie thousands of times past its tissue, clamped to ``vmax``, and a fill
+        value far below the rest, clamped to ``vmin``). A brick of an out-of-core volume spans the whole
+        volume's (``bricked.BrickVolume.value_range``).
     scale : float
         Data units per normalized unit.
     is_color, rgb
@@ -58,7 +59,7 @@ class Prepared:
         # a brick's table is the whole volume's (``bricked.BrickVolume``): its range as it is
         lo, hi = full if self.is_color or hasattr(volume, "whole_range") else table_range(volume, full)
         self.vmin, self.vmax = drawable_range(lo, hi)
-        clamped = self.vmax < full[1]
+        clamped = self.vmax < full[1] or self.vmin > full[0]
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
         self.u, self.u0, self.ufac = int16_samples(data, self.vmin, self.vmax, steps, in_place=not clamped)
         self.u_copied = self.u is not data

@@ -7,7 +7,8 @@ kernels then only read arrays.
   serves CT, MRI and float data alike: int16 data itself, integer data of any other type shifted (exact),
   floats and wider ranges quantized to 65,536 levels over the value range (1/16 of a table entry). With the
   pair ``(u0, ufac)``, ``(u - u0) * ufac`` is the index into the transfer-function table. NaN becomes the
-  value range's low end; values past the range (``core.table_range``: an MRI's far outliers) are clamped to it.
+  value range's low end; values past the range (``core.table_range``: an MRI's far outliers, a fill far below)
+  are clamped to it.
 * normals: the parameters (:func:`normal_params`: the index -> world gradient
   matrix and ``gmax``, the largest |g|); the per-voxel direction codes the kernels
   read are built from them in :mod:`._normals`. Gradients are central differences

@@ -32,7 +32,7 @@ from importlib import resources
 __all__ = ["shader_source", "stage_parts", "stage_source", "program", "SHADER_FILES", "DIALECTS", "STAGES"]
 
 #: the shader files of the package (without the ``.glsl`` suffix)
-SHADER_FILES = ("preamble", "slicing", "mesh", "lighting", "raycast", "raycast_modes", "display")
+SHADER_FILES = ("preamble", "slicing", "mesh", "lighting", "jitter", "raycast", "raycast_modes", "display")
 #: dialect -> its #version line: desktop OpenGL 3.3 core, and WebGL2 (OpenGL ES 3.0)
 DIALECTS = {"gl330": "#version 330 core", "es300": "#version 300 es"}
 #: stage -> the macro its source is compiled with

@@ -152,6 +152,8 @@ def _set_uniforms(prog, scene, camera, size, slabs: _Slabs, lights: np.ndarray, 
     set_uniform(prog, "u_tf_n", float(NLUT))
     set_uniform(prog, "u_ds0", ds0)
     set_uniform(prog, "u_zref", float(z0))
+    set_uniform(prog, "u_jitter", bool(scene.sampling.jitter))
+    set_uniform(prog, "u_seed", int(scene.sampling.seed))
     set_clipping(prog, camera, scene.clipping)
     nz, ny, nx = volume.shape
     set_uniform(prog, "u_texel", (1 / nx, 1 / ny, 1 / nz))
@@ -228,8 +230,9 @@ def render_slicing(scene, camera, size, options: SlicingOptions | None = None):
         Its volume, transfer function, shading (``none``, ``headlight``,
         ``phong`` with the scene's lights; the shadow, scattering and path
         tracing modes are lit as ``phong``, without shadows), ``sampling.samples_per_voxel``
-        (plane spacing ``ds0 / spv`` for the uniform distribution) and clipping
-        (voxel or world crop box, clip planes) are honoured; jitter,
+        (plane spacing ``ds0 / spv`` for the uniform distribution), clipping
+        (voxel or world crop box, clip planes) and ``sampling.jitter`` (each pixel's samples moved along its
+        ray by its share of the slab, ``sampling.seed``: no wood grain) are honoured;
         pre-integration, gradient opacity and early termination are not.
     camera : Camera
     size : (width, height), pixels

@@ -199,15 +199,7 @@ vec3 rgb_idx(vec3 p) {   // _color.sample_rgb
     return texture(u_rgb, (p + 0.5) / vec3(n)).rgb;
 }
 
-float jitter01(int x, int y, int seed) {   // _sample.jitter01, in 32-bit unsigned arithmetic
-    uint h = (uint(x) * 73856093u) ^ (uint(y) * 19349663u) ^ (uint(seed + 1) * 83492791u);
-    h = (h ^ 61u) ^ (h >> 16);
-    h = h + (h << 3);
-    h ^= h >> 4;
-    h = h * 0x27D4EB2Du;
-    h ^= h >> 15;
-    return float(h & 0xFFFFFFu) / 16777216.0;
-}
+#include "jitter.glsl"
 
 // ---- geometry (_geometry) ----
 vec2 slab(float o, float d, float lo, float hi, vec2 t) {

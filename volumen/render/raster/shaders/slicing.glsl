@@ -38,12 +38,16 @@ uniform vec4 u_clip[MAX_CLIP];   // keep dot(n, p) + w >= 0
 uniform vec3 u_texel;            // one voxel in texture coordinates
 uniform mat3 u_grad_to_world;    // inverse transpose of the affine's 3x3
 uniform float u_zref;            // view depth the depth moments are taken from, mm
+uniform mat4 u_world_to_tex;
+uniform bool u_jitter;           // sample each pixel's rays off the planes by its jitter (against wood grain)
+uniform int u_seed;              // the jitter's frame seed
 layout(location = 0) out vec4 f_color;   // premultiplied
 layout(location = 1) out vec4 f_tau;     // optical depth tau, tau z, tau z^2 (added up)
 
 #if defined SHADED
 #include "lighting.glsl"
 #endif
+#include "jitter.glsl"
 
 void main() {
     vec3 dir = u_ortho ? u_forward : normalize(v_world - u_eye);
@@ -51,12 +55,19 @@ void main() {
     if (dist < u_range.x || dist > u_range.y) discard;
     for (int i = 0; i < u_nclip; ++i)
         if (dot(u_clip[i].xyz, v_world) + u_clip[i].w < 0.0) discard;
+    // the pixel's samples all move along its ray by the same share of their slab (-1/2..1/2): the planes' wood
+    // grain on a smooth surface becomes the ray caster's fine noise
+    vec3 tex = v_tex;
+    if (u_jitter) {
+        float off = (jitter01(int(gl_FragCoord.x), int(gl_FragCoord.y), u_seed) - 0.5) * v_gap / dot(dir, u_forward);
+        tex = (u_world_to_tex * vec4(v_world + off * dir, 1.0)).xyz;
+    }
 #if defined PRE_CLASSIFIED
-    vec4 c = texture(u_volume, v_tex);       // premultiplied, opacity per reference step
+    vec4 c = texture(u_volume, tex);         // premultiplied, opacity per reference step
     float a = c.a;
     vec3 rgb = a > 0.0 ? c.rgb / a : vec3(0.0);
 #else
-    float u = texture(u_volume, v_tex).r;
+    float u = texture(u_volume, tex).r;
     vec4 c = texture(u_tf, vec2((u * (u_tf_n - 1.0) + 0.5) / u_tf_n, 0.5));
     float a = c.a;
     vec3 rgb = c.rgb;
@@ -69,9 +80,9 @@ void main() {
 #if defined SHADED
     vec3 t = u_texel;
     vec3 g = 0.5 * vec3(
-        texture(u_volume, v_tex + vec3(t.x, 0, 0)).PROBE - texture(u_volume, v_tex - vec3(t.x, 0, 0)).PROBE,
-        texture(u_volume, v_tex + vec3(0, t.y, 0)).PROBE - texture(u_volume, v_tex - vec3(0, t.y, 0)).PROBE,
-        texture(u_volume, v_tex + vec3(0, 0, t.z)).PROBE - texture(u_volume, v_tex - vec3(0, 0, t.z)).PROBE);
+        texture(u_volume, tex + vec3(t.x, 0, 0)).PROBE - texture(u_volume, tex - vec3(t.x, 0, 0)).PROBE,
+        texture(u_volume, tex + vec3(0, t.y, 0)).PROBE - texture(u_volume, tex - vec3(0, t.y, 0)).PROBE,
+        texture(u_volume, tex + vec3(0, 0, t.z)).PROBE - texture(u_volume, tex - vec3(0, 0, t.z)).PROBE);
     vec3 f, s;
     shade(u_grad_to_world * g, -dir, v_world, f, s);
     col = col * f + ac * s;

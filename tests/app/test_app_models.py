@@ -200,3 +200,25 @@ def test_a_picture_finishing_after_stop_is_dropped_not_emitted(qtbot, monkeypatc
     release.set()
     thread.join(5)
     assert not thread.is_alive() and errors == [] and got == []
+
+
+def test_the_transfer_function_editor_spans_the_table_range_not_a_fill(qtbot):
+    """The editor's plot (and its histogram) spans ``core.table_range``: for an MRI filled with -1e6 outside its
+    field of view the table's, not -1e6 onward, where the tissue's whole range was 1/1600 of the plot's width."""
+    from volumen.app._tf_editor import TransferCanvas
+    from volumen.core import table_range
+    from volumen.data import fill_outside_field, phantom
+
+    vol = fill_outside_field(phantom("mr_head", size=32, dtype="float32"), -1e6)
+
+    class State:
+        volume = vol
+
+        def subscribe(self, *args):
+            pass
+
+    canvas = TransferCanvas(State())
+    qtbot.addWidget(canvas)
+    assert canvas.range == table_range(vol) and canvas.range[0] > -2e4
+    heights, edges = canvas._hist
+    assert edges[0] == pytest.approx(canvas.range[0], rel=1e-6) and np.count_nonzero(heights[edges[:-1] >= 0]) >= 5

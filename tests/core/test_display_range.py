@@ -204,8 +204,9 @@ def test_a_fill_value_far_below_an_mri_starts_neither_its_display_nor_its_table_
 
 def test_a_negative_minimum_that_is_not_a_fill_starts_the_range():
     """Kept at the data's minimum: an MRI whose noise floor reaches a little below 0 (a bias-corrected float
-    MRI), a skull-stripped MRI whose background is exactly 0 below its darkest tissue (not negative), and a CT
-    (the fill of a float CT is the table's business: the next test)."""
+    MRI), a skull-stripped MRI whose background is exactly 0 below its darkest tissue (not negative), a CT
+    (the fill of a float CT is the table's business: the next test), and noise about 0 whose lowest voxel lies
+    far below the 0.1st percentile (its minimum is one voxel, not a region)."""
     mr = phantom("mr_head", size=48, dtype="float32", outliers=0.0)
     noisy = Volume(mr.data - np.float32(5.0), spacing=mr.spacing, modality="MR")
     assert display_range(noisy)[0] == noisy.value_range()[0]
@@ -216,6 +217,11 @@ def test_a_negative_minimum_that_is_not_a_fill_starts_the_range():
 
     ct = fill_outside_field(phantom("head", size=32), -1e6)
     assert display_range(ct) == ct.value_range()
+    # noise about 0 with a bright object (a z-score map, a denoised MRI): its minimum is one voxel, not a region
+    d = np.random.default_rng(0).normal(0.0, 60.0, (48, 48, 48)).astype(np.float32)
+    d[16:32, 16:32, 16:32] += 1000.0
+    noise = Volume(d, spacing=(1.0, 1.0, 1.0), modality="MR")
+    assert display_range(noise)[0] == noise.value_range()[0]
 
 
 def test_a_float_ct_table_starts_no_lower_than_the_int16_floor():

@@ -124,3 +124,16 @@ def test_chunk_cache_keeps_derived_entries_under_its_bound():
     assert not cache.keep(("e",), "refused", 64)  # would drop chunk 2 too, used this frame
     assert cache.keep(("e",), "kept", 32) and cache.derived(("d",)) is None  # drops chunk 1 and d (last frame's)
     assert cache.peak == 64 and cache.derived_hits == 1
+
+
+def test_a_pyramid_of_floats_near_their_lowest_stays_finite(tmp_path):
+    """A resampler's fill of the lowest float32 outside the field of view: the coarser levels' 2x2x2 means were
+    summed in float32 and overflowed to -inf; summed in float64 each level holds the fill itself."""
+    from volumen.data import fill_outside_field, phantom
+
+    low = float(np.finfo(np.float32).min)
+    v = fill_outside_field(phantom("head", size=32), low)
+    volumen.save(v, tmp_path / "f.ome.zarr", chunks=8)
+    for level in (1, 2):
+        d = np.asarray(volumen.load(tmp_path / "f.ome.zarr", level=level).data)
+        assert np.isfinite(d).all() and d.min() == np.float32(low)

@@ -120,3 +120,23 @@ def test_an_int16_mri_with_a_fill_far_below_is_copied_and_its_fill_sits_at_the_f
     fill = vol.data == -32768
     assert fill.any() and idx.min() == 0.0 and np.all(idx[fill] == 0.0)
     np.testing.assert_allclose(idx[~fill], _expected(vol.data[~fill], p.vmin, p.vmax), rtol=0, atol=1e-9)
+
+
+def test_a_brick_holding_values_past_the_whole_volumes_table_clamps_them_in_a_copy():
+    """A brick of an out-of-core volume spans the whole volume's table (``core.table_range``, which may start above
+    a fill far below): one that holds the fill (``clamps``) is sampled from a copy whose fill sits at entry 0,
+    not in place; one that holds none is sampled in place."""
+    from volumen.render.bricked._bricks import Brick, brick_volume
+    from volumen.render.raycast._cache import Prepared
+
+    data = RNG.integers(0, 600, (8, 8, 8)).astype(np.int16)
+    data[:, :, :2] = -32768
+    whole = type("Whole", (), {"spacing": (1.0, 1.0, 1.0), "affine": np.eye(4)})()
+    b = Brick(index=(0, 0, 0), lo=(0, 0, 0), hi=(7, 7, 7), rlo=(0, 0, 0), rhi=(8, 8, 8))
+    held = Prepared(brick_volume(b, data, whole, (-2000.0, 599.0), clamps=True), None)
+    assert held.u is not data
+    idx = _index(held.u, held.u0, held.ufac)
+    assert idx.min() == 0.0 and np.all(idx[:, :, :2] == 0.0)
+    inside = data[:, :, 2:].copy()
+    free = Prepared(brick_volume(b, inside, whole, (-2000.0, 599.0)), None)
+    assert free.u is inside

@@ -55,7 +55,12 @@ def test_bricked_equals_in_memory(zarr_blob, mode, projection):
     assert out.stats["bricks_drawn"] == out.stats["bricks"] == 36
     assert 0 < out.stats["cache_peak_bytes"] <= 64 << 10  # 8 chunks of 16^3 int16 at most
     assert out.stats["renderer"] == {"device": "cpu", "technique": "raycast"}
-    assert chunked.data.stats["chunk_reads"] == 0  # the volume's own view read nothing: the bricks read the cache
+    # the volume's own view read only the three planes of its table range's sample (``core.table_range``, once,
+    # not each frame: its minimum is negative); the bricks read the cache
+    planes = chunked.data.stats["chunk_reads"]
+    assert planes == 3 * 3 * 3  # three planes of 3 x 3 chunks each, read once (``core.strided_values`` keeps them)
+    render(scene.with_(volume=chunked), cam, (80, 72), memory="64KB", brick=16)
+    assert chunked.data.stats["chunk_reads"] == planes
     assert ref.rgba[..., 3].max() > 0.5  # something is drawn
     if mode == "composite":
         full = render(scene.with_(sampling=replace(scene.sampling, early_termination=1.0)), cam, (80, 72))
@@ -144,3 +149,35 @@ def test_moved_camera_reuses_the_bricks(zarr_blob):
     assert out.stats["bricks_drawn"] == 36 and built == dict.fromkeys(built, 0), out.stats
     assert out.stats["cache_bytes"] <= out.stats["cache_peak_bytes"] <= 1 << 20
     np.testing.assert_allclose(out.rgba, render(scene, cam, (80, 72)).rgba, atol=TOL)
+
+
+def test_a_fill_far_below_draws_out_of_core_as_without_it(tmp_path):
+    """A resampler's fill outside the field of view (``data.fill_outside_field``), as OME-Zarr drawn out of core:
+    a float MRI filled with -1e6, an int16 MRI filled with -32768 and a float CT filled with the lowest float
+    draw as the same chunked scan filled with 0 (the CT: -1024 HU), within 0.005 (measured 0.0002-0.0027).
+    The bricks' tables span the whole volume's ``table_range`` (its display range's bottom, cut above the fill,
+    is read on the chunked volume's three planes), and a brick holding the fill clamps it in a copy of its
+    samples, never reading past the table. Before, their tables spanned the fill: 0.14-0.25 (a milky field of
+    view) and 0.095 for the CT."""
+    from volumen.data import fill_outside_field, phantom
+    from volumen.render import default_transfer
+
+    def chunked(src, fill, dtype=np.float32):
+        v = fill_outside_field(src, fill)
+        v = Volume(v.data.astype(dtype), spacing=v.spacing, affine=v.affine, modality=v.modality, units=v.units)
+        volumen.save(v, tmp_path / f"{src.name}{fill:g}{np.dtype(dtype).name}.ome.zarr", chunks=16)
+        return volumen.load(tmp_path / f"{src.name}{fill:g}{np.dtype(dtype).name}.ome.zarr")
+
+    def picture(vol, shading):
+        scene = Scene(volume=vol, transfer=default_transfer(vol, "composite"), shading=Shading(mode=shading))
+        return render(scene, Camera.orbit(vol, view="left"), (96, 96), memory="64MB").rgba
+
+    mr = phantom("mr_head", size=64, dtype="float32")
+    ct = phantom("head", size=64)
+    for src, base, fill, dtype, shading in ((mr, 0.0, -1e6, np.float32, "none"), (mr, 0.0, -32768.0, np.int16, "none"),
+                                            (ct, -1024.0, float(np.finfo(np.float32).min), np.float32, "headlight")):
+        a, b = picture(chunked(src, base, dtype), shading), picture(chunked(src, fill, dtype), shading)
+        diff = float(np.abs(a - b).mean())
+        print(f"{src.name} {np.dtype(dtype).name} fill {fill:g}: mean RGB {a[..., :3].mean():.4f} / "
+              f"{b[..., :3].mean():.4f}, mean |diff| {diff:.5f}")
+        assert a[..., 3].max() > 0.5 and diff <= 0.005

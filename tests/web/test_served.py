@@ -150,3 +150,23 @@ def test_the_page_is_told_the_slices_first_window_as_the_app_opens_with():
         w = default_window(vol)
         assert ServedVolume(vol).info()["window"] == {"level": w.level, "width": w.width}
     assert ServedVolume(phantom("head", size=24)).info()["window"] == {"level": 40.0, "width": 400.0}
+
+
+def test_the_pages_sliders_and_histogram_span_the_table_range_not_a_fill():
+    """``value_range`` (the page's iso, shift and window sliders) and the histogram span ``core.table_range``: for
+    an MRI filled with -1e6 outside its field of view, -9,400..2,900, not -1e6..2,900, where the sliders' 500 steps
+    were 2,000 units each (three times the tissue's range) and every voxel of tissue fell in the histogram's last
+    bin. A volume without a fill keeps its data range."""
+    from volumen.core import table_range
+    from volumen.data import fill_outside_field
+
+    mr = phantom("mr_head", size=32, dtype="float32")
+    for vol in (fill_outside_field(mr, -1e6), mr):
+        served = ServedVolume(vol)
+        info = served.info()
+        lo, hi = table_range(served.volume)
+        assert info["value_range"] == [lo, hi] and info["histogram"]["edges"][0] == pytest.approx(lo, rel=1e-6)
+    assert info["value_range"] == list(served.volume.value_range())
+    filled = ServedVolume(fill_outside_field(mr, -1e6)).info()
+    tissue = np.asarray(filled["histogram"]["counts"])[np.asarray(filled["histogram"]["edges"][:-1]) >= 0]
+    assert np.count_nonzero(tissue) >= 5 and filled["value_range"][1] - filled["value_range"][0] < 20000

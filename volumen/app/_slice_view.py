@@ -20,7 +20,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QImage, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QWidget
 
-from ..core import Window, window_to_uint8
+from ..core import Window, table_range, window_to_uint8
 from ._slice_geometry import DISPLAY_AXES, SliceGeometry
 
 __all__ = ["SliceView"]
@@ -275,7 +275,7 @@ class SliceView(QWidget):
             self.state.set_crosshair(self.world_at(x, y))
         elif kind == "window":
             _, x0, y0, w0 = self._drag
-            lo, hi = self.state.volume.value_range()
+            lo, hi = table_range(self.state.volume)  # a fill or far outliers past it would make a drag leap
             k = max(hi - lo, 1e-6) / 500.0
             self.state.set_window(Window(level=w0.level - (y - y0) * k, width=max(w0.width + (x - x0) * 2 * k, k)))
         elif kind == "crop":

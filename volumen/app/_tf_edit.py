@@ -84,9 +84,10 @@ def remove_color_stop(tf: TransferFunction, index: int) -> TransferFunction:
     return tf if pts is None else replace(tf, color=pts)
 
 
-def log_histogram(volume, bins: int = 256) -> tuple[np.ndarray, np.ndarray]:
-    """``(heights (bins,) in [0, 1], edges (bins + 1,))``: ``log(1 + count)`` scaled to its maximum."""
-    counts, edges = volume.histogram(bins=bins)
+def log_histogram(volume, bins: int = 256, value_range=None) -> tuple[np.ndarray, np.ndarray]:
+    """``(heights (bins,) in [0, 1], edges (bins + 1,))``: ``log(1 + count)`` scaled to its maximum, over
+    ``value_range`` (default: the data range)."""
+    counts, edges = volume.histogram(bins=bins, range=value_range)
     h = np.log1p(counts.astype(float))
     m = h.max()
     return (h / m if m > 0 else h), edges

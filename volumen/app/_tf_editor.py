@@ -18,7 +18,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QLinearGradient, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QColorDialog, QComboBox, QFormLayout, QLabel, QSlider, QVBoxLayout, QWidget
 
-from ..core import PRESETS, TransferFunction, fitted_preset
+from ..core import PRESETS, TransferFunction, fitted_preset, table_range
 from . import _tf_edit as edit
 
 __all__ = ["TransferFunctionEditor", "TransferCanvas"]
@@ -43,9 +43,9 @@ class TransferCanvas(QWidget):
     def _new_volume(self) -> None:
         v = self.state.volume
         if v is not None:
-            self._hist = edit.log_histogram(v)
-            lo, hi = v.value_range()
+            lo, hi = table_range(v)  # the renderers' table: a fill or far outliers past it would crowd the editor
             self.range = (lo, hi if hi > lo else lo + 1.0)
+            self._hist = edit.log_histogram(v, value_range=self.range)
         self.update()
 
     # -- geometry -------------------------------------------------------------

@@ -13,17 +13,19 @@ Kept at the data range, where the brightest few voxels are the finding or the cu
 * a CT (its presets are in Hounsfield units; bone and metal are not outliers), a colour volume;
 * a PET or SPECT (a small hot lesion is the finding), a segmentation or dose;
 * a label map (integers, at most :data:`LABEL_VALUES` distinct values in the sample): a rare label is a label;
-* a chunked (out-of-core) volume: its sample is three planes, which can miss a bright region the maximum sees;
+* a chunked (out-of-core) volume: its sample is three planes, which can miss a bright region the maximum sees
+  (its bottom is cut as below: a fill outside the field of view is in every plane);
 * the projections' ``mip-gray`` (an angiogram's MIP is its brightest voxels: ``_transfer.fitted_preset``).
 
 The low end is cut the same way where the minimum is a fill value, not the background: a resampler or a
 registration writes the voxels outside the scan's field of view as one value far below any the scanner gave
 (-1000, -1e6, the lowest float). Spanned from it, the background sits high on every ramp and the field of view
-is drawn as an opaque, milky cylinder: a wall. So where the minimum is negative and lies more than
+is drawn as an opaque, milky cylinder: a wall. So where the minimum is negative, held by at least
+:data:`FILL_SHARE` of the voxels (a region, where the minimum of noise is one voxel) and lies more than
 :data:`FLOOR_GAP` of the range below the :data:`TOP_PERCENTILE`-th percentile from the bottom of the voxels above
 it, the range starts at that percentile; the fill voxels classify as the transfer function's low end
 (transparent). An MRI's background is never negative: its minimum is 0 or its noise floor, so a range that
-starts there, or at a small negative noise floor, is kept.
+starts there, or at a negative noise floor, is kept.
 
 The percentile is read on a strided sample (``_values``).
 
@@ -47,7 +49,7 @@ from ._values import strided_values
 from ._volume import is_chunked
 
 __all__ = ["display_range", "table_range", "drawable_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE",
-           "LABEL_VALUES", "BONE_ISO_HU", "REACH", "FLOOR_GAP", "CT_FLOOR_HU"]
+           "LABEL_VALUES", "BONE_ISO_HU", "REACH", "FLOOR_GAP", "FILL_SHARE", "CT_FLOOR_HU"]
 
 #: the percentile of the foreground values that the display range may end at
 TOP_PERCENTILE = 99.9
@@ -62,8 +64,10 @@ _KEEP_TOP = ("PT", "NM", "SEG", "RTDOSE")
 #: how many display ranges past the minimum a renderer's table reaches at most (:func:`table_range`)
 REACH = 16.0
 #: a negative minimum is a fill value where the voxels above it start more than this share of the range above it
-#: (half of the transparent tenth at the bottom of ``mr-default``: a background lifted past it turns milky)
+#: (half of the transparent tenth at the bottom of ``mr-default``: a background lifted past it turns milky) ...
 FLOOR_GAP = 0.05
+#: ... and at least this share of the sampled voxels hold it (a region; the minimum of noise is one voxel)
+FILL_SHARE = 0.001
 #: a CT's table starts no lower than this (HU): int16, which every DICOM CT is stored in, reaches no lower
 CT_FLOOR_HU = -32768.0
 
@@ -73,21 +77,22 @@ def display_range(volume, data_range: tuple[float, float] | None = None) -> tupl
     its top cut to the foreground's :data:`TOP_PERCENTILE`-th percentile where the maximum is an outlier (module
     docstring). ``data_range``: ``volume.value_range()`` where the caller has it (a pass over the data less)."""
     lo, hi = volume.value_range() if data_range is None else data_range
-    if (volume.is_color or not hi > lo or is_chunked(volume.data) or str(volume.modality or "").upper() in _KEEP_TOP
-            or hu_offset(volume) is not None):
+    chunked, keep = is_chunked(volume.data), str(volume.modality or "").upper() in _KEEP_TOP
+    if volume.is_color or not hi > lo or keep or (chunked and not lo < 0.0) or hu_offset(volume) is not None:
         return lo, hi
-    v = strided_values(volume)
-    if np.issubdtype(v.dtype, np.integer) and np.unique(v).size <= LABEL_VALUES:
+    s = strided_values(volume)
+    if np.issubdtype(s.dtype, np.integer) and np.unique(s).size <= LABEL_VALUES:
         return lo, hi
-    v = v[np.isfinite(v) & (v > lo)]
+    s = s[np.isfinite(s)]
+    v = s[s > lo]
     if v.size == 0:
         return lo, hi
     top = float(np.percentile(v, TOP_PERCENTILE))
-    if lo < 0.0:
+    if lo < 0.0 and np.count_nonzero(s == lo) >= FILL_SHARE * s.size:
         bottom = float(np.percentile(v, 100.0 - TOP_PERCENTILE))
         if bottom - lo > FLOOR_GAP * (top - lo):
             lo = bottom
-    if top > lo and hi - lo > OUTLIER_FACTOR * (top - lo):
+    if top > lo and hi - lo > OUTLIER_FACTOR * (top - lo) and not chunked:
         return lo, top
     return lo, hi
 

@@ -1,7 +1,10 @@
 """A strided sample of a volume's values: what the decisions about a whole volume read (is it a CT, where do its
-values lie) without reading every voxel of a large or chunked one."""
+values lie) without reading every voxel of a large or chunked one. A chunked volume's sample (three planes read
+from its store) is kept for the last few arrays asked about: each decision asks again."""
 
 from __future__ import annotations
+
+import weakref
 
 import numpy as np
 
@@ -11,6 +14,8 @@ __all__ = ["strided_values", "SAMPLE"]
 
 #: about this many voxels are read
 SAMPLE = 200_000
+#: id(chunked array) -> (weak reference, its sample), the last few
+_KEPT: dict = {}
 
 
 def strided_values(volume) -> np.ndarray:
@@ -19,9 +24,17 @@ def strided_values(volume) -> np.ndarray:
     each of them, only the chunks they cross are read)."""
     data = volume.data
     if is_chunked(data):
+        hit = _KEPT.get(id(data))
+        if hit is not None and hit[0]() is data:
+            return hit[1]
         nz = data.shape[0]
         planes = np.stack([np.asarray(data[k]) for k in sorted({nz // 4, nz // 2, (3 * nz) // 4})])
         step = max(1, int(round((planes.size / SAMPLE) ** 0.5)))
-        return planes[:, ::step, ::step].ravel()
+        sample = planes[:, ::step, ::step].ravel()
+        sample.flags.writeable = False
+        _KEPT[id(data)] = (weakref.ref(data), sample)
+        while len(_KEPT) > 4:
+            del _KEPT[next(iter(_KEPT))]
+        return sample
     step = max(1, int(round((data.size / SAMPLE) ** (1.0 / 3.0))))
     return np.asarray(data[::step, ::step, ::step]).ravel()

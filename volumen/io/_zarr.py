@@ -145,12 +145,13 @@ def read(path, *, level: int = 0) -> Volume:
 
 
 def _halve(a: np.ndarray) -> np.ndarray:
-    """2x2x2 mean (odd edges repeat the last voxel), in the input's dtype (integers rounded)."""
+    """2x2x2 mean (odd edges repeat the last voxel), in the input's dtype (integers rounded). Summed in float64:
+    in float32 eight values near its lowest (a resampler's fill) overflowed to -inf."""
     pad = [(0, n % 2) for n in a.shape]
     if any(p[1] for p in pad):
         a = np.pad(a, pad, mode="edge")
     z, y, x = a.shape
-    m = a.reshape(z // 2, 2, y // 2, 2, x // 2, 2).mean(axis=(1, 3, 5))
+    m = a.reshape(z // 2, 2, y // 2, 2, x // 2, 2).mean(axis=(1, 3, 5), dtype=np.float64)
     return np.rint(m).astype(a.dtype) if a.dtype.kind in "iu" else m.astype(a.dtype)
 
 

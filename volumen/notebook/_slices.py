@@ -12,7 +12,7 @@ from __future__ import annotations
 import ipywidgets as widgets
 import numpy as np
 
-from ..core import PLANES, Window, canonical, default_window, slice_image
+from ..core import PLANES, Window, canonical, default_window, slice_image, table_range
 from . import pictures
 
 __all__ = ["SliceViews", "slice_picture", "crosshair_pixels", "PLANE_AXIS", "PLANE_COLOURS"]
@@ -52,7 +52,7 @@ class SliceViews:
 
     def __init__(self, volume, width: int = 220):
         self.volume = canonical(volume)
-        lo, hi = self.volume.value_range()
+        lo, hi = table_range(self.volume)  # not out to a fill or far outliers
         start = default_window(volume)  # soft tissue for a CT, the display range otherwise
         level, wwidth = min(max(start.level, lo), hi), start.width
         span = max(hi - lo, 1e-6)

@@ -144,14 +144,15 @@ class ServedVolume:
         return texels, vol_map, exact
 
     def info(self) -> dict:
-        """What the page is told about the volume: geometry, modality, units, values, the slices' first window
-        (``core.default_window``). No name, no source."""
-        from ..core import default_window
+        """What the page is told about the volume: geometry, modality, units, values (``value_range``, which its
+        sliders span, and the histogram: over the renderers' table range, ``core.table_range``, not out to a fill
+        or to far outliers), the slices' first window (``core.default_window``). No name, no source."""
+        from ..core import default_window, table_range
 
         v = self.volume
-        lo, hi = v.value_range()
+        lo, hi = table_range(v)
         window = default_window(v)
-        counts, edges = v.histogram(128)
+        counts, edges = v.histogram(128, range=(lo, hi))
         return {"shape": list(v.shape), "spacing": list(v.spacing), "affine": np.asarray(v.affine).tolist(),
                 "center": np.asarray(v.center).tolist(), "diagonal": float(v.diagonal),
                 "modality": str(v.modality), "units": str(v.units), "value_range": [float(lo), float(hi)],

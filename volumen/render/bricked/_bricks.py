@@ -53,9 +53,12 @@ class Brick:
 
 
 class BrickVolume(Volume):
-    """A brick's Volume: its value range is the whole volume's (so its table is the whole volume's)."""
+    """A brick's Volume: its value range is the whole volume's table range (so its table is the whole volume's)."""
 
     whole_range: tuple[float, float] = (0.0, 1.0)
+    #: whether the brick holds values past ``whole_range`` (a fill cut off the table: ``core.table_range``), which
+    #: its samples clamp (a copy, never its data in place)
+    clamps: bool = False
     #: the brick's own least and greatest value when the source stores no per-chunk ranges (else None)
     block_range: tuple[float, float] | None = None
 
@@ -131,12 +134,14 @@ def brick_clipping(brick, affine, clipping) -> Clipping | None:
     return Clipping(crop=crop, crop_space="voxel", planes=clipping.planes)  # oblique: a voxel crop
 
 
-def brick_volume(brick, data: np.ndarray, whole, value_range) -> BrickVolume:
-    """The brick's Volume: ``data`` read at ``brick.read_slices`` of ``whole`` (a Volume or a pyramid Level)."""
+def brick_volume(brick, data: np.ndarray, whole, value_range, clamps: bool = False) -> BrickVolume:
+    """The brick's Volume: ``data`` read at ``brick.read_slices`` of ``whole`` (a Volume or a pyramid Level);
+    ``value_range`` the whole volume's table range, ``clamps`` whether ``data`` reaches past it."""
     m = np.eye(4)
     m[:3, 3] = brick.rlo[::-1]
     v = BrickVolume(data, spacing=whole.spacing, affine=np.asarray(whole.affine) @ m)
     v.whole_range = (float(value_range[0]), float(value_range[1]))
+    v.clamps = bool(clamps)
     return v
 
 

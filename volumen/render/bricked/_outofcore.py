@@ -22,11 +22,12 @@ reads its own chunks (opening OME-Zarr paths and pyramid levels is
 from __future__ import annotations
 
 import time
+import weakref
 from types import SimpleNamespace
 
 import numpy as np
 
-from ...core import Image, is_chunked
+from ...core import Image, is_chunked, table_range
 from ..raycast import TILE, pack_geometry, prepared_volumes, render_part, scene_lights
 from ._bricks import (
     brick_clipping,
@@ -78,6 +79,20 @@ def _range_of(src, value_range):
     return src.volume.value_range()
 
 
+#: id(volume) -> (weak reference, data range, table range) of the last volumes drawn: ``core.table_range`` of a
+#: chunked volume reads its three sample planes, once, not every frame
+_TABLES: dict = {}
+
+
+def _table_range(volume, data_range) -> tuple[float, float]:
+    hit = _TABLES.get(id(volume))
+    if hit is None or hit[0]() is not volume or hit[1] != tuple(data_range):
+        hit = _TABLES[id(volume)] = (weakref.ref(volume), tuple(data_range), table_range(volume, data_range))
+        while len(_TABLES) > 8:
+            del _TABLES[next(iter(_TABLES))]
+    return hit[2]
+
+
 def chunk_range(src, brick):
     """(min, max) over the chunks the brick reads, from the stored per-chunk ranges (None when not stored)."""
     if src.cmin is None:
@@ -98,15 +113,17 @@ def _occluded(carry, tiles, et: float) -> bool:
     return bool(carry[y0:y1, x0:x1].min() >= et)
 
 
-def _brick_volume(src, data, b, vr, cache):
+def _brick_volume(src, data, b, vr, cache, rng):
     """Brick ``b``'s :class:`~._bricks.BrickVolume`, from ``cache``'s derived entries (with the ray caster's
-    precomputations for it: normal codes, skip blocks, tables) or read from ``data`` (its chunks)."""
+    precomputations for it: normal codes, skip blocks, tables) or read from ``data`` (its chunks); ``rng`` its
+    stored chunk ranges (None: none stored, its block's own range is read)."""
     key = ("brick", b.rlo, b.rhi, float(vr[0]), float(vr[1]))
     vol = cache.derived(key) if cache is not None else None
     if vol is None:
         block = np.asarray(data[b.read_slices])
-        vol = brick_volume(b, block, src, vr)
-        vol.block_range = (float(block.min()), float(block.max())) if src.cmin is None else None
+        own = rng if rng is not None else (float(block.min()), float(block.max()))
+        vol = brick_volume(b, block, src, vr, clamps=own[0] < vr[0] or own[1] > vr[1])
+        vol.block_range = own if rng is None else None
     return key, vol
 
 
@@ -134,7 +151,7 @@ def draw_brick(src, data, b, scene, camera, size, vr, whole, carry, *, cache=Non
     tiles = screen_tiles(b, src.affine, camera, size, TILE)
     if tiles is not None and (tiles.size == 0 or _occluded(carry, tiles, scene.sampling.early_termination)):
         return None
-    key, vol = _brick_volume(src, data, b, vr, cache)
+    key, vol = _brick_volume(src, data, b, vr, cache, rng)
     if rng is None and not brick_visible(scene, *vol.block_range, vr):
         _keep(cache, key, vol)
         return None
@@ -180,7 +197,7 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
                          "preintegrate, shadows, scattering or path tracing: they read beyond a brick; no gradient "
                          "opacity: its magnitudes are scaled by the whole volume's largest)")
     src = source_of(volume)
-    vr = _range_of(src, value_range)
+    vr = _table_range(src.volume, _range_of(src, value_range))
     size_b = int(brick or default_brick(src.chunk))
     pad = 1 if needs_gradients(scene) else 0
     bricks = visibility_order(brick_grid(src.data.shape, size_b, pad), src.affine, size_b, camera)
@@ -231,7 +248,8 @@ def render_bricked(scene, camera, size=(512, 512), *, memory=MEMORY, brick: int 
         Cells per brick side (default: :func:`default_brick` of the chunk edge, about 128; about 256 when
         ``memory`` is :data:`ROOM` times the volume's bytes or more).
     value_range : (float, float), optional
-        The whole volume's value range (default: the stored per-chunk ranges, else ``volume.value_range()``).
+        The whole volume's value range (default: the stored per-chunk ranges, else ``volume.value_range()``);
+        the bricks' tables span its ``core.table_range`` (a fill far below cut off: the values past it clamped).
     device : None, "cpu" or "auto"
         Bricks are drawn on the CPU.
 

@@ -59,7 +59,7 @@ class Prepared:
         # a brick's table is the whole volume's (``bricked.BrickVolume``): its range as it is
         lo, hi = full if self.is_color or hasattr(volume, "whole_range") else table_range(volume, full)
         self.vmin, self.vmax = drawable_range(lo, hi)
-        clamped = self.vmax < full[1] or self.vmin > full[0]
+        clamped = self.vmax < full[1] or self.vmin > full[0] or getattr(volume, "clamps", False)
         self.scale = (self.vmax - self.vmin) / (NLUT - 1)
         self.u, self.u0, self.ufac = int16_samples(data, self.vmin, self.vmax, steps, in_place=not clamped)
         self.u_copied = self.u is not data

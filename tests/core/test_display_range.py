@@ -187,8 +187,10 @@ def test_the_table_range_is_the_data_range_but_past_far_outliers(mr, clean):
 def test_a_fill_value_far_below_an_mri_starts_neither_its_display_nor_its_table_range(fill):
     """A resampler's fill outside the field of view (``data.fill_outside_field``): the display range starts at the
     MRI's own noise floor (the fill-0 copy's 0.1st percentile above its minimum, within 1 % of its range) and ends
-    where the fill-0 copy's ends; the table starts at most :data:`REACH` display ranges under its top."""
-    from volumen.core._display import REACH
+    where the fill-0 copy's ends; the table starts there too (past it, only the fill), and ``mip-gray`` spans from
+    there to the data's maximum. Read without a modality (NIfTI), the MRI filled with -1000 is not taken for a CT
+    (its fill is at air, its tissue at bone, but nothing lies between: ``core.is_ct``)."""
+    from volumen.core import fitted_preset, is_ct
     from volumen.data import fill_outside_field
 
     mr = phantom("mr_head", size=48, dtype="float32")
@@ -198,8 +200,12 @@ def test_a_fill_value_far_below_an_mri_starts_neither_its_display_nor_its_table_
     assert lo0 == 0.0 and hi == hi0
     assert 0.0 < lo <= 0.01 * (hi0 - lo0)
     start, end = table_range(filled)
-    assert start == max(fill, hi - REACH * (hi - lo)) and end == table_range(plain)[1]
+    assert start == lo and end == table_range(plain)[1]
     assert default_iso(filled) == pytest.approx(default_iso(plain), abs=0.01 * (hi0 - lo0))
+    gray = fitted_preset("mip-gray", filled)
+    assert gray.color[0][0] == pytest.approx(lo) and gray.color[-1][0] == pytest.approx(filled.value_range()[1])
+    bare = Volume(filled.data, spacing=filled.spacing, affine=filled.affine)  # no modality, as from a NIfTI
+    assert not is_ct(bare) and display_range(bare) == (lo, hi)
 
 
 def test_a_negative_minimum_that_is_not_a_fill_starts_the_range():

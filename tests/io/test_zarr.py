@@ -137,3 +137,22 @@ def test_a_pyramid_of_floats_near_their_lowest_stays_finite(tmp_path):
     for level in (1, 2):
         d = np.asarray(volumen.load(tmp_path / "f.ome.zarr", level=level).data)
         assert np.isfinite(d).all() and d.min() == np.float32(low)
+
+
+def test_a_pyramid_keeps_a_fill_out_of_the_tissues_means(tmp_path):
+    """An MRI filled with -1000 or -1e6 outside its field of view: the coarser levels leave the fill out of their
+    2x2x2 means (``core.display_range`` cuts it off level 0), so their display ranges start at the MRI's noise
+    floor as level 0's does. Averaged in, the fill made a band of values between at the field of view's edge
+    (about a tenth of a coarse level's voxels), and levels 1 and 2 started their ranges at -750,000 and -937,500
+    (fill -1e6): the milky cylinder again, wherever a coarse level is drawn."""
+    from volumen.core import display_range
+    from volumen.data import fill_outside_field, phantom
+
+    mr = phantom("mr_head", size=64, dtype="float32")
+    for fill in (-1000.0, -1e6):
+        volumen.save(fill_outside_field(mr, fill), tmp_path / "m.ome.zarr", chunks=16)
+        for level in (0, 1, 2):
+            lo, hi = display_range(volumen.load(tmp_path / "m.ome.zarr", level=level))
+            assert 0.0 <= lo <= 0.05 * hi, (fill, level, lo, hi)
+        d = np.asarray(volumen.load(tmp_path / "m.ome.zarr", level=1).data)
+        assert d.min() == np.float32(fill) and not np.any((d > fill) & (d < 0))

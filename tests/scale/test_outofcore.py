@@ -154,7 +154,7 @@ def test_moved_camera_reuses_the_bricks(zarr_blob):
 def test_a_fill_far_below_draws_out_of_core_as_without_it(tmp_path):
     """A resampler's fill outside the field of view (``data.fill_outside_field``), as OME-Zarr drawn out of core:
     a float MRI filled with -1e6, an int16 MRI filled with -32768 and a float CT filled with the lowest float
-    draw as the same chunked scan filled with 0 (the CT: -1024 HU), within 0.005 (measured 0.0002-0.0027).
+    draw as the same chunked scan filled with 0 (the CT: -1024 HU), within 0.005 (measured 0.00014-0.0027).
     The bricks' tables span the whole volume's ``table_range`` (its display range's bottom, cut above the fill,
     is read on the chunked volume's three planes), and a brick holding the fill clamps it in a copy of its
     samples, never reading past the table. Before, their tables spanned the fill: 0.14-0.25 (a milky field of

@@ -260,7 +260,8 @@ class SliceView(QWidget):
                 self._drag = ("cross",)
                 self.state.set_crosshair(self.world_at(x, y))
         elif event.button() == Qt.RightButton:
-            self._drag = ("window", x, y, self.state.window)
+            lo, hi = table_range(self.state.volume)  # a fill or far outliers past it would make a drag leap
+            self._drag = ("window", x, y, self.state.window, max(hi - lo, 1e-6) / 500.0)
 
     def mouseMoveEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         x, y = event.position().x(), event.position().y()
@@ -274,9 +275,7 @@ class SliceView(QWidget):
         if kind == "cross":
             self.state.set_crosshair(self.world_at(x, y))
         elif kind == "window":
-            _, x0, y0, w0 = self._drag
-            lo, hi = table_range(self.state.volume)  # a fill or far outliers past it would make a drag leap
-            k = max(hi - lo, 1e-6) / 500.0
+            _, x0, y0, w0, k = self._drag
             self.state.set_window(Window(level=w0.level - (y - y0) * k, width=max(w0.width + (x - x0) * 2 * k, k)))
         elif kind == "crop":
             ax, side = self._drag[1]

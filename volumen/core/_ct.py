@@ -3,7 +3,9 @@
 A NIfTI or NRRD file carries no modality, so a CT opened from one looks like any other volume.
 Its values give it away: Hounsfield units reaching about -1000 (air, or the scanner's padding
 below it, -1024 or -3024 outside the field of view), a share of the voxels at air
-(-1100..-900 HU) and some at bone (>= 300 HU). A scan in scanner units (0..4095, air at 0), an
+(-1100..-900 HU), some at bone (>= 300 HU) and some between air and fat (lung, the edges of air). An MRI whose
+resampler filled the outside of its field of view with -1000 has the first two (the fill, its bright tissue) but
+not the last. A scan in scanner units (0..4095, air at 0), an
 MRI (no negative values) or a PET (no air peak at -1000) is not taken for one. The test is
 read on a strided sample of at most about 200,000 voxels (a few planes of a chunked volume).
 """
@@ -14,7 +16,7 @@ import numpy as np
 
 from ._values import strided_values
 
-__all__ = ["is_ct", "hu_offset", "AIR_HU", "BONE_HU"]
+__all__ = ["is_ct", "hu_offset", "AIR_HU", "BONE_HU", "BETWEEN_HU"]
 
 #: the values of air in a CT (HU)
 AIR_HU = (-1100.0, -900.0)
@@ -22,6 +24,10 @@ AIR_HU = (-1100.0, -900.0)
 BONE_HU = 300.0
 _MIN_AIR = 0.005    # at least this share of the voxels at air
 _MIN_BONE = 0.0005  # and this share at bone
+_MIN_BETWEEN = 0.0005  # and this share between air and fat (lung, partial-volume edges): a fill of -1000 has none
+#: between air and fat (HU): lung and the partial-volume edges of air, which every CT has (5-27 % of the voxels of
+#: pydicom's CTs and the phantoms), and an MRI whose fill outside the field of view is -1000 or -1024 has not
+BETWEEN_HU = (-900.0, -200.0)
 _NOT_CT = ("MR", "PT", "NM", "US", "SEG", "RTDOSE", "XA", "DX", "CR", "MG")
 
 
@@ -44,7 +50,8 @@ def is_ct(volume) -> bool:
         return False
     air = np.count_nonzero((v >= AIR_HU[0]) & (v <= AIR_HU[1])) / v.size
     bone = np.count_nonzero(v >= BONE_HU) / v.size
-    return bool(v.min() <= AIR_HU[1] and air >= _MIN_AIR and bone >= _MIN_BONE)
+    between = np.count_nonzero((v > BETWEEN_HU[0]) & (v < BETWEEN_HU[1])) / v.size
+    return bool(v.min() <= AIR_HU[1] and air >= _MIN_AIR and bone >= _MIN_BONE and between >= _MIN_BETWEEN)
 
 
 def hu_offset(volume) -> float | None:

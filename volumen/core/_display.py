@@ -14,7 +14,7 @@ Kept at the data range, where the brightest few voxels are the finding or the cu
 * a PET or SPECT (a small hot lesion is the finding), a segmentation or dose;
 * a label map (integers, at most :data:`LABEL_VALUES` distinct values in the sample): a rare label is a label;
 * a chunked (out-of-core) volume: its sample is three planes, which can miss a bright region the maximum sees
-  (its bottom is cut as below: a fill outside the field of view is in every plane);
+  (its bottom is cut as below: a fill around the field of view is in each of the three axial planes);
 * the projections' ``mip-gray`` (an angiogram's MIP is its brightest voxels: ``_transfer.fitted_preset``).
 
 The low end is cut the same way where the minimum is a fill value, not the background: a resampler or a
@@ -35,9 +35,9 @@ written as floats whose few outliers are thousands of times brighter than its ti
 spread over it gave the tissue one entry, and every transfer function drew it black. There the table ends at
 :data:`REACH` display ranges, so the display range has at least 1/16 of it, and the voxels past that end are
 clamped to it: they classify as the transfer function's value there (its brightest, for one that ends below) and
-a MIP reads them as that value. Below, the table starts at most :data:`REACH` display ranges under the display
-range's top, and a CT's no lower than :data:`CT_FLOOR_HU` (a float CT whose fill is -1e6 gave its whole
-range to the fill, one entry to 250 HU), and the voxels under that start are clamped to it.
+a MIP reads them as that value. Below, the table starts where the display range does (past a fill cut off there
+is only the fill), and a CT's no lower than :data:`CT_FLOOR_HU` (a float CT whose fill is -1e6 gave its whole
+range to the fill, one entry to 250 HU); the voxels under that start are clamped to it.
 """
 
 from __future__ import annotations
@@ -100,11 +100,12 @@ def display_range(volume, data_range: tuple[float, float] | None = None) -> tupl
 def table_range(volume, data_range: tuple[float, float] | None = None) -> tuple[float, float]:
     """``(lo, hi)``: the value range a renderer's transfer-function table spans (the ray caster's samples and
     table, the texture slicer's): the data range (``data_range``, else ``volume.value_range()``), its top cut to
-    :data:`REACH` display ranges past the display range's bottom, its bottom to as many under its top, and a
-    CT's to :data:`CT_FLOOR_HU` (module docstring); the values past ``lo`` and ``hi`` are clamped to them."""
+    :data:`REACH` display ranges past the display range's bottom, its bottom to the display range's (a fill cut
+    off), and a CT's to :data:`CT_FLOOR_HU` (module docstring); the values past ``lo`` and ``hi`` are clamped to
+    them."""
     lo, hi = volume.value_range() if data_range is None else data_range
     bottom, top = display_range(volume, (lo, hi))
-    start = max(lo, top - REACH * (top - bottom))
+    start = bottom  # past a fill cut off, nothing but the fill: its jump would also steepen the gradients
     offset = hu_offset(volume)
     if offset is not None:
         start = max(start, offset + CT_FLOOR_HU)

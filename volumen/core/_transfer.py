@@ -239,11 +239,13 @@ def default_preset(volume, mode: str | None = "composite") -> TransferFunction:
 def fitted_preset(name: str, volume) -> TransferFunction:
     """Preset ``name`` for ``volume``: a Hounsfield-unit preset moved onto a CT's stored values (:func:`hu_offset`);
     ``mr-default`` over the volume's display range (:func:`display_range`: its data range, less far outliers);
-    ``mip-gray`` over its data range (a projection's brightest voxels are often its finding: an angiogram).
-    Every place that names a preset for a volume asks here, so a preset picked again is the default it was."""
+    ``mip-gray`` from the display range's bottom (past a fill cut off) to the data's maximum (a projection's
+    brightest voxels are often its finding: an angiogram). Every place that names a preset for a volume asks here,
+    so a preset picked again is the default it was."""
     if name in _CT_PRESETS:
         tf, offset = TransferFunction.preset(name), hu_offset(volume)
         return tf.shifted(offset) if offset else tf
-    return TransferFunction.preset(name, value_range=display_range(volume) if name == "mr-default"
-                                   else volume.value_range())
+    lo, hi = volume.value_range()
+    bottom, top = display_range(volume, (lo, hi))
+    return TransferFunction.preset(name, value_range=(bottom, top) if name == "mr-default" else (bottom, hi))
 

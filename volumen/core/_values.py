@@ -33,8 +33,8 @@ def strided_values(volume) -> np.ndarray:
         sample = planes[:, ::step, ::step].ravel()
         sample.flags.writeable = False
         _KEPT[id(data)] = (weakref.ref(data), sample)
-        while len(_KEPT) > 4:
-            del _KEPT[next(iter(_KEPT))]
+        for key in list(_KEPT)[:-4]:  # the oldest past four (the app's threads may both be here)
+            _KEPT.pop(key, None)
         return sample
     step = max(1, int(round((data.size / SAMPLE) ** (1.0 / 3.0))))
     return np.asarray(data[::step, ::step, ::step]).ravel()

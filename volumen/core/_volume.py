@@ -246,8 +246,15 @@ class Volume:
         return np.ascontiguousarray(self.data.astype(np.float32, copy=False) @ w)
 
     def value_range(self) -> tuple[float, float]:
-        """``(min, max)`` over finite values (NaN and inf ignored)."""
+        """``(min, max)`` over finite values (NaN and inf ignored); of chunked data with stored per-chunk ranges
+        (an OME-Zarr written by volumen), from those, without reading the data."""
         d = self.data
+        ranges = getattr(d, "chunk_ranges", None) if is_chunked(d) else None
+        if ranges is not None:
+            lows, highs = (np.asarray(r, float) for r in ranges)
+            lows, highs = lows[np.isfinite(lows)], highs[np.isfinite(highs)]
+            if lows.size == np.asarray(ranges[0]).size and highs.size == lows.size:
+                return float(lows.min()), float(highs.max())
         if np.issubdtype(d.dtype, np.floating) and not np.all(np.isfinite(d)):
             finite = d[np.isfinite(d)]
             if finite.size == 0:

@@ -5,9 +5,9 @@ Resampling onto another grid, or registering to a template, leaves voxels that n
 them with a value of their choosing (-1000, -1024, -1e6, the lowest float). In an MRI that value lies far below its
 background (0 or a low noise floor), and defaults spanned from the data's minimum lifted the background high on
 every ramp: ``mr-default`` drew the field of view as an opaque, milky cylinder, and a CT's table gave its whole
-range to the fill (``core._display``). :func:`fill_outside_field` makes that failure class out of any phantom:
-the data as float32, every voxel outside the field-of-view cylinder (around z, :data:`FIELD` of the width) set to
-``fill``.
+range to the fill (``core._display``). :func:`fill_outside_field` makes that failure class out of any scalar
+phantom: the data as float32, every voxel outside the field-of-view cylinder (around z, :data:`FIELD` of the
+width) set to ``fill``.
 """
 
 from __future__ import annotations

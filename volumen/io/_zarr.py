@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core import Volume
+from ..core import Volume, display_range
 from ..errors import CorruptDataError, VolumeReadError, VolumeWriteError
 from ._chunked import ChunkedArray
 
@@ -144,14 +144,24 @@ def read(path, *, level: int = 0) -> Volume:
                   units=extra.get("units", ""), name=extra.get("name", Path(path).name), meta=meta)
 
 
-def _halve(a: np.ndarray) -> np.ndarray:
+def _halve(a: np.ndarray, floor: float | None = None) -> np.ndarray:
     """2x2x2 mean (odd edges repeat the last voxel), in the input's dtype (integers rounded). Summed in float64:
-    in float32 eight values near its lowest (a resampler's fill) overflowed to -inf."""
+    in float32 eight values near its lowest (a resampler's fill) overflowed to -inf. ``floor``: values below it (a
+    fill outside the field of view, ``core.display_range``) are left out of the means, a block of nothing else
+    keeps the fill: averaged into the tissue at the field of view's edge, they made a band of values between,
+    which the coarser levels' display ranges then started in."""
     pad = [(0, n % 2) for n in a.shape]
     if any(p[1] for p in pad):
         a = np.pad(a, pad, mode="edge")
     z, y, x = a.shape
-    m = a.reshape(z // 2, 2, y // 2, 2, x // 2, 2).mean(axis=(1, 3, 5), dtype=np.float64)
+    blocks = a.reshape(z // 2, 2, y // 2, 2, x // 2, 2)
+    if floor is None:
+        m = blocks.mean(axis=(1, 3, 5), dtype=np.float64)
+    else:
+        kept = blocks >= floor
+        n = kept.sum(axis=(1, 3, 5))
+        total = np.where(kept, blocks, 0).sum(axis=(1, 3, 5), dtype=np.float64)
+        m = np.where(n > 0, total / np.maximum(n, 1), blocks.min(axis=(1, 3, 5)))
     return np.rint(m).astype(a.dtype) if a.dtype.kind in "iu" else m.astype(a.dtype)
 
 
@@ -191,6 +201,8 @@ def write(volume: Volume, path, *, chunks: int = 64, levels: int | None = None, 
         raise VolumeWriteError(p, f"zarr_format must be 2 or 3, got {zarr_format}")
     c = int(chunks)
     shapes = _shapes(volume.shape, c, levels)
+    lo, floor = volume.value_range()[0], display_range(volume)[0]
+    floor = floor if floor > lo else None  # a fill cut off the display range: not averaged into the tissue
     root = zarr.open_group(str(p), mode="w", zarr_format=zarr_format)
     arrays = [root.create_array(str(n), shape=s, chunks=(c, c, c), dtype=volume.dtype) for n, s in enumerate(shapes)]
     ranges = []
@@ -199,7 +211,7 @@ def write(volume: Volume, path, *, chunks: int = 64, levels: int | None = None, 
         lo, hi = [], []
         for z in range(0, arr.shape[0], c):
             slab = np.asarray(src[z:z + c] if n == 0 else src[2 * z:2 * (z + c)])
-            slab = slab if n == 0 else _halve(slab)
+            slab = slab if n == 0 else _halve(slab, floor)
             arr[z:z + slab.shape[0]] = slab
             a, b = _chunk_ranges(slab, c)
             lo.append(a)

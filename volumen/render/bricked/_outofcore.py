@@ -22,7 +22,6 @@ reads its own chunks (opening OME-Zarr paths and pyramid levels is
 from __future__ import annotations
 
 import time
-import weakref
 from types import SimpleNamespace
 
 import numpy as np
@@ -77,20 +76,6 @@ def _range_of(src, value_range):
     if src.cmin is not None:
         return float(np.min(src.cmin)), float(np.max(src.cmax))
     return src.volume.value_range()
-
-
-#: id(volume) -> (weak reference, data range, table range) of the last volumes drawn: ``core.table_range`` of a
-#: chunked volume reads its three sample planes, once, not every frame
-_TABLES: dict = {}
-
-
-def _table_range(volume, data_range) -> tuple[float, float]:
-    hit = _TABLES.get(id(volume))
-    if hit is None or hit[0]() is not volume or hit[1] != tuple(data_range):
-        hit = _TABLES[id(volume)] = (weakref.ref(volume), tuple(data_range), table_range(volume, data_range))
-        while len(_TABLES) > 8:
-            del _TABLES[next(iter(_TABLES))]
-    return hit[2]
 
 
 def chunk_range(src, brick):
@@ -197,7 +182,7 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
                          "preintegrate, shadows, scattering or path tracing: they read beyond a brick; no gradient "
                          "opacity: its magnitudes are scaled by the whole volume's largest)")
     src = source_of(volume)
-    vr = _table_range(src.volume, _range_of(src, value_range))
+    vr = table_range(src.volume, _range_of(src, value_range))  # its sample planes read once (``strided_values``)
     size_b = int(brick or default_brick(src.chunk))
     pad = 1 if needs_gradients(scene) else 0
     bricks = visibility_order(brick_grid(src.data.shape, size_b, pad), src.affine, size_b, camera)

@@ -51,17 +51,16 @@ layout(location = 1) out vec4 f_tau;     // optical depth tau, tau z, tau z^2 (a
 
 void main() {
     vec3 dir = u_ortho ? u_forward : normalize(v_world - u_eye);
-    float dist = u_ortho ? dot(v_world - u_eye, u_forward) : length(v_world - u_eye);
+    // the sample: on the plane, or, jittered, moved along the pixel's ray by its share of the slab (-1/2..1/2),
+    // the same for all the pixel's planes: their wood grain on a smooth surface becomes the ray caster's noise
+    vec3 p = v_world;
+    if (u_jitter)
+        p += (jitter01(int(gl_FragCoord.x), int(gl_FragCoord.y), u_seed) - 0.5) * v_gap / dot(dir, u_forward) * dir;
+    vec3 tex = u_jitter ? (u_world_to_tex * vec4(p, 1.0)).xyz : v_tex;
+    float dist = u_ortho ? dot(p - u_eye, u_forward) : length(p - u_eye);
     if (dist < u_range.x || dist > u_range.y) discard;
     for (int i = 0; i < u_nclip; ++i)
-        if (dot(u_clip[i].xyz, v_world) + u_clip[i].w < 0.0) discard;
-    // the pixel's samples all move along its ray by the same share of their slab (-1/2..1/2): the planes' wood
-    // grain on a smooth surface becomes the ray caster's fine noise
-    vec3 tex = v_tex;
-    if (u_jitter) {
-        float off = (jitter01(int(gl_FragCoord.x), int(gl_FragCoord.y), u_seed) - 0.5) * v_gap / dot(dir, u_forward);
-        tex = (u_world_to_tex * vec4(v_world + off * dir, 1.0)).xyz;
-    }
+        if (dot(u_clip[i].xyz, p) + u_clip[i].w < 0.0) discard;
 #if defined PRE_CLASSIFIED
     vec4 c = texture(u_volume, tex);         // premultiplied, opacity per reference step
     float a = c.a;

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core import Volume, display_range
+from ..core import Volume, display_range, hu_offset
 from ..errors import CorruptDataError, VolumeReadError, VolumeWriteError
 from ._chunked import ChunkedArray
 
@@ -165,6 +165,17 @@ def _halve(a: np.ndarray, floor: float | None = None) -> np.ndarray:
     return np.rint(m).astype(a.dtype) if a.dtype.kind in "iu" else m.astype(a.dtype)
 
 
+def _fill_floor(volume) -> float | None:
+    """The bottom of ``volume``'s display range where it cuts a fill off (``core.display_range``), else None. Not
+    asked of a CT (its display range is its data range): a pass over the data less, which a lazy source (``make
+    huge``'s 8 GiB) would compute again."""
+    if hu_offset(volume) is not None:
+        return None
+    lo, hi = volume.value_range()
+    bottom = display_range(volume, (lo, hi))[0]
+    return bottom if bottom > lo else None
+
+
 def _chunk_ranges(slab: np.ndarray, c: int):
     """Per-chunk (min, max) of a slab one chunk deep: arrays (ny_chunks, nx_chunks)."""
     _, y, x = slab.shape
@@ -201,8 +212,7 @@ def write(volume: Volume, path, *, chunks: int = 64, levels: int | None = None, 
         raise VolumeWriteError(p, f"zarr_format must be 2 or 3, got {zarr_format}")
     c = int(chunks)
     shapes = _shapes(volume.shape, c, levels)
-    lo, floor = volume.value_range()[0], display_range(volume)[0]
-    floor = floor if floor > lo else None  # a fill cut off the display range: not averaged into the tissue
+    floor = _fill_floor(volume)
     root = zarr.open_group(str(p), mode="w", zarr_format=zarr_format)
     arrays = [root.create_array(str(n), shape=s, chunks=(c, c, c), dtype=volume.dtype) for n, s in enumerate(shapes)]
     ranges = []

@@ -70,14 +70,6 @@ def source_of(volume) -> SimpleNamespace:
                            cmax=cmax, chunk=chunk, volume=volume)
 
 
-def _range_of(src, value_range):
-    if value_range is not None:
-        return value_range
-    if src.cmin is not None:
-        return float(np.min(src.cmin)), float(np.max(src.cmax))
-    return src.volume.value_range()
-
-
 def chunk_range(src, brick):
     """(min, max) over the chunks the brick reads, from the stored per-chunk ranges (None when not stored)."""
     if src.cmin is None:
@@ -182,7 +174,9 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
                          "preintegrate, shadows, scattering or path tracing: they read beyond a brick; no gradient "
                          "opacity: its magnitudes are scaled by the whole volume's largest)")
     src = source_of(volume)
-    vr = table_range(src.volume, _range_of(src, value_range))  # its sample planes read once (``strided_values``)
+    # the data range (a chunked volume's from its stored chunk ranges: ``Volume.value_range``), then the table's
+    # (its sample planes read once: ``strided_values``)
+    vr = table_range(src.volume, value_range if value_range is not None else src.volume.value_range())
     size_b = int(brick or default_brick(src.chunk))
     pad = 1 if needs_gradients(scene) else 0
     bricks = visibility_order(brick_grid(src.data.shape, size_b, pad), src.affine, size_b, camera)

@@ -150,6 +150,23 @@ def test_corrupt_file_shows_an_error_and_keeps_the_data(make_window, qtbot, tmp_
     assert win.state.volume is volume and win.view3d.frame is not None
 
 
+def test_opening_a_file_the_reader_warned_of_says_so_in_the_status_bar(make_window, qtbot, tmp_path):
+    """A 4-D NIfTI holding NaN opens (its first volume, the NaN as 0) and the status bar says the first of the
+    reader's two warnings, as ``volumen`` commands say them on the terminal; no error dialog."""
+    import nibabel as nib
+
+    data = np.random.default_rng(2).random((12, 12, 12, 2)).astype(np.float32)
+    data[0, 0, 0, 0] = np.nan
+    nib.save(nib.Nifti1Image(data, np.eye(4)), tmp_path / "dwi.nii.gz")
+    win = make_window()
+    _settle_device(win, qtbot)  # its own status message comes first
+    task = win.open_path(str(tmp_path / "dwi.nii.gz"))
+    qtbot.waitUntil(lambda: task.finished and win.state.volume.shape == (12, 12, 12), timeout=20000)
+    assert len(win.load_warnings) == 2 and "first volume" in win.load_warnings[0] and "NaN" in win.load_warnings[1]
+    assert win.statusBar().currentMessage() == f"Warning: {win.load_warnings[0]} (2 in all)"
+    assert win.last_error is None
+
+
 def _settle_device(win, qtbot):
     """Wait for the worker's OpenGL probe to answer and the view to take its device (``device_reason`` set).
     The probe runs on the process's one OpenGL thread, behind the frames other windows queued there (slow on

@@ -133,3 +133,37 @@ def test_drawing_commands_say_once_that_they_compile(monkeypatch):
     finally:
         event.unregister("numba:compile", notice)
     assert stream.getvalue().splitlines() == [MESSAGE + " ..."]
+
+
+def test_every_command_says_what_the_reader_warned_of_once(tmp_path, capsys):
+    """A 4-D NIfTI holding NaN: ``slices`` (as every command that reads a volume) says on stderr that it drew the
+    first volume and replaced the NaN by 0, a line each, named by the command; ``convert`` says it once;
+    ``info`` lists the warnings among its facts and nowhere else."""
+    import nibabel as nib
+
+    data = np.random.default_rng(1).random((6, 7, 8, 3)).astype(np.float32)
+    data[0, 0, 0, 0] = np.nan
+    nib.save(nib.Nifti1Image(data, np.diag([0.8, 0.8, 1.5, 1.0])), tmp_path / "fmri.nii.gz")
+    said = ("4-D image (6, 7, 8, 3): read the first volume [..., 0] only", "1 of 336 voxels are NaN or infinite")
+    assert main(["slices", str(tmp_path / "fmri.nii.gz"), "-o", str(tmp_path / "shots")]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and all(line.startswith("volumen slices: warning: ") for line in err), err
+    assert all(any(s in line for line in err) for s in said), err
+    assert main(["convert", str(tmp_path / "fmri.nii.gz"), str(tmp_path / "first.nrrd")]) == 0
+    out = capsys.readouterr()
+    assert len(out.err.splitlines()) == 2 and "warning" not in out.out
+    assert main(["info", str(tmp_path / "fmri.nii.gz")]) == 0
+    out = capsys.readouterr()
+    assert out.err == "" and sum(s in out.out for s in said) == 2
+
+
+def test_many_warnings_are_counted_after_the_first_few(capsys):
+    """Past ``SAID_WARNINGS`` (a folder of many skipped files) the rest are counted, not listed."""
+    from volumen.cli._common import SAID_WARNINGS, say_warnings
+
+    vol = _volume()
+    vol.meta["warnings"] = [f"skipped file {k}" for k in range(SAID_WARNINGS + 3)]
+    say_warnings(vol, "render")
+    err = capsys.readouterr().err.splitlines()
+    assert err[:SAID_WARNINGS] == [f"volumen render: warning: skipped file {k}" for k in range(SAID_WARNINGS)]
+    assert err[SAID_WARNINGS:] == ["volumen render: warning: 3 more (volumen info lists them)"]

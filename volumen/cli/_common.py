@@ -53,11 +53,35 @@ def _floats(text: str | None, n: int, what: str):
     return vals
 
 
-def load_from_args(args: argparse.Namespace, path=None):
-    """Load ``path`` (default ``args.input``) with the reading options, or a phantom for ``phantom:NAME``."""
+#: a reader's warnings said on the terminal before the rest are only counted (``volumen info`` lists every one)
+SAID_WARNINGS = 5
+
+
+def load_from_args(args: argparse.Namespace, path=None, *, quiet: bool = False):
+    """Load ``path`` (default ``args.input``) with the reading options, or a phantom for ``phantom:NAME``; the
+    reader's warnings about it are said on stderr (:func:`say_warnings`) unless ``quiet``."""
+    volume = _load(args, path if path is not None else args.input)
+    if not quiet:
+        say_warnings(volume, getattr(args, "command", None))
+    return volume
+
+
+def say_warnings(volume, command: str | None) -> None:
+    """One line on stderr per warning the reader left in ``volume.meta["warnings"]`` (a 4-D file drawn from its
+    first volume, NaN replaced, a gantry tilt, uneven slices, an assumed spacing, skipped files), at most
+    :data:`SAID_WARNINGS` and then how many more: a picture drawn from what the file did not quite say is not
+    handed over as if it had."""
+    said = list(volume.meta.get("warnings", []) if volume.meta else [])
+    who = f"volumen {command}" if command else "volumen"
+    for w in said[:SAID_WARNINGS]:
+        print(f"{who}: warning: {w}", file=sys.stderr)
+    if len(said) > SAID_WARNINGS:
+        print(f"{who}: warning: {len(said) - SAID_WARNINGS} more (volumen info lists them)", file=sys.stderr)
+
+
+def _load(args: argparse.Namespace, path):
     import volumen
 
-    path = path if path is not None else args.input
     if str(path).startswith("phantom:"):
         return load_phantom(str(path))
     opts = {"nonfinite": args.nonfinite or "zero", "resample": bool(args.resample)}

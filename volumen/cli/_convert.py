@@ -26,6 +26,4 @@ def run(args):
     volumen.save(vol, args.output, **opts)
     z, y, x = vol.shape
     print(f"wrote {args.output} ({x} x {y} x {z} voxels, {vol.dtype})")
-    for w in vol.meta.get("warnings", []):
-        print(f"warning: {w}")
     return 0

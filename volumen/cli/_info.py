@@ -96,7 +96,7 @@ def run(args):
             _print_listing(args.input, series, notes)
             print("choose one with --series SERIES_INSTANCE_UID")
         return 0
-    vol = load_from_args(args)
+    vol = load_from_args(args, quiet=True)  # its warnings are among the facts
     facts = describe(vol)
     labels = labels_from_args(args, vol)
     if labels is not None:

@@ -2,7 +2,8 @@
 drawn on workers equal to the single-process render.
 
 Costs about 20-30 s on 2 cores (a LocalCluster of 2 worker processes that import volumen and load the
-compiled kernels from Numba's cache, 49 studies of 40^3 at 48 x 48 and a corrupt one, one worker restart).
+compiled kernels from Numba's cache, 49 studies of 40^3 at 48 x 48, a 4-D one and a corrupt one, one worker
+restart).
 """
 
 import csv
@@ -11,6 +12,7 @@ import signal
 import threading
 import time
 
+import nibabel as nib
 import numpy as np
 import pytest
 from PIL import Image as PILImage
@@ -47,6 +49,9 @@ def _studies(tmp_path):
     bad = tmp_path / "corrupt.nii.gz"
     bad.write_bytes(b"\x1f\x8b" + os.urandom(300))
     rows.insert(5, ("corrupt", str(bad)))
+    fourd = tmp_path / "fourd.nii.gz"  # drawn from its first volume, which its row's warnings say
+    nib.save(nib.Nifti1Image(np.stack([d, d], axis=-1).transpose(2, 1, 0, 3), np.eye(4)), fourd)
+    rows.insert(9, ("fourd", str(fourd)))
     man = tmp_path / "manifest.csv"
     with open(man, "w", newline="") as f:
         w = csv.writer(f)
@@ -93,11 +98,32 @@ def test_batch_survives_a_killed_worker_and_resumes(client, tmp_path):
                 assert im.size == size
     assert not list(out.glob("**/.*"))  # no temporary file left behind
     table = list(csv.DictReader(open(out / "results.csv")))
-    assert len(table) == NSTUDY + 1 and {t["status"] for t in table} == {"ok", "error"}
-    print(f"{NSTUDY + 1} studies in {took:.1f} s with worker {killed[0][0]} killed holding {killed[0][1]}")
-    again = {r["id"]: r["status"] for r in run_batch(man, out, client=client, progress=False)}
-    assert again.pop("corrupt") == "error"
-    assert set(again.values()) == {"skipped"}
+    assert len(table) == NSTUDY + 2 and {t["status"] for t in table} == {"ok", "error"}
+    warned = {t["id"]: t["warnings"] for t in table if t["warnings"]}
+    assert list(warned) == ["fourd"] and "read the first volume" in warned["fourd"]
+    print(f"{NSTUDY + 2} studies in {took:.1f} s with worker {killed[0][0]} killed holding {killed[0][1]}")
+    rerun = {r["id"]: r for r in run_batch(man, out, client=client, progress=False)}
+    assert rerun.pop("corrupt")["status"] == "error"
+    assert {r["status"] for r in rerun.values()} == {"skipped"}
+    assert rerun["fourd"]["warnings"] == warned["fourd"]  # a skipped study keeps what its reader warned of
+
+
+def test_a_study_records_what_its_reader_warned_of(tmp_path):
+    """A 4-D NIfTI holding NaN: the study is drawn (its first volume, the NaN as 0) and its row's ``warnings``
+    says both, as the commands say them on the terminal; results.csv has the column."""
+    import nibabel as nib
+
+    from volumen.scale._batch import RESULT_FIELDS, run_study
+
+    data = np.random.default_rng(3).random((10, 11, 12, 2)).astype(np.float32)
+    data[1, 1, 1, 0] = np.nan
+    nib.save(nib.Nifti1Image(data, np.eye(4)), tmp_path / "dwi.nii.gz")
+    row = {"id": "dwi", "path": str(tmp_path / "dwi.nii.gz"), "settings": "", "outputs": ["slices"]}
+    res = run_study(row, tmp_path / "out")
+    assert res["status"] == "ok" and (tmp_path / "out" / "dwi" / "axial.png").exists()
+    said = res["warnings"].split(" | ")
+    assert len(said) == 2 and "first volume" in said[0] and "1 of 1320 voxels are NaN" in said[1], said
+    assert "warnings" in RESULT_FIELDS
 
 
 @pytest.mark.parametrize("mode", ["composite", "mip"])

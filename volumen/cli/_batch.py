@@ -27,4 +27,7 @@ def run(args):
     for r in rows:
         if r["status"] == "error":
             print(f"  {r['id']}: {r['error']}")
+    warned = sum(1 for r in rows if r.get("warnings"))
+    if warned:
+        print(f"  studies drawn with warnings from their readers: {warned} (the warnings column)")
     return 1 if counts.get("error") else 0

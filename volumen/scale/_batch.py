@@ -18,8 +18,10 @@ temporary files a killed worker leaves are removed when the batch ends). A re-ru
 studies whose outputs all exist. A study whose task dies with its worker is
 rescheduled by Dask on another worker (up to ``distributed.scheduler.allowed-failures``);
 an error in a study (unreadable file, bad settings) is caught and recorded in
-``results.csv`` (id, status ``ok | skipped | error``, seconds, outputs, error)
-and the batch goes on.
+``results.csv`` (id, status ``ok | skipped | error``, seconds, outputs, error,
+warnings) and the batch goes on. ``warnings`` holds what the reader warned of in a study it read (a 4-D
+file's first volume drawn, NaN replaced, uneven slices: ``meta["warnings"]`` joined by ``" | "``), as the
+``volumen`` commands say it on the terminal.
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ import numpy as np
 __all__ = ["read_manifest", "run_study", "run_batch", "study_outputs", "OUTPUT_KINDS"]
 
 OUTPUT_KINDS = ("png", "slices", "mesh", "mp4")
-RESULT_FIELDS = ("id", "status", "seconds", "outputs", "error")
+RESULT_FIELDS = ("id", "status", "seconds", "outputs", "error", "warnings")
 TMP_PREFIX = ".tmp-"  #: outputs being written; what a killed worker leaves is swept when the batch ends
 
 
@@ -142,10 +144,12 @@ def run_study(row: dict, out_dir) -> dict:
     """Render one study's missing outputs; never raises for the study's own errors (they are returned)."""
     t0 = time.perf_counter()
     files = study_outputs(row, out_dir)
-    res = {"id": row["id"], "outputs": ";".join(f.name for f in files), "error": ""}
+    res = {"id": row["id"], "outputs": ";".join(f.name for f in files), "error": "", "warnings": ""}
     try:
         files[0].parent.mkdir(parents=True, exist_ok=True)
-        _write_outputs(_load(row["path"]), row, _settings(row["settings"]), files)
+        vol = _load(row["path"])
+        res["warnings"] = " | ".join(vol.meta.get("warnings", []))[:500]
+        _write_outputs(vol, row, _settings(row["settings"]), files)
         res["status"] = "ok"
     except Exception as exc:  # noqa: BLE001  (one study's failure, whatever it is, is recorded; the batch goes on)
         res["status"] = "error"
@@ -165,6 +169,15 @@ def _write_results(out_dir: Path, results: dict) -> None:
     _atomic(out_dir / "results.csv", write)
 
 
+def _earlier_results(out: Path) -> dict:
+    """The rows of an earlier run's results.csv in ``out`` by study id (none where there is none)."""
+    try:
+        with open(out / "results.csv", newline="") as f:
+            return {r["id"]: r for r in csv.DictReader(f)}
+    except OSError:
+        return {}
+
+
 def run_batch(manifest, out_dir, *, client=None, scheduler: str | None = None, workers: int = 2,
               progress: bool = True) -> list[dict]:
     """Render every study of ``manifest`` into ``out_dir`` on a Dask cluster; returns the results' rows.
@@ -179,12 +192,14 @@ def run_batch(manifest, out_dir, *, client=None, scheduler: str | None = None, w
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     results = {r["id"]: {"id": r["id"], "status": "pending"} for r in rows}
+    earlier = _earlier_results(out)
     todo = []
     for r in rows:
         files = study_outputs(r, out)
-        if all(f.exists() for f in files):
-            results[r["id"]] = {"id": r["id"], "status": "skipped", "seconds": 0,
-                                "outputs": ";".join(f.name for f in files), "error": ""}
+        if all(f.exists() for f in files):  # drawn by an earlier run: its reader's warnings are kept
+            results[r["id"]] = {"id": r["id"], "status": "skipped", "seconds": 0, "error": "",
+                                "outputs": ";".join(f.name for f in files),
+                                "warnings": earlier.get(r["id"], {}).get("warnings", "")}
         else:
             todo.append(r)
     cluster = None

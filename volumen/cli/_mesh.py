@@ -13,8 +13,9 @@ def register(sub):
                                        "(--labels: a coloured scene, .glb)")
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("-o", "--out", required=True, help="output mesh file: .stl, .obj or .ply (world RAS+ mm)")
-    what = p.add_argument_group("surface (at least one, or --labels)")
-    what.add_argument("--iso", type=float, help="iso level in the data's units (HU for CT), e.g. 300 for bone")
+    what = p.add_argument_group("surface (neither: the level the 3-D views start with; or --labels)")
+    what.add_argument("--iso", type=float, help="iso level in the data's units (HU for CT), e.g. 300 for bone "
+                      "(default: bone for a CT, else the middle of the display range; a 0/1 mask: its boundary)")
     what.add_argument("--mask", help="mask volume on the same grid: its boundary is meshed "
                                      "(with --iso: only the isosurface inside the mask)")
     p.add_argument("--smooth", type=int, default=10, help="Taubin smoothing iterations (default 10; 0: none)")
@@ -43,6 +44,19 @@ def _label_scene(args, volume, out: Path) -> int:
     return 0
 
 
+def _default_level(volume) -> tuple[float | None, str]:
+    """With neither ``--iso`` nor ``--mask``: ``(level, what the output line says of it)``. A 0/1 mask's boundary
+    (None: ``extract_mesh`` meshes it), else the level the 3-D views start with (``core.default_iso``: bone in a
+    CT, the middle of the display range otherwise)."""
+    from volumen.core import default_iso, hu_offset
+    from volumen.surface import is_mask
+
+    if is_mask(volume):
+        return None, ", chosen: the mask's boundary"
+    return default_iso(volume), (", chosen for a CT: bone" if hu_offset(volume) is not None
+                                 else ", chosen: the middle of the display range")
+
+
 def run(args):
     from tqdm import tqdm
 
@@ -52,8 +66,6 @@ def run(args):
         if args.check:
             raise ValueError("--check checks one surface (--iso or --mask), not a --labels scene")
         return _label_scene(args, load_from_args(args), Path(args.out))
-    if args.iso is None and args.mask is None:
-        raise ValueError("give --iso LEVEL (data units) or --mask MASK (or both)")
     if args.step < 1:
         raise ValueError(f"--step must be >= 1, got {args.step}")
     out = Path(args.out)
@@ -66,16 +78,17 @@ def run(args):
     if mask is not None and mask.shape != volume.shape:
         raise ValueError(f"--mask {args.mask} has shape {mask.shape}, the volume {volume.shape}: "
                          "they must share a grid")
+    iso, chosen = (args.iso, "") if args.iso is not None or mask is not None else _default_level(volume)
     with tqdm(total=100, desc="mesh", unit="%", disable=args.quiet, leave=False) as bar:
         def progress(fraction: float) -> None:
             bar.update(max(0, int(round(100 * fraction)) - bar.n))
 
-        mesh = extract_mesh(volume, iso=args.iso, mask=mask, smooth_iterations=args.smooth,
+        mesh = extract_mesh(volume, iso=iso, mask=mask, smooth_iterations=args.smooth,
                             target_triangles=args.target_triangles, largest_only=args.largest, step=args.step,
                             progress=progress)
     path = write_mesh(mesh, out)
     print(f"{path}: {mesh.n_vertices} vertices, {mesh.n_faces} triangles, "
-          f"area {mesh.area():.1f} mm^2 (level {mesh.meta.get('level', args.iso)})")
+          f"area {mesh.area():.1f} mm^2 (level {mesh.meta.get('level', iso):g}{chosen})")
     if args.check:
         from volumen.surface import check_mesh
 

@@ -8,7 +8,7 @@ Nothing heavy is imported here: Numba, SciPy and trimesh load on first use.
 from ._check import MeshCheck, check_mesh
 from ._components import largest_component, mesh_components, submesh
 from ._decimate import decimate
-from ._extract import extract_mesh
+from ._extract import extract_mesh, is_mask
 from ._files import MESH_FORMATS, read_mesh, write_mesh
 from ._labels import SCENE_FORMATS, label_areas, label_meshes, write_label_scene
 from ._marching_cubes import marching_cubes
@@ -21,6 +21,7 @@ __all__ = [
     "Mesh",
     "marching_cubes",
     "extract_mesh",
+    "is_mask",
     "vertex_normals",
     "surface_area",
     "enclosed_volume",

@@ -13,7 +13,14 @@ from ._marching_cubes import marching_cubes
 from ._mesh import Mesh
 from ._smooth import taubin_smooth
 
-__all__ = ["extract_mesh"]
+__all__ = ["extract_mesh", "is_mask"]
+
+
+def is_mask(volume: Volume) -> bool:
+    """Whether ``volume`` is a 0/1 mask (integers or booleans in 0..1), whose boundary :func:`extract_mesh` meshes
+    without a level."""
+    lo, hi = volume.value_range()
+    return bool(lo >= 0 and hi <= 1 and volume.dtype.kind in "biu")
 
 
 def extract_mesh(volume: Volume, iso: float | None = None, mask=None, *, smooth_iterations: int = 10,
@@ -64,8 +71,7 @@ def extract_mesh(volume: Volume, iso: float | None = None, mask=None, *, smooth_
             raise ValueError(f"mask shape {mask_data.shape} differs from the volume's {volume.shape}")
         mask_data = mask_data.astype(bool, copy=False)
     if iso is None and mask_data is None:
-        lo, hi = volume.value_range()
-        if not (lo >= 0 and hi <= 1 and volume.dtype.kind in "biu"):
+        if not is_mask(volume):
             raise ValueError("extract_mesh needs an iso level (in the volume's units) or a mask")
         mesh = marching_cubes(volume, 0.5, step=step)
     elif iso is None:

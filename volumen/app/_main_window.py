@@ -200,7 +200,8 @@ class MainWindow(QMainWindow):
         self.setWindowTitle(f"volumen - {volume.name or ref}")
         self.load_warnings = list(volume.meta.get("warnings", []))  # the reader's, said as the CLI says them
         if self.load_warnings:
-            self.statusBar().showMessage(f"Warning: {self.load_warnings[0]} ({len(self.load_warnings)} in all)", 15000)
+            more = f" ({len(self.load_warnings)} in all)" if len(self.load_warnings) > 1 else ""
+            self.statusBar().showMessage(f"Warning: {self.load_warnings[0]}{more}", 15000)
 
     def open_dialog(self, folder: bool = False) -> None:
         if folder:

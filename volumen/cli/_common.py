@@ -71,7 +71,7 @@ def say_warnings(volume, command: str | None) -> None:
     first volume, NaN replaced, a gantry tilt, uneven slices, an assumed spacing, skipped files), at most
     :data:`SAID_WARNINGS` and then how many more: a picture drawn from what the file did not quite say is not
     handed over as if it had."""
-    said = list(volume.meta.get("warnings", []) if volume.meta else [])
+    said = list((volume.meta or {}).get("warnings", []))
     who = f"volumen {command}" if command else "volumen"
     for w in said[:SAID_WARNINGS]:
         print(f"{who}: warning: {w}", file=sys.stderr)

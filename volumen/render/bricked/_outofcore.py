@@ -174,9 +174,9 @@ def plan(volume, scene, camera, *, brick: int | None = None, value_range=None):
                          "preintegrate, shadows, scattering or path tracing: they read beyond a brick; no gradient "
                          "opacity: its magnitudes are scaled by the whole volume's largest)")
     src = source_of(volume)
-    # the data range (a chunked volume's from its stored chunk ranges: ``Volume.value_range``), then the table's
-    # (its sample planes read once: ``strided_values``)
-    vr = table_range(src.volume, value_range if value_range is not None else src.volume.value_range())
+    # over the data range (given, else ``Volume.value_range``: a chunked volume's from its stored chunk ranges), the
+    # table's (its sample planes read once: ``strided_values``)
+    vr = table_range(src.volume, value_range)
     size_b = int(brick or default_brick(src.chunk))
     pad = 1 if needs_gradients(scene) else 0
     bricks = visibility_order(brick_grid(src.data.shape, size_b, pad), src.affine, size_b, camera)

@@ -14,7 +14,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def pytest_configure(config):
-    """Workers compile each cached Numba kernel once between them (tests/compile_lock.py)."""
+    """The kernel cache folder is fixed before any test moves ``VOLUMEN_CACHE_DIR`` to a temporary archive cache
+    (``volumen.jit.kernel_folder``: read once per process), and workers compile each cached Numba kernel once
+    between them (tests/compile_lock.py)."""
+    from volumen.jit import kernel_folder
+
+    kernel_folder()
     if os.environ.get("VOLUMEN_COMPILE_LOCK", "1") != "0":
         from compile_lock import install
 

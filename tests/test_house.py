@@ -120,7 +120,7 @@ def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
         checked.append(info.name)
         if key:  # registered: its kernels use the stamped locators (Numba's private _impl._locator)
             missing += [f"{info.name}.{d.py_func.__name__} not stamped" for d in cached
-                        if type(d._cache._impl._locator).__module__ != "volumen.jit._stamp"]
+                        if type(d._cache._impl._locator).__module__ != "volumen.jit._locate"]
         for used in _used_files(module):
             if used not in key or not set(stamped_with(used)) <= key:
                 missing.append(f"{info.name} uses {used.name}, not in its stamp")

@@ -103,7 +103,7 @@ def test_numba_cuda_internals_the_patches_replace_have_the_shape_they_expect():
 
 def _shape_problems() -> list[str]:
     """What no longer looks as the four patches expect in the installed Numba: each the internal, the change, and
-    what it costs (``render/raycast/_inlining.py``, ``jit/_stamp.py``)."""
+    what it costs (``render/raycast/_inlining.py``, ``jit/_locate.py``)."""
     import inspect
 
     from numba.core import caching, dispatcher, inline_closurecall
@@ -136,14 +136,13 @@ def _shape_problems() -> list[str]:
     if not isinstance(locators, list) or not {"_locator_classes", "from_function"} <= set(init_names):
         out.append("caching.CacheImpl no longer picks a locator from its _locator_classes list with from_function: "
                    "cached kernels are keyed on their own file only (a stale cache after editing a helper)")
-    elif [c.__module__ for c in locators[:3]] != ["volumen.jit._stamp"] * 3:
-        out.append(f"the stamped locators are not first in CacheImpl._locator_classes: {locators[:3]}")
-    else:
-        for cls in locators[:3]:
-            base = cls.__mro__[2]  # (stamped class, _Stamped, Numba's locator, ...)
-            if params(base.from_function) != ["py_func", "py_file"] or params(base.get_source_stamp) != ["self"]:
-                out.append(f"caching.{base.__name__}.from_function(py_func, py_file) / get_source_stamp(self) "
-                           "changed: the source stamp cannot extend it")
+    elif [c.__module__ for c in locators[:2]] != ["volumen.jit._locate"] * 2:
+        out.append(f"the content-keyed locators are not first in CacheImpl._locator_classes: {locators[:2]}")
+    elif params(caching.InTreeCacheLocator.from_function) != ["py_func", "py_file"] or \
+            params(caching.InTreeCacheLocator.get_source_stamp) != ["self"] or \
+            not hasattr(caching._CacheLocator, "ensure_cache_path"):
+        out.append("caching.InTreeCacheLocator.from_function(py_func, py_file) / get_source_stamp(self) or "
+                   "_CacheLocator.ensure_cache_path changed: the content-keyed locators cannot extend them")
     return out
 
 
@@ -159,7 +158,7 @@ def test_the_numba_internals_the_patches_replace_still_have_the_shape_they_expec
 
 
 def test_each_patch_names_the_upstream_report_it_works_around_and_what_lets_it_go():
-    from volumen.jit import _stamp
+    from volumen.jit import _locate as _stamp
     from volumen.render.raycast import _inlining
 
     patches = _inlining.__doc__.split("\n* ")[1:]

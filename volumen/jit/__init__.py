@@ -3,7 +3,9 @@
 * :func:`run_parts`, :func:`run_claiming`, :func:`claim`, :func:`fetch_add`: the one thread driver of every
   compiled pass (ray casting, marching cubes, per-volume precomputation);
 * :func:`prefetch`: a hint that an array element will be read soon (nothing on the GPU);
-* :func:`stamp_sources`: Numba's on-disk cache keyed on every source a kernel is compiled from;
+* :func:`stamp_sources`, :func:`source_stamp`: the groups of sources a cached kernel is compiled from, and their
+  content key; :mod:`._locate` keeps each group's kernels in one folder per key that every checkout on this
+  machine shares (:func:`kernel_folder`, installed on import);
 * :mod:`._savelock`: one process at a time writes a cache index (installed on import);
 * :data:`NUMBA_TESTED`, :func:`patches_allowed` (numba-cuda's: :data:`NUMBA_CUDA_TESTED`,
   :func:`cuda_patches_allowed`): the fence around the patches to Numba's internals;
@@ -21,15 +23,18 @@ from ._guard import (
     numba_version,
     patches_allowed,
 )
+from ._locate import group_folder, kernel_folder
+from ._locate import install as _locate_kernels
 from ._notice import announce
 from ._prefetch import prefetch
 from ._savelock import install as _lock_cache_saves
-from ._stamp import source_stamp, stamp_sources, stamped_with
+from ._stamp import machine, source_stamp, stamp_sources, stamped_with
 from ._threads import claim, fetch_add, run_claiming, run_parts
 
 _lock_cache_saves()
+_locate_kernels()
 
 __all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "prefetch", "stamp_sources", "stamped_with",
-           "source_stamp", "NUMBA_TESTED",
+           "source_stamp", "machine", "kernel_folder", "group_folder", "NUMBA_TESTED",
            "NUMBA_CUDA_TESTED", "ENV", "numba_version", "in_tested_range", "patches_allowed", "cuda_patches_allowed",
            "announce"]

@@ -1,4 +1,4 @@
-"""Numba's on-disk cache keyed on every source a kernel is compiled from, not only its own file.
+"""The groups of sources a cached kernel is compiled from, and the content key each group's kernels are kept under.
 
 A cached kernel inlines (or links) functions of other files: the ray caster's skeleton calls the mode pieces
 of ``_composite`` / ``_iso`` / ..., the lighting of ``_shade`` and the thread counter of
@@ -6,33 +6,32 @@ of ``_composite`` / ``_iso`` / ..., the lighting of ``_shade`` and the thread co
 calls ``_mc_rows``' word helpers and freezes the tables of ``_mc_tables`` into its code. Numba checks only
 the calling function's own file, so a change to one of those would leave the cached kernel stale. A package
 registers its kernels' files with :func:`stamp_sources` *before defining them* (its ``__init__`` does it
-first); the cache locators below then give each registered file the stamp of its whole group: the
-modification times and sizes of every file in it, so editing any of them recompiles the group.
+first); every registered file then carries the key of its whole group (:func:`source_stamp`).
 
-This puts three locators at the front of ``numba.core.caching.CacheImpl._locator_classes`` (a private list,
-the fourth patch of Numba's internals, guarded by :mod:`._guard`; upstream: numba/numba#1833, "Caching
-issue: functions in different modules", open; it goes when Numba's cache keys a kernel on the files of the
-functions it calls, which numba/numba#8396 is hoped to do). Unlike the inliner's patches it does not stand down
-outside the tested Numba range, because without it a cache could be stale (wrong); it steps aside only when
-Numba lacks the list or the locator methods it extends, and then says so once. The three are Numba's own
-``NUMBA_CACHE_DIR``, ``__pycache__`` beside the sources and, where that folder is not writable (an install a user
-cannot write to), the user's cache folder: without the third, such an install kept its kernels keyed on their
-own file only.
+What a kernel compiles to depends on its sources' contents, Numba's and LLVM's releases and the CPU, and on
+nothing else: the key is a hash of exactly these (each file's path inside the package and the SHA-256 of its
+bytes, the Numba and llvmlite releases, the Python release, the target triple, the CPU's name and features as
+Numba's code generator sees them, ``NUMBA_CPU_NAME`` / ``NUMBA_CPU_FEATURES`` included). Not modification times:
+a fresh clone, a reinstall or another checkout of the same code has the same key, and :mod:`._locate` keeps the
+group's kernels in one folder per key that all of them share.
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import os
-import warnings
+import sys
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["stamp_sources", "stamped_with", "source_stamp", "install", "installed"]
+__all__ = ["stamp_sources", "stamped_with", "source_stamp", "machine"]
 
 _PACKAGE = Path(__file__).resolve().parents[1]  # volumen/
+#: the format of the key: raised when what goes into it changes
+_VERSION = "volumen-kernel-key-1"
 #: registered file -> the files its kernels' cache is keyed on (sorted)
 _KEYS: dict[Path, tuple[Path, ...]] = {}
-_state = {"installed": False}
 
 
 def stamp_sources(files: Iterable, *, also: Iterable = ()) -> tuple[Path, ...]:
@@ -48,7 +47,7 @@ def stamp_sources(files: Iterable, *, also: Iterable = ()) -> tuple[Path, ...]:
     Returns
     -------
     tuple of Path
-        The group: every file whose stamp the kernels of ``files`` carry.
+        The group: every file whose contents the kernels of ``files`` are keyed on.
     """
     own = {Path(f).resolve() for f in files}
     extra = {Path(f).resolve() for f in also}
@@ -58,83 +57,47 @@ def stamp_sources(files: Iterable, *, also: Iterable = ()) -> tuple[Path, ...]:
     key = tuple(sorted(group))
     for f in own:
         _KEYS[f] = tuple(sorted(set(_KEYS.get(f, ())) | group))
-    install()
     return key
 
 
 def stamped_with(path) -> tuple[Path, ...]:
-    """The files whose stamp the cached kernels of ``path`` carry (empty: not registered, Numba's own check)."""
+    """The files whose contents the cached kernels of ``path`` are keyed on (empty: not registered)."""
     return _KEYS.get(Path(path).resolve(), ())
 
 
-def source_stamp(files: tuple[Path, ...]) -> tuple:
-    """The stamp cached kernels keyed on ``files`` carry: each file's name, modification time and size."""
-    out = []
-    for f in files:
+@functools.cache
+def _file_hash(path: Path, mtime_ns: int, size: int) -> str:
+    """SHA-256 of a file's bytes (memoised on its modification time and size: a file edited while the process
+    runs is hashed again)."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _name(f: Path) -> str:
+    return f.relative_to(_PACKAGE).as_posix() if f.is_relative_to(_PACKAGE) else f.name
+
+
+@functools.lru_cache(maxsize=1)
+def machine() -> tuple:
+    """What besides the sources a kernel's machine code depends on: the Numba, llvmlite and Python releases, the
+    target triple and the CPU's name and features (Numba's ``NUMBA_CPU_NAME`` / ``NUMBA_CPU_FEATURES`` when set,
+    as its code generator reads them)."""
+    import llvmlite
+    import numba
+    from llvmlite import binding
+    from numba.core import config
+
+    cpu = config.CPU_NAME or binding.get_host_cpu_name()
+    features = config.CPU_FEATURES if config.CPU_FEATURES is not None else binding.get_host_cpu_features().flatten()
+    return (numba.__version__, llvmlite.__version__, sys.version_info[:2], binding.get_process_triple(), cpu,
+            features)
+
+
+def source_stamp(files: Iterable) -> str:
+    """The content key of the kernels compiled from ``files``: a hex SHA-256 of each file's name and contents and
+    of :func:`machine`."""
+    h = hashlib.sha256(_VERSION.encode())
+    h.update(repr(machine()).encode())
+    for f in sorted(Path(f) for f in files):
         st = os.stat(f)
-        out.append((f.relative_to(_PACKAGE).as_posix() if f.is_relative_to(_PACKAGE) else f.name, st.st_mtime,
-                    st.st_size))
-    return tuple(out)
-
-
-def _bases(caching) -> tuple:
-    """Numba's user-provided (``NUMBA_CACHE_DIR``), in-tree and user-wide locators (underscored names in older
-    releases)."""
-    return tuple(getattr(caching, name, None) or getattr(caching, "_" + name, None)
-                 for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator"))
-
-
-def _locators():
-    from numba.core import caching
-
-    class _Stamped:
-        @classmethod
-        def from_function(cls, py_func, py_file):
-            key = _KEYS.get(Path(py_file).resolve())
-            if not key:
-                return None
-            locator = super().from_function(py_func, py_file)
-            if locator is not None:
-                locator._volumen_key = key
-            return locator
-
-        def get_source_stamp(self):
-            return source_stamp(self._volumen_key)
-
-    user_provided, in_tree, user_wide = _bases(caching)
-
-    class _UserProvided(_Stamped, user_provided):
-        pass
-
-    class _InTree(_Stamped, in_tree):
-        pass
-
-    class _UserWide(_Stamped, user_wide):
-        pass
-
-    # Numba's order: NUMBA_CACHE_DIR when set, else beside the sources, else (a read-only install) the user's cache
-    return _UserProvided, _InTree, _UserWide
-
-
-def install() -> bool:
-    """Put the stamped locators first in Numba's list (once); whether they are in place."""
-    if _state["installed"]:
-        return True
-    from numba.core import caching
-
-    locators = getattr(getattr(caching, "CacheImpl", None), "_locator_classes", None)
-    bases = _bases(caching)
-    if not isinstance(locators, list) or not all(hasattr(b, "from_function") and hasattr(b, "get_source_stamp")
-                                                 for b in bases):
-        warnings.warn("this Numba has no cache locator list volumen can extend: cached kernels are keyed on their "
-                      "own file only; after editing volumen's kernels, delete its __pycache__ folders", stacklevel=2)
-        return False
-    for cls in reversed(_locators()):
-        locators.insert(0, cls)
-    _state["installed"] = True
-    return True
-
-
-def installed() -> bool:
-    """Whether the stamped locators are in place in this process."""
-    return _state["installed"]
+        h.update(f"\0{_name(f)}\0{_file_hash(f, st.st_mtime_ns, st.st_size)}".encode())
+    return h.hexdigest()

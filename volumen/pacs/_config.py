@@ -22,7 +22,6 @@ part of a :class:`Server`'s repr, its ``to_dict`` or an error message.
 
 from __future__ import annotations
 
-import os
 import re
 import stat
 import tomllib
@@ -32,31 +31,13 @@ from typing import Literal
 from urllib.parse import urlsplit
 
 from ..errors import ArchiveConfigError
+from ..places import cache_dir, config_dir
 
 __all__ = ["Server", "config_dir", "cache_dir", "servers_file", "load_servers", "resolve_server", "PROTOCOLS"]
 
 PROTOCOLS = ("dicomweb", "dimse")
 _AE_AT_HOST = re.compile(r"^(?P<aet>[^@\s\\]{1,16})@(?P<host>[^:@\s]+):(?P<port>\d{1,5})$")
 _SECRET_KEYS = ("password", "token")
-
-
-def _folder(own: str, xdg: str, fallback: str) -> Path:
-    """``$own``, else ``$xdg/volumen``, else ``~/fallback/volumen``."""
-    if os.environ.get(own):
-        return Path(os.environ[own])
-    base = os.environ.get(xdg)
-    return (Path(base) if base else Path.home() / fallback) / "volumen"
-
-
-def config_dir() -> Path:
-    """``VOLUMEN_CONFIG_DIR``, else ``$XDG_CONFIG_HOME/volumen``, else ``~/.config/volumen``."""
-    return _folder("VOLUMEN_CONFIG_DIR", "XDG_CONFIG_HOME", ".config")
-
-
-def cache_dir() -> Path:
-    """Where retrieved series are kept: ``VOLUMEN_CACHE_DIR``, else ``$XDG_CACHE_HOME/volumen``, else
-    ``~/.cache/volumen``."""
-    return _folder("VOLUMEN_CACHE_DIR", "XDG_CACHE_HOME", ".cache")
 
 
 def servers_file() -> Path:

@@ -2,11 +2,10 @@
 
 A kernel (``_warm.kernel_key``) is ready when this process drew it on the CPU (``render`` says so), when a child
 of ``warm`` put it in Numba's disk cache, or when a marker says an earlier process did either: each kernel noted
-ready leaves an empty file beside Numba's cache (``NUMBA_CACHE_DIR``, else the ray caster's ``__pycache__``, else,
-where that is not writable, the user's cache folder, where Numba then caches too),
-named by a hash of its key, the ray caster's source stamp (``volumen.jit.source_stamp``, what Numba's cache is
-keyed on), the Numba release and the host CPU. So a new session with a filled cache draws its first picture on
-the CPU at once, as it did before stand-ins. A marker of another build or machine does not match. A marker whose
+ready leaves an empty file named by a hash of its key in the ray caster's kernel folder (``volumen.jit.group_folder``:
+one folder per content key of the ray caster's sources, the Numba and LLVM releases and the CPU, where its
+kernels are cached). So a new session with a filled cache draws its first picture on the CPU at once, as it did
+before stand-ins; a marker of other sources, another build or another machine is in another folder. A marker whose
 cache entry was deleted (or a cache that could not be written) costs only what a first picture cost without
 stand-ins: the CPU compiles the kernel while the viewer waits. Where no marker can be written, none is.
 """
@@ -14,7 +13,6 @@ stand-ins: the CPU compiles the kernel while the viewer waits. Where no marker c
 from __future__ import annotations
 
 import hashlib
-import os
 import threading
 from pathlib import Path
 
@@ -32,35 +30,17 @@ def when_ready(hook) -> None:
         _HOOKS.append(hook)
 
 
-def _writable(folder: Path) -> bool:
-    """Whether ``folder`` (or, while it does not exist, the folder it would be made in) can be written to."""
-    return os.access(folder if folder.exists() else folder.parent, os.W_OK)
-
-
 def marker_dir() -> Path:
-    """The folder of the markers, beside Numba's cache: in ``NUMBA_CACHE_DIR`` when set, else in the ray caster's
-    ``__pycache__``, else (an install the user cannot write to) in the user's cache folder, as Numba's locators
-    pick (``volumen.jit._stamp``)."""
-    root = os.environ.get("NUMBA_CACHE_DIR")
-    if root:
-        return Path(root) / "volumen-kernels"
-    tree = Path(__file__).resolve().parent / "raycast" / "__pycache__"
-    if _writable(tree):
-        return tree / "volumen-kernels"
-    from numba.misc.appdirs import AppDirs
+    """The folder of the markers: ``ready`` in the ray caster's kernel folder (``volumen.jit.group_folder``), the
+    one its cached kernels are in, so a marker never outlives the kernels of its key."""
+    from ..jit import group_folder
+    from ._kernel_sources import SOURCES
 
-    return Path(AppDirs(appname="numba", appauthor=False).user_cache_dir) / "volumen-kernels"
+    return group_folder(SOURCES) / "ready"
 
 
 def _marker(key: tuple) -> Path:
-    from llvmlite import binding
-    from numba import __version__
-
-    from ..jit import source_stamp
-    from ._kernel_sources import SOURCES
-
-    text = repr((key, source_stamp(SOURCES), __version__, binding.get_host_cpu_name()))
-    return marker_dir() / hashlib.sha256(text.encode()).hexdigest()[:32]
+    return marker_dir() / hashlib.sha256(repr(key).encode()).hexdigest()[:32]
 
 
 def note_ready(key: tuple) -> None:

@@ -214,7 +214,7 @@ def test_a_fresh_process_loads_the_kernel_its_child_compiled(gl, tmp_path):
     print(got)
     assert got["finals"] == [False, True]  # OpenGL's frame, then the CPU's
     assert got["hits"] == 1 and got["misses"] == 0  # the CPU's kernel came from the child's cache entry
-    assert len(list((tmp_path / "cache" / "volumen-kernels").glob("*"))) == 1  # and is marked for later
+    assert len(list((tmp_path / "cache" / "volumen").glob("*/ready/*"))) == 1  # and is marked for later
 
 
 def test_a_script_without_a_main_guard_is_not_run_again_by_the_child(tmp_path, head):

@@ -85,9 +85,10 @@ def register(sub):
     s.add_argument("--nearest", action="store_true", default=None, help="same as --reconstruction nearest")
     s.add_argument("--no-jitter", action="store_true", default=None, help="no jittered ray starts")
     s.add_argument("--preintegrate", action="store_true", default=None, help="pre-integrated classification")
-    s.add_argument("--adaptive", action="store_true", default=None,
-                   help="adaptive sampling: longer steps through nearly transparent tissue (composite; faster on "
-                        "translucent presets, pictures within a mean 0.005; cpu and cuda devices)")
+    s.add_argument("--adaptive", action=argparse.BooleanOptionalAction, default=None,
+                   help="adaptive sampling, the default: longer steps through nearly transparent tissue (composite; "
+                        "faster on translucent presets, pictures within a mean 0.005; cpu and cuda devices); "
+                        "--no-adaptive for the exact full-rate picture")
     s.add_argument("--crop", help="crop box XMIN,XMAX,YMIN,YMAX,ZMIN,ZMAX (voxel indices; see --crop-space)")
     s.add_argument("--crop-space", choices=["voxel", "world"], help="units of --crop (default voxel)")
     s.add_argument("--clip-plane", action="append", default=None, metavar="SPEC",
@@ -213,8 +214,8 @@ def build(args, base: dict | None, volume):
         samp["jitter"] = False
     if args.preintegrate:
         samp["preintegrate"] = True
-    if args.adaptive:
-        samp["adaptive"] = True
+    if args.adaptive is not None:
+        samp["adaptive"] = args.adaptive
     if samp:
         scene = replace(scene, sampling=replace(scene.sampling, **samp) if base else Sampling(**samp))
     if args.crop or args.clip_plane or args.crop_space:

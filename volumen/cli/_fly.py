@@ -119,14 +119,15 @@ def _lumen(args, volume):
 def _centerline(args, volume):
     """``(centerline, wall)``: between --start and --end (refused when it detours through a leak), or between
     the lumen's two ends."""
+    from volumen.core import values_of
     from volumen.endoscopy import checked_centerline, compute_centerline
 
     start, end = parse_point(args.start), parse_point(args.end)
     if start is not None and end is None:
         raise ValueError("--start needs --end")
     wall = _lumen(args, volume)
-    print(wall.estimate.describe() + (" (the wall drawn is the lumen mask's own boundary: the data does not "
-                                      "separate lumen and wall)" if wall.shape_only else ""))
+    shape_only = " (the wall drawn is the lumen mask's own boundary: the data does not separate lumen and wall)"
+    print(wall.estimate.describe(**values_of(volume)) + (shape_only if wall.shape_only else ""))
     if start is not None:
         return checked_centerline(volume, wall.mask, start, end), wall
     return compute_centerline(volume, wall.mask, start, end), wall

@@ -110,19 +110,23 @@ def run(args):
     if listing is not None:
         _print_listing(args.input, listing[0], [])  # skip notes are among the warnings below
         print()
+    from volumen.core import mm_text, range_text
+
     z, y, x = facts["shape_zyx"]
     dz, dy, dx = facts["spacing_mm_zyx"]
+    whole = np.issubdtype(np.dtype(facts["dtype"]), np.integer) if facts["dtype"] else False
     lines = [
         f"name:         {facts['name'] or '-'}",
         f"format:       {facts['format']}",
         f"size:         {x} x {y} x {z} voxels (x, y, z)",
         f"spacing:      {dx:g} x {dy:g} x {dz:g} mm (x, y, z)",
-        f"extent:       {' x '.join(f'{v:g}' for v in facts['extent_mm_xyz'])} mm",
+        f"extent:       {' x '.join(mm_text(v) for v in facts['extent_mm_xyz'])} mm",
         f"orientation:  {facts['orientation']}{' (oblique)' if facts['oblique'] else ''} "
         f"(voxel axes i, j, k toward these patient directions)",
-        f"origin:       {', '.join(f'{v:g}' for v in facts['origin_ras_mm'])} mm (RAS)",
+        f"origin:       {', '.join(mm_text(v) for v in facts['origin_ras_mm'])} mm (RAS)",
         f"modality:     {facts['modality']}",
-        f"values:       {facts['value_range'][0]:g} .. {facts['value_range'][1]:g} {facts['units']} ({facts['dtype']})",
+        f"values:       {range_text(*facts['value_range'], facts['units'], whole=whole).replace('..', ' .. ')} "
+        f"{facts['units']} ({facts['dtype']})",
     ]
     if facts["colour"]:
         lines.append(f"colour:       {facts['colour']} (channel last: data is z, y, x, 3)")

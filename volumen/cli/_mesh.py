@@ -60,6 +60,7 @@ def _default_level(volume) -> tuple[float | None, str]:
 def run(args):
     from tqdm import tqdm
 
+    from volumen.core import value_text, values_of
     from volumen.surface import MESH_FORMATS, extract_mesh, write_mesh
 
     if args.labels:
@@ -88,7 +89,7 @@ def run(args):
                             progress=progress)
     path = write_mesh(mesh, out)
     print(f"{path}: {mesh.n_vertices} vertices, {mesh.n_faces} triangles, "
-          f"area {mesh.area():.1f} mm^2 (level {mesh.meta.get('level', iso):g}{chosen})")
+          f"area {mesh.area():.1f} mm^2 (level {value_text(mesh.meta.get('level', iso), **values_of(volume))}{chosen})")
     if args.check:
         from volumen.surface import check_mesh
 

@@ -27,10 +27,15 @@ from ._slices import (
 )
 from ._tonemap import TONEMAPS, Display
 from ._transfer import PRESETS, TransferFunction, default_preset, fitted_preset, hu_offset, is_color_slab
+from ._units import mm_text, range_text, value_text, values_of
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = [
     "gestures",
+    "value_text",
+    "range_text",
+    "mm_text",
+    "values_of",
     "Volume",
     "LabelMap",
     "LabelLayer",

@@ -27,6 +27,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..core import mm_text, range_text, values_of
 from ..errors import LumenError
 from ._polarity import LumenEstimate, probe_lumen
 
@@ -123,7 +124,7 @@ def as_lumen(volume, mask) -> np.ndarray:
 
 
 def _fmt(point) -> str:
-    return "(" + ", ".join(f"{v:g}" for v in np.asarray(point, float)) + ") mm"
+    return "(" + ", ".join(mm_text(v) for v in np.asarray(point, float)) + ") mm"
 
 
 def lumen_voxel(volume, point, name: str = "start") -> tuple[int, int, int]:
@@ -142,8 +143,8 @@ def _seed(volume, point, est) -> tuple[int, int, int]:
     try:
         grown = lumen_mask(volume, point, (lo, hi), max_seed_distance=3.0 * max(volume.spacing))
     except ValueError:
-        raise LumenError(f"the start point {_fmt(point)} is in no lumen: no value in {lo:.6g}..{hi:.6g} "
-                         "next to it") from None
+        raise LumenError(f"the start point {_fmt(point)} is in no lumen: no value in "
+                         f"{range_text(lo, hi, **values_of(volume))} next to it") from None
     return nearest_voxel(volume, grown, point)
 
 
@@ -208,7 +209,8 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
         growth = grow(volume, seed, est, lumen=rays.inside, max_fraction=max_fraction, above=above)
     lo, hi = est.value_range
     if growth.fills:
-        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over {lo:.6g}..{hi:.6g} from it "
+        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over "
+                         f"{range_text(lo, hi, **values_of(volume))} from it "
                          f"fills more than {100 * max_fraction:.0f} % of the scan; {FLAGS}")
     est = est.with_range((lo, growth.threshold) if est.kind == "air" else (growth.threshold, hi))
     grown, tag = add_tagged_fluid(volume, growth.mask, est)
@@ -226,7 +228,8 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
         raise LumenError(_neck_message(volume, grown, cut, points, radius))
     grown = _fill_holes(grown)
     if grown.mean() > max_fraction:
-        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over {lo:.6g}..{hi:.6g} from it "
+        raise LumenError(f"the start point {_fmt(start)} is in no lumen: growing over "
+                         f"{range_text(lo, hi, **values_of(volume))} from it "
                          f"fills {100 * grown.mean():.0f} % of the scan; {FLAGS}")
     return grown, est
 
@@ -285,8 +288,8 @@ def _check_end(volume, grown, end, start, rng) -> None:
     try:
         lumen_mask(volume, end, rng, max_seed_distance=reach)
     except ValueError:
-        raise LumenError(f"the end point {_fmt(end)} is in no lumen: no value in {rng[0]:g}..{rng[1]:g} "
-                         "next to it") from None
+        raise LumenError(f"the end point {_fmt(end)} is in no lumen: no value in "
+                         f"{range_text(*rng, **values_of(volume))} next to it") from None
     raise LumenError(f"the end point {_fmt(end)} lies in a lumen that does not connect to the start point's "
                      f"{_fmt(start)}")
 

@@ -42,6 +42,8 @@ from typing import Literal
 
 import numpy as np
 
+from ..core import value_text, values_of
+
 __all__ = ["LumenEstimate", "estimate_lumen", "probe_lumen", "LUMEN_KINDS", "lumen_class"]
 
 LUMEN_KINDS = ("auto", "air", "contrast")
@@ -136,15 +138,19 @@ class LumenEstimate:
         lo, hi = self.value_range
         return replace(self, threshold=t, value_range=(lo, t) if self.kind == "air" else (t, hi))
 
-    def describe(self) -> str:
-        """One line for the user: what was chosen."""
+    def describe(self, units: str = "", *, whole: bool = False) -> str:
+        """One line for the user: what was chosen, values in the data's precision (``core.value_text``: ``units``
+        and ``whole`` as ``core.values_of(volume)`` gives them)."""
+        def v(x):
+            return value_text(x, units, whole=whole)
+
         lo, hi = self.value_range
         line = (f"lumen: {self.kind} (the lumen is {'darker' if self.kind == 'air' else 'brighter'} than its wall), "
-                f"values {lo:.6g}..{hi:.6g}, wall threshold {self.threshold:.6g}")
+                f"values {v(lo)}..{v(hi)}, wall threshold {v(self.threshold)}")
         if self.lumen is not None and self.wall is not None:
-            line += f" (lumen {self.lumen:.6g}, wall {self.wall:.6g})"
+            line += f" (lumen {v(self.lumen)}, wall {v(self.wall)})"
         if self.tag is not None:
-            line += f", tagged fluid {self.tag:.6g} counted as lumen"
+            line += f", tagged fluid {v(self.tag)} counted as lumen"
         return line
 
     def to_dict(self) -> dict:
@@ -201,7 +207,8 @@ def probe_lumen(volume, zyx, kind: str = "auto"):
             break
     else:
         raise ValueError(f"no wall within {REACH[-1]:g} mm of it: the data stays within "
-                         f"{DEPARTURE * noise:.3g} of its value {lumen:.6g} in every direction")
+                         f"{value_text(DEPARTURE * noise, **values_of(volume))} of its value "
+                         f"{value_text(lumen, **values_of(volume))} in every direction")
     if kind == "auto":
         kind = "air" if np.sum(rays.sign > 0) >= np.sum(rays.sign < 0) else "contrast"
     sign = 1 if kind == "air" else -1
@@ -211,8 +218,9 @@ def probe_lumen(volume, zyx, kind: str = "auto"):
                          f"(forced --lumen {kind})")
     wall = float(np.quantile(met, WALL_QUANTILE if sign > 0 else 1.0 - WALL_QUANTILE))
     if abs(wall - lumen) < SEPARATION * noise:
-        raise ValueError(f"its values ({lumen:.6g} +- {noise:.3g}) do not stand apart from those round it "
-                         f"({wall:.6g}): it is tissue, not a lumen")
+        vals = values_of(volume)
+        raise ValueError(f"its values ({value_text(lumen, **vals)} +- {value_text(noise, **vals)}) do not stand "
+                         f"apart from those round it ({value_text(wall, **vals)}): it is tissue, not a lumen")
     t = 0.5 * (lumen + wall)
     lo, hi = volume.value_range()
     rng = (float(min(lo, lumen)), t) if kind == "air" else (t, float(max(hi, lumen)))

@@ -107,6 +107,7 @@ web-deps:
 
 demo: $(DEMO_STAMP)
 	$(VENV)/bin/volumen demo --out out
+	@echo "the other modes' kernels compile on first use (cached once per machine); to compile them all now: $(VENV)/bin/volumen warm"
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff]); the test extra installs
 # the CUDA compiler's libraries, so the CUDA kernels' PTX check must run, not skip (VOLUMEN_REQUIRE_PTX)

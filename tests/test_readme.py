@@ -4,7 +4,8 @@ the shared data, so an example can never go stale.
 The commands run one after the other in one folder (a later one may read what an earlier one wrote), through
 ``volumen.cli.main``, with their sizes made small so the whole README runs in about a minute: phantoms at a
 coarse grid (not for ``fly``, whose lumens need the full one), pictures and videos a few pixels and frames,
-the benchmark ``--quick``. Placeholders the README uses for the reader's own data are made here:
+the benchmark ``--quick``, the warm-up its common kernels in one child. Placeholders the README uses for the
+reader's own data are made here:
 
 * ``scan/``: a DICOM series (pydicom) of the torso phantom, series UID ``1.2.840.99.1`` (for ``1.2.840...``);
 * ``head.nii.gz``: the head phantom as NIfTI (nibabel);
@@ -40,7 +41,8 @@ STUDY = "1.2.840.99"
 SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"},
          "serve": {"--window": "320x200"}}
 EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-vtk", "--repeat", "1"],
-         "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"]}
+         "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"],
+         "warm": ["--common", "--workers", "1"]}
 
 
 def readme_commands() -> list[str]:

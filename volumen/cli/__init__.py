@@ -29,9 +29,10 @@ COMMANDS = {
     "batch": "_batch",
     "bench": "_bench",
     "demo": "_demo",
+    "warm": "_warm",
 }
 #: sub-commands that draw, so may compile kernels on first use: they say so when they do (volumen.jit.announce)
-COMPILING = {"render", "fly", "cpr", "mesh", "batch", "demo"}
+COMPILING = {"render", "fly", "cpr", "mesh", "batch", "demo", "warm"}
 
 
 def build_parser() -> argparse.ArgumentParser:

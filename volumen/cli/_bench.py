@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels", "compile", "pathtrace", "web")
+BENCHES = ("render", "techniques", "lighting", "mesh", "scale", "labels", "compile", "pathtrace", "web", "memory")
 
 
 def register(sub):
@@ -19,7 +19,8 @@ def register(sub):
                    "compile: the first picture of each ray-casting mode in a fresh process (cold Numba cache); "
                    "pathtrace: error of 16 denoised / 256 raw samples against 4096, equal-time, bias, samples/s; "
                    "web: frames per second of the browser viewer in headless Chromium (desktop and both eyes of "
-                   "an emulated headset) beside the gl device")
+                   "an emulated headset) beside the gl device; "
+                   "memory: peak memory of one picture of a 700x512x512 int16 CT per shading model")
     p.add_argument("--out", default="out/bench", help="folder for the JSON (and .md) results (default out/bench)")
     p.add_argument("--quick", action="store_true", help="tiny sizes, to check the benchmark itself runs")
     p.add_argument("--huge", action="store_true", help="scale: instead, a 2048x2048x1024 int16 volume (8 GiB, "
@@ -110,6 +111,10 @@ def run(args):
         from volumen.web._bench import WEB_QUICK, bench_web
 
         table = bench_web(**(WEB_QUICK if args.quick else {"frames": max(args.repeat, 3)}))
+    elif args.what == "memory":
+        from volumen.bench._memory import bench_memory
+
+        table = bench_memory(quick=args.quick)
     elif args.what == "labels":
         from volumen.bench._labels import bench_labels
 

@@ -33,7 +33,8 @@ def scenes() -> dict:
     r, u, f = cam.basis()
     c, d = np.asarray(vol.center), vol.diagonal
     lights = (Light(position=tuple(c + d * (0.8 * r + 0.7 * u - 0.6 * f)), intensity=1.4, color=(1.0, 0.9, 0.8)),)
-    base = Scene(volume=vol, transfer=TransferFunction.preset("ct-skin-bone"), sampling=Sampling(seed=3))
+    base = Scene(volume=vol, transfer=TransferFunction.preset("ct-skin-bone"),
+                 sampling=Sampling(seed=3, adaptive=False))  # the full-rate pictures of before
     out = {}
     for sh in SHADINGS:
         out[f"composite/{sh}"] = (base.with_(shading=Shading(mode=sh)), cam, SIZE)

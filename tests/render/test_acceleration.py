@@ -31,7 +31,7 @@ TF = TransferFunction(color=((-1000, 0, 0, 0), (150, 1, 0.5, 0.3), (1000, 1, 1, 
 
 
 def _render(vol, mode, zoom=1.3, **sampling):
-    base = dict(samples_per_voxel=1.0, jitter=True, early_termination=1.0, skip_empty=False)
+    base = dict(samples_per_voxel=1.0, jitter=True, early_termination=1.0, skip_empty=False, adaptive=False)
     base.update(sampling)
     scene = Scene(volume=vol, mode=mode, transfer=TF, shading=Shading(mode="headlight"),
                   isosurface=Isosurface(value=500.0), sampling=Sampling(**base))

@@ -21,8 +21,9 @@ COLOR = (1.0, 0.5, 0.25)
 
 def _pair(scene, camera, size):
     """The full-rate and the adaptive picture of ``scene``."""
+    full = scene.with_(sampling=replace(scene.sampling, adaptive=False))
     adaptive = scene.with_(sampling=replace(scene.sampling, adaptive=True))
-    return render(scene, camera, size), render(adaptive, camera, size)
+    return render(full, camera, size), render(adaptive, camera, size)
 
 
 def test_coarse_blocks_are_visible_faint_blocks_with_the_cubes_of_them_ahead_per_octant():

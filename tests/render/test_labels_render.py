@@ -145,7 +145,8 @@ def test_textured_structures_keep_the_scan_and_the_unlabelled_preset(organs):
     vol, labels = organs
     cam = _cam(vol)
     tf = TransferFunction.preset("ct-soft-tissue", value_range=vol.value_range())
-    plain = render(Scene(volume=vol, transfer=tf, shading=Shading(mode="none")), cam, SIZE)
+    plain = render(Scene(volume=vol, transfer=tf, shading=Shading(mode="none"), sampling=Sampling(adaptive=False)),
+                   cam, SIZE)  # at full rate, as a label map is drawn
     textured = render(Scene(volume=vol, transfer=tf, shading=Shading(mode="none"),
                             labels=LabelLayer(labels, textured=True)), cam, SIZE)
     none_shown = render(Scene(volume=vol, transfer=tf, shading=Shading(mode="none"),

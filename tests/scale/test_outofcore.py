@@ -27,9 +27,11 @@ def _blob(shape=(50, 44, 38), noise=30.0, seed=0):
 
 
 def _scene(v, mode, opacity=0.6, **smp):
-    """Default sampling (jitter, early termination at 0.99, no lattice) at 1.7 samples a voxel."""
+    """Default sampling (jitter, early termination at 0.99, no lattice) at 1.7 samples a voxel, at full rate as
+    bricks drawn out of core sample (the in-memory picture is the reference)."""
     tf = TransferFunction.window_level(600, 500, opacity=(0.0, opacity))
-    return Scene(volume=v, transfer=tf, mode=mode, sampling=Sampling(samples_per_voxel=1.7, seed=3, **smp))
+    return Scene(volume=v, transfer=tf, mode=mode,
+                 sampling=Sampling(samples_per_voxel=1.7, seed=3, **{"adaptive": False, **smp}))
 
 
 @pytest.fixture(scope="module")

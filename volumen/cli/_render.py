@@ -86,9 +86,10 @@ def register(sub):
     s.add_argument("--no-jitter", action="store_true", default=None, help="no jittered ray starts")
     s.add_argument("--preintegrate", action="store_true", default=None, help="pre-integrated classification")
     s.add_argument("--adaptive", action=argparse.BooleanOptionalAction, default=None,
-                   help="adaptive sampling, the default: longer steps through nearly transparent tissue (composite; "
-                        "faster on translucent presets, pictures within a mean 0.005; cpu and cuda devices); "
-                        "--no-adaptive for the exact full-rate picture")
+                   help="adaptive sampling: longer steps through nearly transparent tissue (composite; faster on "
+                        "translucent presets, pictures within a mean 0.005; cpu and cuda devices). Default: on for "
+                        "shading none, headlight and phong, off for the models whose light changes along the steps "
+                        "(shadows, scattering, pathtrace); --no-adaptive: the exact full-rate picture")
     s.add_argument("--crop", help="crop box XMIN,XMAX,YMIN,YMAX,ZMIN,ZMAX (voxel indices; see --crop-space)")
     s.add_argument("--crop-space", choices=["voxel", "world"], help="units of --crop (default voxel)")
     s.add_argument("--clip-plane", action="append", default=None, metavar="SPEC",

@@ -13,7 +13,20 @@ from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
 from ._lighting import FACING
-from ._scene import INTERPOLATIONS, MODES, SHADINGS, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading
+from ._scene import (
+    ADAPTIVE_SHADINGS,
+    INTERPOLATIONS,
+    MODES,
+    SHADINGS,
+    Clipping,
+    ClipPlane,
+    Isosurface,
+    Light,
+    Sampling,
+    Scene,
+    Shading,
+    adaptive_on,
+)
 from ._slices import (
     PLANES,
     WINDOW_PRESETS,
@@ -36,6 +49,8 @@ __all__ = [
     "range_text",
     "mm_text",
     "values_of",
+    "ADAPTIVE_SHADINGS",
+    "adaptive_on",
     "Volume",
     "LabelMap",
     "LabelLayer",

@@ -23,13 +23,17 @@ from ._tonemap import Display
 from ._transfer import TransferFunction
 
 __all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "Sampling", "ClipPlane", "Clipping", "Isosurface", "Scene",
-           "Mode", "ShadingMode", "MODES", "SHADINGS", "Interpolation", "INTERPOLATIONS"]
+           "Mode", "ShadingMode", "MODES", "SHADINGS", "Interpolation", "INTERPOLATIONS", "ADAPTIVE_SHADINGS",
+           "adaptive_on"]
 
 Mode = Literal["composite", "mip", "minip", "average", "isosurface"]
 MODES: tuple[str, ...] = get_args(Mode)
 Interpolation = Literal["linear", "nearest", "bspline"]
 #: the reconstructions of ``Sampling.interpolation``
 INTERPOLATIONS: tuple[str, ...] = get_args(Interpolation)
+#: the shading models adaptive sampling is on for by default (``Sampling.adaptive`` None): their light does not
+#: change along a sample's longer step
+ADAPTIVE_SHADINGS = ("none", "headlight", "phong")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -56,13 +60,17 @@ class Sampling(JsonData):
         Skip blocks of the volume that cannot contribute (min/max block grid).
     block_size : int
         Edge in voxels of the empty-space blocks.
-    adaptive : bool
-        Adaptive sampling, on by default (composite mode with skipping, post-classified, no labels; ``False``
-        for the exact full-rate picture): in the blocks where every
+    adaptive : bool or None
+        Adaptive sampling (composite mode with skipping, post-classified, no labels): in the blocks where every
         value classifies nearly transparent (below 0.1 opacity per step), one sample stands for up to 4 steps,
         its opacity corrected to their length; full rate wherever a block holds anything more opaque. Faster
         on translucent presets (soft tissue in every ray); pictures within a mean 0.005 of full-rate sampling.
-        Drawn in memory on the CPU and CUDA devices; bricks drawn out of core, and OpenGL, sample at full rate.
+        ``None``, the default: on for the shading models whose light is the same along those longer steps
+        (:data:`ADAPTIVE_SHADINGS`: none, headlight, phong), off for shadows, scattering and path tracing,
+        whose light changes along them (a homogeneous scattering slab came out 1.7-5.5 % off its closed form
+        with it, 0.03 % without); ``True``: on for every model; ``False``: the exact full-rate picture
+        (:func:`adaptive_on` says which a scene gets). Drawn in memory on the CPU and CUDA devices; bricks drawn
+        out of core, and OpenGL, sample at full rate.
     preintegrate : bool
         Pre-integrated classification (composite mode).
     lattice : bool
@@ -80,7 +88,7 @@ class Sampling(JsonData):
     early_termination: float = 0.99
     skip_empty: bool = True
     block_size: int = 4
-    adaptive: bool = True
+    adaptive: bool | None = None
     preintegrate: bool = False
     lattice: bool = False
 
@@ -96,7 +104,7 @@ class Sampling(JsonData):
             raise ValueError(f"block_size must be an integer in [2, 64], got {self.block_size!r}")
         object.__setattr__(self, "block_size", int(self.block_size))
         object.__setattr__(self, "seed", int(self.seed))
-        object.__setattr__(self, "adaptive", bool(self.adaptive))
+        object.__setattr__(self, "adaptive", None if self.adaptive is None else bool(self.adaptive))
         object.__setattr__(self, "jitter", bool(self.jitter))
         object.__setattr__(self, "skip_empty", bool(self.skip_empty))
         object.__setattr__(self, "preintegrate", bool(self.preintegrate))
@@ -260,3 +268,11 @@ class Scene:
     @classmethod
     def from_json(cls, text: str, *, volume=None, resolve: Callable[[str], Any] | None = None) -> Scene:
         return cls.from_dict(json.loads(text), volume=volume, resolve=resolve)
+
+
+def adaptive_on(scene) -> bool:
+    """Whether ``scene`` asks for adaptive sampling: ``Sampling.adaptive`` when set, else whether its shading
+    model is one of :data:`ADAPTIVE_SHADINGS` (where it applies -- composite, skipping, post-classified, no
+    labels -- the ray caster decides)."""
+    asked = scene.sampling.adaptive
+    return scene.shading.mode in ADAPTIVE_SHADINGS if asked is None else asked

@@ -25,6 +25,7 @@ from collections.abc import Callable, Sequence
 from contextlib import contextmanager
 from dataclasses import replace
 
+from ..core import adaptive_on
 from ._ready import note_ready
 
 __all__ = ["warm", "warm_scene", "kernel_key", "cores", "COMMON_KERNELS", "WARM_EDGE", "WARM_SIZE"]
@@ -79,7 +80,7 @@ def kernel_key(scene, camera=None) -> tuple:
     sm, vol = scene.sampling, scene.volume
     mode = "projection" if scene.mode in PROJECTIONS else scene.mode  # one kernel for the three (_project)
     return (mode, scene.shading.mode, vol.is_color, scene.labels is not None,
-            sm.preintegrate, sm.interpolation, sm.lattice, sm.adaptive, getattr(camera, "projection", None))
+            sm.preintegrate, sm.interpolation, sm.lattice, adaptive_on(scene), getattr(camera, "projection", None))
 
 
 #: held while children start (:func:`_main_unseen`): two warm-ups at once (the app's and a stand-in's) hide and

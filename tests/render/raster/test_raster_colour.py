@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from volumen.core import Camera, Isosurface, Light, Scene, Shading, TransferFunction, Volume
+from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 
 
@@ -16,7 +16,8 @@ def test_colour_volume_gl_equals_cpu(gl, shading):
     col = Volume(np.stack([v, 0.5 * v, 250 - v], -1).astype(np.uint8), spacing=(1, 1, 1))
     tf = TransferFunction(color=((0, 1, 1, 1), (255, 1, 1, 1)), opacity=((0, 0), (30, 0.0), (250, 0.6)))
     lights = (Light(position=tuple(np.asarray(col.center) + [60, 80, 40])),)
-    scene = Scene(volume=col, transfer=tf, shading=Shading(mode=shading), lights=lights)
+    scene = Scene(volume=col, transfer=tf, shading=Shading(mode=shading), lights=lights,
+                  sampling=Sampling(adaptive=False))  # OpenGL samples at full rate
     cam = Camera.anatomical(col, "anterior", projection="orthographic")
     a, b = render(scene, cam, (32, 32)), render(scene, cam, (32, 32), device="gl")
     assert a.alpha.mean() > 0.1

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from ...core import Environment, studio_lights
+from ...core import Environment, adaptive_on, studio_lights
 from ._cache import prepare, shared_table
 from ._cells import NO_CELLS, cell_bits
 from ._environment import pack_environment
@@ -115,7 +115,8 @@ def _coarse_table(scene, prep, lut, lab):
     """``Arrays.bcoarse``: the blocks adaptive sampling takes longer steps in (post-classified composite without
     labels, with skipping), else a (1, 1, 1, 1) zero placeholder."""
     smp = scene.sampling
-    if not (smp.adaptive and smp.skip_empty and scene.mode == "composite" and lab is None and not smp.preintegrate):
+    if not (adaptive_on(scene) and smp.skip_empty and scene.mode == "composite" and lab is None
+            and not smp.preintegrate):
         return _NO_COARSE
     bmin, bmax = prep.blocks(smp.block_size)
     alpha = lut[:, 3]

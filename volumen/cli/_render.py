@@ -21,6 +21,10 @@ from ._technique import add_technique_options, technique_from_args
 SETTINGS_VERSION = 1
 
 
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out", "save_settings")
+
+
 def register(sub):
     from volumen.core import ENVIRONMENTS, INTERPOLATIONS, MODES, PRESETS, SHADINGS, TONEMAPS, VIEWS
 

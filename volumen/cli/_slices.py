@@ -6,15 +6,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ._common import add_load_options, load_from_args, parse_point, parse_window
+from ._common import WINDOW_HELP, add_load_options, load_from_args, parse_point, parse_window
 from ._labels_opts import add_label_options, labels_from_args, shown_values
+
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out",)
 
 
 def register(sub):
     p = sub.add_parser("slices", help="write a PNG montage of the three planes (and each plane)")
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("-o", "--out", required=True, help="output folder (created if missing)")
-    p.add_argument("--window", help="bone, soft-tissue, lung, brain, or LEVEL,WIDTH in data units")
+    p.add_argument("--window", help=f"{WINDOW_HELP} (default: soft-tissue for a CT, else the display range)")
     p.add_argument("--at", help="world point X,Y,Z in RAS mm the planes pass through (default: centre)")
     add_load_options(p)
     add_label_options(p)
@@ -64,31 +67,32 @@ def write_label_montages(volume, labels, values, out: Path, stem: str, window=No
 
 
 def write_montages(volume, out: Path, stem: str, window=None, world=None) -> list[Path]:
-    """Write ``stem_montage.png`` and one PNG per plane into ``out``; returns the paths."""
+    """Write ``stem_montage.png`` and one PNG per plane into ``out``; returns the paths. Every picture is drawn
+    before the folder is made, so a point outside the volume leaves nothing behind."""
     from PIL import Image as PILImage
 
     from volumen.core import PLANES, canonical, montage, slice_image
 
-    out.mkdir(parents=True, exist_ok=True)
     can = canonical(volume)
     at = volume.center if world is None else world
-    paths = [out / f"{stem}_montage.png"]
-    PILImage.fromarray(montage(volume, window=window, world=at)).save(paths[0])
+    pictures = {f"{stem}_montage.png": montage(volume, window=window, world=at)}
     for plane in PLANES:
-        path = out / f"{stem}_{plane}.png"
-        PILImage.fromarray(slice_image(volume, plane, world=at, window=window, canonical_volume=can)).save(path)
-        paths.append(path)
-    return paths
+        pictures[f"{stem}_{plane}.png"] = slice_image(volume, plane, world=at, window=window, canonical_volume=can)
+    out.mkdir(parents=True, exist_ok=True)
+    for name, picture in pictures.items():
+        PILImage.fromarray(picture).save(out / name)
+    return [out / name for name in pictures]
 
 
 def run(args):
     vol = load_from_args(args)
     stem = Path(str(args.input).replace("phantom:", "")).name.split(".")[0] or "volume"
-    paths = write_montages(vol, Path(args.out), stem, window=parse_window(args.window), world=parse_point(args.at))
+    window, at = parse_window(args.window, vol), parse_point(args.at)
     labels = labels_from_args(args, vol)
+    paths = write_montages(vol, Path(args.out), stem, window=window, world=at)
     if labels is not None:
         paths += write_label_montages(vol, labels, shown_values(args, labels), Path(args.out), stem,
-                                      window=parse_window(args.window), world=parse_point(args.at))
+                                      window=window, world=at)
     for p in paths:
         print(p)
     return 0

@@ -72,13 +72,30 @@ def test_slices_writes_montage_with_radiological_orientation(tmp_path):
     data = np.zeros((5, 6, 7), np.int16)
     data[:, :, -1] = 1000
     volumen.save(Volume(data, spacing=(1, 1, 1)), tmp_path / "r.nrrd")
-    assert main(["slices", str(tmp_path / "r.nrrd"), "-o", str(tmp_path / "shots"), "--window", "500,1000"]) == 0
+    assert main(["slices", str(tmp_path / "r.nrrd"), "-o", str(tmp_path / "shots"), "--window", "500,1000",
+                 "--size", "0"]) == 0
     axial = np.asarray(PILImage.open(tmp_path / "shots" / "r_axial.png"))
     assert axial.shape == (6, 7)
     assert np.all(axial[:, 0] == 255) and np.all(axial[:, 1:] == 0)
     montage = np.asarray(PILImage.open(tmp_path / "shots" / "r_montage.png"))
     # rows: the tallest tile (axial, ny); columns: the axial, coronal and sagittal widths and two gaps
     assert montage.shape == (6, 7 + 4 + 7 + 4 + 6)
+
+
+def test_slices_are_enlarged_to_a_readable_size_with_one_scale(tmp_path):
+    """A small scan's planes are enlarged (``--size``, default ``PANEL_SIZE``) by one factor, so the largest plane's
+    longest side is that many pixels and the others keep its mm per pixel; a scan that large is not shrunk."""
+    from volumen.cli._slices import PANEL_SIZE
+
+    volumen.save(Volume(np.random.default_rng(2).random((20, 30, 40)).astype(np.float32), spacing=(2, 1, 1)),
+                 tmp_path / "small.nrrd")
+    for size, longest in ((None, PANEL_SIZE), ("100", 100), ("30", 40)):
+        shots = tmp_path / f"shots{size}"
+        flags = ["--size", size] if size else []
+        assert main(["slices", str(tmp_path / "small.nrrd"), "-o", str(shots), *flags]) == 0
+        axial, coronal = (np.asarray(PILImage.open(shots / f"small_{p}.png")).shape for p in ("axial", "coronal"))
+        assert axial == (round(30 * longest / 40), longest)  # rows A-P (30 mm), columns R-L (40 mm)
+        assert coronal == (round(40 * longest / 40), longest)  # rows 20 slices of 2 mm: 40 mm, square pixels
 
 
 @pytest.mark.parametrize("argv, needle", [

@@ -129,6 +129,11 @@ def load_phantom(ref: str):
         raise ValueError(str(exc)) from None
 
 
+#: what ``--shift`` does, in the commands that take it
+SHIFT_HELP = ("move the transfer function along the values by this much (data units; e.g. 1000 for a CT stored in "
+              "scanner units, HU + 1000, that is not recognised as one), as the browser page's shift slider")
+
+
 #: what ``--window`` takes, in every command's help
 WINDOW_HELP = "grey window: LEVEL,WIDTH in the data's units, or a CT window: bone, soft-tissue, lung, brain (HU)"
 

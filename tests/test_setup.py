@@ -34,3 +34,17 @@ def test_every_optional_package_names_an_extra_that_brings_it():
         assert extra in optional, f"{module}: no extra {extra!r} in pyproject.toml"
     assert str(MissingExtraError("PySide6.QtWidgets", "the desktop application")) == (
         "the desktop application needs PySide6: pip install 'volumen[gui]'")
+
+
+#: variables set by volumen for its own child processes, not by a user
+INTERNAL_VARIABLES = {"VOLUMEN_FUZZ_MEMORY"}
+
+
+def test_every_environment_variable_is_documented():
+    named = set()
+    for path in [*(ROOT / "volumen").rglob("*.py"), ROOT / "Makefile"]:
+        named |= set(re.findall(r"\bVOLUMEN_[A-Z][A-Z_]*[A-Z]\b", path.read_text(encoding="utf-8")))
+    table = (ROOT / "README.md").read_text(encoding="utf-8").split("## Environment variables", 1)[1]
+    documented = set(re.findall(r"^\| `(VOLUMEN_[A-Z_]+)", table, flags=re.M))
+    assert named - INTERNAL_VARIABLES <= documented, sorted(named - INTERNAL_VARIABLES - documented)
+    assert documented <= named, sorted(documented - named)

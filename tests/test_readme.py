@@ -51,9 +51,14 @@ EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-v
          "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"]}
 
 
+#: the documents whose ``sh`` blocks are run: the README and the benchmarks it links to
+DOCUMENTS = ("README.md", "docs/benchmarks.md")
+
+
 def readme_commands() -> list[str]:
-    """The ``volumen`` lines of the README's ``sh`` blocks, continuation lines joined."""
-    blocks = re.findall(r"```sh\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), flags=re.S)
+    """The ``volumen`` lines of the ``sh`` blocks of :data:`DOCUMENTS`, continuation lines joined."""
+    text = "".join((ROOT / doc).read_text(encoding="utf-8") for doc in DOCUMENTS)
+    blocks = re.findall(r"```sh\n(.*?)```", text, flags=re.S)
     lines = "\n".join(blocks).replace("\\\n", " ").splitlines()
     return [ln.strip() for ln in lines if ln.strip().startswith("volumen ")]
 

@@ -161,7 +161,7 @@ def test_the_notebook_viewer_without_ipywidgets_names_the_extra(monkeypatch):
 
 def test_a_ct_window_on_an_mri_is_refused_in_one_line(work, capsys):
     line = _fails_in_one_line(["slices", "mr.nrrd", "-o", "shots", "--window", "brain"], work, capsys,
-                              "'brain' is a CT window in HU", "MR", "LEVEL,WIDTH")
+                              "'brain' is a CT window in HU", "not a CT (modality MR", "LEVEL,WIDTH")
     assert "display range is level" in line
     vol = volumen.load(work / "mr.nrrd")
     with pytest.raises(ModalityError):

@@ -79,10 +79,10 @@ def named_window(name: str, volume: Volume | None = None) -> Window:
     offset = hu_offset(volume)
     if offset is None:
         own = default_window(volume)
-        kind = volume.modality or "not a CT"
+        kind = f"modality {volume.modality}" if volume.modality else "no modality"
         raise ModalityError(f"window {name!r} is a CT window in HU (level {window.level:g}, width {window.width:g}) "
-                            f"and this scan is {kind}: give LEVEL,WIDTH in its units (its display range is level "
-                            f"{own.level:.4g}, width {own.width:.4g})")
+                            f"and this scan is not a CT ({kind}, {_named(volume)}): give LEVEL,WIDTH in its units "
+                            f"(its display range is level {own.level:.4g}, width {own.width:.4g})")
     return Window(level=window.level + offset, width=window.width)
 
 

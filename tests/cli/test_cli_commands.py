@@ -184,3 +184,25 @@ def test_many_warnings_are_counted_after_the_first_few(capsys):
     err = capsys.readouterr().err.splitlines()
     assert err[:SAID_WARNINGS] == [f"volumen render: warning: skipped file {k}" for k in range(SAID_WARNINGS)]
     assert err[SAID_WARNINGS:] == ["volumen render: warning: 3 more (volumen info lists them)"]
+
+
+def test_cpr_window_is_level_and_width_as_in_slices(tmp_path):
+    """``cpr --window 40,400`` is level 40, width 400 (values -160..240), as ``slices --window``; a name is a CT
+    window."""
+    from volumen.cli._cpr import load_centerline
+    from volumen.endoscopy import cpr_figure, curved_reformation
+
+    rng = np.random.default_rng(3)
+    volumen.save(Volume(rng.integers(-1000, 1000, size=(8, 9, 10)).astype(np.int16), spacing=(2.0, 1.0, 1.0),
+                        modality="CT", units="HU"), tmp_path / "ct.nrrd")
+    pts = [[4.0, 4.0, 2.0 * z] for z in range(8)]
+    arc = [2.0 * z for z in range(8)]
+    (tmp_path / "path.json").write_text(json.dumps({"points": pts, "radius": [2.0] * 8, "arc": arc}))
+    vol, cl = volumen.load(tmp_path / "ct.nrrd"), load_centerline(tmp_path / "path.json")
+    cpr = curved_reformation(vol, cl, kind="straightened", width=40.0)
+    for window, lo_hi in (("40,400", (-160.0, 240.0)), ("bone", (-500.0, 1300.0))):
+        out = tmp_path / f"cpr-{window}.png"
+        assert main(["cpr", str(tmp_path / "ct.nrrd"), "--path", str(tmp_path / "path.json"), "-o", str(out),
+                     "--window", window, "--sections", "4", "--height", "100"]) == 0
+        expected = cpr_figure(vol, cl, cpr, [4.0], window=lo_hi, section_width=40.0, height=100)
+        np.testing.assert_array_equal(np.asarray(PILImage.open(out)), expected)

@@ -1,5 +1,5 @@
 # Two commands set up and use volumen on a fresh Debian machine with Python >= 3.11:
-#   make demo   - create .venv, install, write the phantom montages and renderings into out/
+#   make demo   - create .venv, install with every extra a user command needs, write the phantoms' pictures into out/
 #   make test   - create .venv, install with test extras, lint (ruff), run the whole suite
 #   make fuzz   - a long seeded fuzz campaign over every reader (table per format)
 #   make huge   - an 8 GiB OME-Zarr drawn out of core with a 1 GiB cache: peak RSS vs its bound (minutes)
@@ -7,7 +7,9 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
-# the demo needs volumen and its video writer only, not the test extras (Qt, VTK, the CUDA compiler's libraries)
+# the demo installs every extra a command of the README needs (the application, OpenGL, out of core and batch, the
+# notebook viewer, MP4 video), not the test-only tools (VTK, pytest, the CUDA compiler's libraries)
+DEMO_EXTRAS := gui,gl,scale,notebook,video
 DEMO_STAMP := $(VENV)/.installed-demo
 # two workers on the two cores, each given one contiguous half of the tests, then stealing from the other's end
 # (neighbouring tests share kernel variants: on a cold checkout round-robin made both workers compile the same
@@ -31,7 +33,7 @@ $(STAMP): pyproject.toml | $(PY)
 install: $(STAMP)
 
 $(DEMO_STAMP): pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet --no-compile -e ".[video]"
+	$(PY) -m pip install --quiet --no-compile -e ".[$(DEMO_EXTRAS)]"
 	-$(PY) -m compileall -q -j 0 $(VENV)/lib >/dev/null 2>&1
 	touch $(DEMO_STAMP)
 

@@ -40,19 +40,61 @@ SERIES = "1.2.840.99.1"
 STUDY = "1.2.840.99"
 SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"},
          "serve": {"--window": "320x200"}}
+#: README pictures that an example draws: its output -> (the picture in docs/, the rows of that picture showing it, the
+#: rows of the output they show as fractions of its height); the example is drawn PICTURE_WIDTH pixels wide at its
+#: own aspect and compared with the picture scaled to the same size
+PICTURES = {"aorta-cinematic.png": ("docs/aorta-cinematic.png", (124, 244), (110 / 360, 230 / 360))}
+PICTURE_WIDTH, PICTURE_SAMPLES = 64, "4"
+#: mean |RGB difference| / 255 allowed between an example's output and its picture (the aorta: 0.006 measured;
+#: 0.25 without the --shift its scanner units need)
+PICTURE_BAR = 0.02
 EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-vtk", "--repeat", "1"],
          "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"],
          "warm": ["--common", "--workers", "1"]}
 
 
+#: the documents whose ``sh`` blocks are run: the README and the benchmarks it links to
+DOCUMENTS = ("README.md", "docs/benchmarks.md")
+
+
 def readme_commands() -> list[str]:
-    """The ``volumen`` lines of the README's ``sh`` blocks, continuation lines joined."""
-    blocks = re.findall(r"```sh\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), flags=re.S)
+    """The ``volumen`` lines of the ``sh`` blocks of :data:`DOCUMENTS`, continuation lines joined."""
+    text = "".join((ROOT / doc).read_text(encoding="utf-8") for doc in DOCUMENTS)
+    blocks = re.findall(r"```sh\n(.*?)```", text, flags=re.S)
     lines = "\n".join(blocks).replace("\\\n", " ").splitlines()
     return [ln.strip() for ln in lines if ln.strip().startswith("volumen ")]
 
 
+def _pictured(argv: list[str]) -> str | None:
+    """The output name of a README line that draws one of :data:`PICTURES`, else None."""
+    outs = [Path(o).name for o in _outputs(argv)]
+    return next((o for o in outs if o in PICTURES), None)
+
+
+def _at_picture_size(argv: list[str]) -> list[str]:
+    """A pictured line drawn :data:`PICTURE_WIDTH` pixels wide at its own aspect, with few samples."""
+    i = argv.index("--size")
+    w, h = (int(v) for v in argv[i + 1].split("x"))
+    argv = argv[:i + 1] + [f"{PICTURE_WIDTH}x{round(PICTURE_WIDTH * h / w)}"] + argv[i + 2:]
+    return argv + (["--pt-samples", PICTURE_SAMPLES] if "pathtrace" in argv and "--pt-samples" not in argv else [])
+
+
+def _picture_difference(out: Path, name: str) -> float:
+    """Mean |RGB difference| / 255 between the output ``out`` and its README picture, at the output's size."""
+    from PIL import Image
+
+    ref, (r0, r1), (f0, f1) = PICTURES[name]
+    pic = np.asarray(Image.open(out).convert("RGB"), float)
+    rows = slice(round(f0 * pic.shape[0]), round(f0 * pic.shape[0]) + round((f1 - f0) * pic.shape[0]))
+    pic = pic[rows]
+    shown = Image.open(ROOT / ref).convert("RGB").crop((0, r0, Image.open(ROOT / ref).width, r1))
+    shown = np.asarray(shown.resize((pic.shape[1], pic.shape[0]), Image.Resampling.BOX), float)
+    return float(np.abs(pic - shown).mean() / 255)
+
+
 def _shrink(argv: list[str]) -> list[str]:
+    if _pictured(argv):
+        return _at_picture_size(argv)
     cmd = argv[0]
     out = []
     it = iter(argv)
@@ -227,6 +269,12 @@ def _run(line: str, workdir: Path, capsys, archive=None) -> str | None:
         p = workdir / out
         if not (p.exists() and (p.is_dir() or p.stat().st_size > 0)):
             return f"{line}: {out} not written"
+    name = _pictured(argv)
+    if name:
+        diff = _picture_difference(workdir / _outputs(argv)[0], name)
+        print(f"{name}: mean |RGB diff| {diff:.4f} from {PICTURES[name][0]}")
+        if diff > PICTURE_BAR:
+            return f"{line}: differs from {PICTURES[name][0]} by {diff:.4f} (bar {PICTURE_BAR})"
     return None
 
 

@@ -7,6 +7,8 @@ the application can show one clear line instead of a traceback.
 
 from __future__ import annotations
 
+import difflib
+import importlib
 import os
 
 __all__ = [
@@ -35,6 +37,13 @@ __all__ = [
     "ArchiveNotFoundError",
     "RetrieveCancelled",
     "NoDisplayError",
+    "UnknownChoiceError",
+    "OutsideVolumeError",
+    "MissingExtraError",
+    "ModalityError",
+    "EXTRAS",
+    "choice_message",
+    "require",
 ]
 
 
@@ -193,3 +202,69 @@ class NoDisplayError(VolumenError, RuntimeError):
     """The desktop application cannot open a window here: no display, or Qt's system libraries are missing. The
     message says which and what to do (``volumen view --screenshot`` needs no display)."""
 
+
+
+def choice_message(what: str, value, valid) -> str:
+    """One line: ``what`` ``value`` is not one of the ``valid`` values, with the closest one when a value is close
+    (``preset 'ct-vessel' is not one of ct-bone, ct-vessels, ...; did you mean 'ct-vessels'?``)."""
+    names = [str(v) for v in valid]
+    close = difflib.get_close_matches(str(value), names, n=1, cutoff=0.6)
+    hint = f"; did you mean {close[0]!r}?" if close else ""
+    return f"{what} {value!r} is not one of {', '.join(names)}{hint}"
+
+
+class UnknownChoiceError(VolumenError, ValueError):
+    """A name that is not one of the valid ones (a preset, a view, a window...); the message lists them and the
+    closest one (:func:`choice_message`)."""
+
+    def __init__(self, what: str, value, valid):
+        self.value, self.valid = value, tuple(valid)
+        super().__init__(choice_message(what, value, self.valid))
+
+
+class OutsideVolumeError(VolumenError, IndexError):
+    """A point or slice outside the volume; the message gives the point in world mm, the volume's extent and its
+    file."""
+
+
+class ModalityError(VolumenError, ValueError):
+    """A setting made for one modality asked of a scan of another (a CT window in HU on an MRI); the message
+    says what to give instead."""
+
+
+#: the optional packages volumen imports and the extra of ``pip install 'volumen[EXTRA]'`` that brings each
+#: (pyproject.toml, [project.optional-dependencies])
+EXTRAS: dict[str, str] = {
+    "PySide6": "gui", "shiboken6": "gui", "moderngl": "gl", "distributed": "scale", "dask": "scale",
+    "zarr": "scale", "ipywidgets": "notebook", "jupyter_rfb": "notebook", "simplejpeg": "notebook",
+    "imageio_ffmpeg": "video", "numba_cuda": "cuda", "vtk": "bench",
+}
+
+
+class MissingExtraError(VolumenError, ImportError):
+    """An optional package is not installed; the message names the extra that installs it
+    (``pip install 'volumen[gui]'``).
+
+    Parameters
+    ----------
+    module : str
+        The package's import name (``PySide6``, ``moderngl``...).
+    purpose : str, optional
+        What needed it, in words (``the desktop application``).
+    """
+
+    def __init__(self, module: str, purpose: str | None = None):
+        self.module = module.split(".")[0]
+        self.extra = EXTRAS.get(self.module)
+        need = f"{purpose} needs {self.module}" if purpose else f"{self.module} is not installed"
+        hint = f"pip install 'volumen[{self.extra}]'" if self.extra else f"pip install {self.module}"
+        super().__init__(f"{need}: {hint}")
+
+
+def require(module: str, purpose: str | None = None):
+    """Import ``module``; :class:`MissingExtraError` naming its extra when it (or a package it needs) is missing."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        missing = (exc.name or module).split(".")[0]
+        raise MissingExtraError(missing if missing in EXTRAS else module, purpose) from None

@@ -72,13 +72,30 @@ def test_slices_writes_montage_with_radiological_orientation(tmp_path):
     data = np.zeros((5, 6, 7), np.int16)
     data[:, :, -1] = 1000
     volumen.save(Volume(data, spacing=(1, 1, 1)), tmp_path / "r.nrrd")
-    assert main(["slices", str(tmp_path / "r.nrrd"), "-o", str(tmp_path / "shots"), "--window", "500,1000"]) == 0
+    assert main(["slices", str(tmp_path / "r.nrrd"), "-o", str(tmp_path / "shots"), "--window", "500,1000",
+                 "--size", "0"]) == 0
     axial = np.asarray(PILImage.open(tmp_path / "shots" / "r_axial.png"))
     assert axial.shape == (6, 7)
     assert np.all(axial[:, 0] == 255) and np.all(axial[:, 1:] == 0)
     montage = np.asarray(PILImage.open(tmp_path / "shots" / "r_montage.png"))
     # rows: the tallest tile (axial, ny); columns: the axial, coronal and sagittal widths and two gaps
     assert montage.shape == (6, 7 + 4 + 7 + 4 + 6)
+
+
+def test_slices_are_enlarged_to_a_readable_size_with_one_scale(tmp_path):
+    """A small scan's planes are enlarged (``--size``, default ``PANEL_SIZE``) by one factor, so the largest plane's
+    longest side is that many pixels and the others keep its mm per pixel; a scan that large is not shrunk."""
+    from volumen.cli._slices import PANEL_SIZE
+
+    volumen.save(Volume(np.random.default_rng(2).random((20, 30, 40)).astype(np.float32), spacing=(2, 1, 1)),
+                 tmp_path / "small.nrrd")
+    for size, longest in ((None, PANEL_SIZE), ("100", 100), ("30", 40)):
+        shots = tmp_path / f"shots{size}"
+        flags = ["--size", size] if size else []
+        assert main(["slices", str(tmp_path / "small.nrrd"), "-o", str(shots), *flags]) == 0
+        axial, coronal = (np.asarray(PILImage.open(shots / f"small_{p}.png")).shape for p in ("axial", "coronal"))
+        assert axial == (round(30 * longest / 40), longest)  # rows A-P (30 mm), columns R-L (40 mm)
+        assert coronal == (round(40 * longest / 40), longest)  # rows 20 slices of 2 mm: 40 mm, square pixels
 
 
 @pytest.mark.parametrize("argv, needle", [
@@ -167,3 +184,25 @@ def test_many_warnings_are_counted_after_the_first_few(capsys):
     err = capsys.readouterr().err.splitlines()
     assert err[:SAID_WARNINGS] == [f"volumen render: warning: skipped file {k}" for k in range(SAID_WARNINGS)]
     assert err[SAID_WARNINGS:] == ["volumen render: warning: 3 more (volumen info lists them)"]
+
+
+def test_cpr_window_is_level_and_width_as_in_slices(tmp_path):
+    """``cpr --window 40,400`` is level 40, width 400 (values -160..240), as ``slices --window``; a name is a CT
+    window."""
+    from volumen.cli._cpr import load_centerline
+    from volumen.endoscopy import cpr_figure, curved_reformation
+
+    rng = np.random.default_rng(3)
+    volumen.save(Volume(rng.integers(-1000, 1000, size=(8, 9, 10)).astype(np.int16), spacing=(2.0, 1.0, 1.0),
+                        modality="CT", units="HU"), tmp_path / "ct.nrrd")
+    pts = [[4.0, 4.0, 2.0 * z] for z in range(8)]
+    arc = [2.0 * z for z in range(8)]
+    (tmp_path / "path.json").write_text(json.dumps({"points": pts, "radius": [2.0] * 8, "arc": arc}))
+    vol, cl = volumen.load(tmp_path / "ct.nrrd"), load_centerline(tmp_path / "path.json")
+    cpr = curved_reformation(vol, cl, kind="straightened", width=40.0)
+    for window, lo_hi in (("40,400", (-160.0, 240.0)), ("bone", (-500.0, 1300.0))):
+        out = tmp_path / f"cpr-{window}.png"
+        assert main(["cpr", str(tmp_path / "ct.nrrd"), "--path", str(tmp_path / "path.json"), "-o", str(out),
+                     "--window", window, "--sections", "4", "--height", "100"]) == 0
+        expected = cpr_figure(vol, cl, cpr, [4.0], window=lo_hi, section_width=40.0, height=100)
+        np.testing.assert_array_equal(np.asarray(PILImage.open(out)), expected)

@@ -77,7 +77,7 @@ def test_slices_outline_each_structure_in_its_colour(tmp_path, capsys):
 
     vol, labels = organ_phantom(96)
     assert main(["slices", "phantom:organs?size=96", "--labels", "phantom:organs?size=96", "-o",
-                 str(tmp_path)]) == 0
+                 str(tmp_path), "--size", "0"]) == 0  # one pixel per voxel, as label_slice
     img = np.asarray(Image.open(next(tmp_path.glob("*_labels_axial.png"))))
     lab = label_slice(labels, "axial", world=vol.center)
     col = np.round(np.asarray(labels.colors[1]) ** (1 / 2.2) * 255).astype(int)

@@ -224,3 +224,22 @@ def test_labels_on_a_single_slice_are_composited_not_dropped(tmp_path, capsys):
     assert ", composite," in line and "chosen for a slab" not in line
     rgb = _png(out)[..., :3].astype(int)
     assert (rgb.max(axis=-1) - rgb.min(axis=-1) > 60).mean() > 0.05, "no label colour drawn"
+
+
+def test_shift_moves_the_transfer_function_as_the_page_does(tmp_path, capsys):
+    """``--shift 1000`` on a CT stored in scanner units (HU + 1000, not recognised as CT): the preset's inner control
+    points move by 1000 (``TransferFunction.shifted``, what the browser page's shift slider does), said on the
+    output line and kept in the settings."""
+    import volumen
+    from volumen.core import TransferFunction, Volume
+    from volumen.data import phantom
+
+    hu = phantom("sphere", size=24)
+    raw = Volume((np.asarray(hu.data) + 1000).astype(np.int16), affine=hu.affine)
+    volumen.save(raw, tmp_path / "raw.nrrd")
+    settings = tmp_path / "s.json"
+    assert main(["render", str(tmp_path / "raw.nrrd"), "-o", str(tmp_path / "a.png"), "--size", "24x24",
+                 "--preset", "ct-bone", "--shift", "1000", "--save-settings", str(settings)]) == 0
+    assert "preset ct-bone shifted by 1000" in capsys.readouterr().out
+    saved = json.loads(settings.read_text())["scene"]["transfer"]
+    assert saved == TransferFunction.preset("ct-bone").shifted(1000.0).to_dict()

@@ -50,3 +50,20 @@ def test_round_trip_and_volume_reference():
 def test_bad_settings_raise_value_error(make, match):
     with pytest.raises(ValueError, match=match):
         make()
+
+
+def test_a_scene_made_with_a_volume_alone_takes_its_default_preset():
+    """No transfer function named: the volume's default preset for the mode (``default_preset``), so the scene shows
+    anatomy (and a label layer over it), not the 0..1 ramp that draws every CT or MRI as an opaque box."""
+    from volumen.core import default_preset
+    from volumen.data import phantom
+
+    ct = phantom("head", size=32)
+    mr = Volume(np.random.default_rng(0).random((8, 9, 10)).astype(np.float32) * 800, modality="MR")
+    assert Scene(volume=ct).transfer == default_preset(ct) and Scene(volume=ct).transfer.name == "ct-skin-bone"
+    assert Scene(volume=mr).transfer.name == "mr-default"
+    assert Scene(volume=ct, mode="mip").transfer.name == "mip-gray"
+    assert Scene().transfer == TransferFunction()  # no volume: the ramp
+    named = TransferFunction.preset("ct-lung")
+    assert Scene(volume=ct, transfer=named).transfer is named
+    assert Scene.from_dict(Scene(volume=ct).to_dict(), volume=mr).transfer.name == "ct-skin-bone"  # kept as saved

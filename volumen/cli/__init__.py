@@ -1,13 +1,13 @@
 """The ``volumen`` command: one sub-command per module, errors as one line, never a traceback.
 
-Exit codes: 0 success, 1 a volumen error (bad file, bad option), 2 usage error
-(argparse), 3 an unexpected internal error (the message says how to get the
-traceback: ``VOLUMEN_DEBUG=1``).
+Exit codes: 0 success, 1 a volumen error (a bad file, option, choice or point, a missing
+optional package: one line naming the command and the problem, and the outputs a
+failed command began are removed: ``_contract``), 3 an unexpected internal error
+(the message says how to get the traceback: ``VOLUMEN_DEBUG=1``).
 """
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import os
 import sys
@@ -35,26 +35,27 @@ COMMANDS = {
 COMPILING = {"render", "fly", "cpr", "mesh", "batch", "demo", "warm"}
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser():
     """The argument parser with every sub-command registered."""
     from volumen import __version__
 
-    parser = argparse.ArgumentParser(prog="volumen", description="See inside medical volumes (CT, MRI).")
+    from ._parser import Parser
+
+    parser = Parser(prog="volumen", description="See inside medical volumes (CT, MRI).")
     parser.add_argument("--version", action="version", version=f"volumen {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for mod in COMMANDS.values():
         module = importlib.import_module(f"{__name__}.{mod}")
         p = module.register(sub)
-        p.set_defaults(_run=module.run)
+        p.set_defaults(_run=module.run, _outputs=getattr(module, "OUTPUTS", ()))
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (also used by ``python -m volumen``)."""
-    from volumen.errors import VolumenError
-
     from ._common import join_negative_values
+    from ._contract import FAILED, Outputs, explain
 
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else list(argv)))
@@ -62,27 +63,20 @@ def main(argv: list[str] | None = None) -> int:
         from volumen.jit import announce
 
         announce()
+    outputs = Outputs(args, args._outputs)
     try:
         result = args._run(args)
-    except VolumenError as exc:
-        print(f"volumen {args.command}: error: {exc}", file=sys.stderr)
-        return 1
     except KeyboardInterrupt:
+        outputs.discard()
         print(f"volumen {args.command}: interrupted", file=sys.stderr)
         return 130
-    except (ValueError, IndexError) as exc:
-        print(f"volumen {args.command}: error: {exc}", file=sys.stderr)
-        return 1
-    except OSError as exc:  # a file or folder the command reads or writes
-        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
-        print(f"volumen {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
-        return 1
-    except Exception as exc:  # the user gets one line, developers set VOLUMEN_DEBUG
-        if os.environ.get("VOLUMEN_DEBUG"):
+    except Exception as exc:  # every failure is one line (_contract.explain); developers set VOLUMEN_DEBUG
+        outputs.discard()
+        code, line = explain(exc)
+        if code != FAILED and os.environ.get("VOLUMEN_DEBUG"):
             raise
-        print(f"volumen {args.command}: internal error: {type(exc).__name__}: {exc} "
-              "(set VOLUMEN_DEBUG=1 for the traceback)", file=sys.stderr)
-        return 3
+        print(f"volumen {args.command}: {line}", file=sys.stderr)
+        return code
     return int(result or 0)
 
 

@@ -129,15 +129,29 @@ def load_phantom(ref: str):
         raise ValueError(str(exc)) from None
 
 
-def parse_window(text: str | None):
-    """``bone``/``soft-tissue``/``lung``/``brain`` or ``LEVEL,WIDTH`` -> a window for the slices module."""
+#: what ``--shift`` does, in the commands that take it
+SHIFT_HELP = ("move the transfer function along the values by this much (data units; e.g. 1000 for a CT stored in "
+              "scanner units, HU + 1000, that is not recognised as one), as the browser page's shift slider")
+
+
+#: what ``--window`` takes, in every command's help
+WINDOW_HELP = "grey window: LEVEL,WIDTH in the data's units, or a CT window: bone, soft-tissue, lung, brain (HU)"
+
+
+def parse_window(text: str | None, volume=None):
+    """``--window``: ``LEVEL,WIDTH`` or a CT window's name (:func:`volumen.core.named_window`: moved onto a CT's
+    stored values, refused for another modality) -> a :class:`volumen.core.Window`; None for None."""
     if text is None:
         return None
-    from volumen.core import WINDOW_PRESETS, Window
+    from volumen.core import WINDOW_PRESETS, Window, named_window
+    from volumen.errors import UnknownChoiceError
 
-    if text in WINDOW_PRESETS:
-        return WINDOW_PRESETS[text]
-    level, width = _floats(text, 2, "--window")
+    if not any(c.isdigit() for c in text):
+        return named_window(text, volume)
+    try:
+        level, width = _floats(text, 2, "--window")
+    except ValueError:
+        raise UnknownChoiceError("--window", text, [*WINDOW_PRESETS, "LEVEL,WIDTH"]) from None
     return Window(level=level, width=width)
 
 

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 from ._common import add_load_options, load_from_args
 
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("output",)
+
 
 def register(sub):
     p = sub.add_parser("convert", help="convert a volume to .nii/.nii.gz/.nrrd/.mha/.mhd/.npy/.npz/.ome.zarr")

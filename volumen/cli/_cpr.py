@@ -16,7 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._common import _floats, add_load_options, load_from_args
+from ._common import WINDOW_HELP, _floats, add_load_options, load_from_args, parse_window
+
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out",)
 
 
 def register(sub):
@@ -30,7 +33,7 @@ def register(sub):
     p.add_argument("--width", type=float, default=40.0, help="width across the path, mm (default 40)")
     p.add_argument("--sections", help="arc lengths S1,S2,... (mm) of the cross-sections to mark and show "
                                       "(default: four evenly spread)")
-    p.add_argument("--window", help="grey window LO,HI in data units (default: 1st..99.5th percentile)")
+    p.add_argument("--window", help=f"{WINDOW_HELP} (default: the path's 1st..99.5th percentile)")
     p.add_argument("--height", type=int, default=600, help="approximate picture height in pixels (default 600)")
     add_load_options(p)
     return p
@@ -66,15 +69,16 @@ def run(args):
     if out.suffix.lower() != ".png":
         raise ValueError(f"-o must end with .png, got {out.name!r}")
     cl = load_centerline(args.path)
-    window = tuple(_floats(args.window, 2, "--window")) if args.window else None
     volume = load_from_args(args)
+    window = parse_window(args.window, volume)
     marks = (_floats(args.sections, len(args.sections.split(",")), "--sections") if args.sections
              else list(np.linspace(0.0, cl.length, 6)[1:-1]))
     bad = [s for s in marks if not 0.0 <= s <= cl.length]
     if bad:
         raise ValueError(f"--sections {bad} mm lie outside the path (0..{cl.length:.1f} mm)")
     cpr = curved_reformation(volume, cl, kind=args.kind, width=args.width)
-    fig = cpr_figure(volume, cl, cpr, marks, window=window, section_width=args.width, height=args.height)
+    fig = cpr_figure(volume, cl, cpr, marks, window=window and window.range, section_width=args.width,
+                     height=args.height)
     out.parent.mkdir(parents=True, exist_ok=True)
     PILImage.fromarray(fig).save(out)
     print(f"{out}: {args.kind} CPR {cpr.values.shape[1]}x{cpr.values.shape[0]} px of {cpr.pixel:.2f} mm along "

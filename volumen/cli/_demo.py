@@ -19,6 +19,10 @@ DEMO_WINDOWS = {"head": "brain", "torso": "soft-tissue"}
 GALLERY_SIZE = (256, 256)
 
 
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out",)
+
+
 def register(sub):
     p = sub.add_parser("demo", help="render the built-in phantoms (slices and a 3-D gallery) into a folder")
     p.add_argument("--out", default="out", help="output folder (default: out)")

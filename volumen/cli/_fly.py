@@ -36,6 +36,9 @@ import numpy as np
 
 from ._common import _floats, add_load_options, load_from_args, parse_point
 
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out", "save_path", "unfold")
+
 
 def register(sub):
     p = sub.add_parser("fly", help="render a virtual endoscopy flythrough to MP4 or GIF")
@@ -207,6 +210,10 @@ def run(args):
     out = Path(args.out)
     if out.suffix.lower() not in (".mp4", ".gif"):
         raise ValueError(f"-o must end with .mp4 or .gif, got {out.name!r}")
+    if out.suffix.lower() == ".mp4":
+        from volumen.errors import require
+
+        require("imageio_ffmpeg", "writing MP4")
     size = _size(args.size)
     if args.unfold and args.path:  # before any rendering
         raise ValueError("--unfold needs a centerline (--auto or --start/--end), not --path")

@@ -7,6 +7,9 @@ from pathlib import Path
 from ._common import add_load_options, load_from_args
 from ._labels_opts import add_label_options, labels_from_args, shown_values
 
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out",)
+
 
 def register(sub):
     p = sub.add_parser("mesh", help="extract a surface mesh (marching cubes) and write STL, OBJ or PLY "

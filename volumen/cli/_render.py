@@ -14,11 +14,15 @@ import sys
 import time
 from pathlib import Path
 
-from ._common import _floats, add_load_options, load_from_args, parse_point
+from ._common import SHIFT_HELP, _floats, add_load_options, load_from_args, parse_point
 from ._labels_opts import add_label_render_options, label_layer_from_args
 from ._technique import add_technique_options, technique_from_args
 
 SETTINGS_VERSION = 1
+
+
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("out", "save_settings")
 
 
 def register(sub):
@@ -38,6 +42,7 @@ def register(sub):
     g = p.add_argument_group("look")
     g.add_argument("--preset", choices=PRESETS, help="transfer function preset")
     g.add_argument("--tf", help="transfer function JSON file (TransferFunction.to_json)")
+    g.add_argument("--shift", type=float, help=SHIFT_HELP)
     g.add_argument("--mode", choices=MODES, help="composite (default; a single slice or two frames "
                    "with no --tf, --preset or --labels: mip), mip, minip, average, isosurface")
     g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
@@ -188,6 +193,8 @@ def build(args, base: dict | None, volume):
         mode, tf, shaded = default_look(volume, args.mode, transfer_named=named)
         scene = replace(scene, mode=mode, transfer=scene.transfer if args.tf or args.preset else tf,
                         shading=replace(scene.shading, mode=shaded))
+    if args.shift:  # as the browser page's shift: the inner control points move along the values
+        scene = replace(scene, transfer=scene.transfer.shifted(args.shift))
     if args.iso is not None or args.iso_color or (not base and scene.mode == "isosurface"):
         iso = scene.isosurface
         value = args.iso if args.iso is not None else (iso.value if base else default_iso(volume))
@@ -374,7 +381,8 @@ def run(args):
     dt = time.perf_counter() - t0
     _write(image, args.out, background)
     chosen = "" if (args.preset or args.tf or base) else f" (chosen for {_kind(volume)})"
-    look = f", preset {scene.transfer.name}{chosen}" if scene.transfer.name and scene.mode == "composite" else ""
+    moved = f" shifted by {args.shift:g}" if args.shift else ""
+    look = f", preset {scene.transfer.name}{moved}{chosen}" if scene.transfer.name and scene.mode == "composite" else ""
     spp = f", {image.stats['spp']} samples/pixel{' denoised' if image.stats.get('denoised') else ''}" \
         if "spp" in image.stats else ""
     why = " (chosen for a slab)" if not (args.mode or base) and scene.mode != "composite" else ""

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from ._common import _floats
 
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+OUTPUTS = ("screenshot",)
+
 
 def register(sub):
     p = sub.add_parser("view", help="open the desktop application (slices, 3D view, endoscopy)")
@@ -23,8 +26,8 @@ def run(args):
         if w < 100 or h < 100:
             raise ValueError(f"--size must be at least 100x100, got {args.size}")
         size = (w, h)
-    try:
-        from volumen.app import run as run_app
-    except ImportError as exc:
-        raise ValueError(f"the application needs PySide6 (pip install 'volumen[gui]'): {exc}") from None
+    from volumen.errors import require
+
+    require("PySide6", "the desktop application")
+    from volumen.app import run as run_app
     return run_app(args.path, screenshot=args.screenshot, session=args.session, size=size)

@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import choice_message
+
 __all__ = ["LabelMap", "LabelLayer", "default_color"]
 
 # a qualitative palette (linear RGB, 0..1) for structures whose file gives no colour
@@ -97,7 +99,7 @@ class LabelMap:
             for v, n in self.names.items():
                 if n == name_or_value:
                     return v
-        raise KeyError(f"no structure {name_or_value!r}; structures: {', '.join(self.names.values())}")
+        raise KeyError(choice_message("structure", name_or_value, self.names.values()))
 
     def mask(self, name_or_value) -> np.ndarray:
         """``(nz, ny, nx)`` bool: the voxels of one structure."""

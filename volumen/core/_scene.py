@@ -20,7 +20,8 @@ from ._environment import Environment
 from ._jsondata import JsonData, _choice, _vec
 from ._lighting import LIGHT_KINDS, SHADINGS, Light, LightKind, Shading, ShadingMode
 from ._tonemap import Display
-from ._transfer import TransferFunction
+from ._transfer import TransferFunction, default_preset
+from ._volume import is_chunked
 
 __all__ = ["Light", "LightKind", "LIGHT_KINDS", "Shading", "Sampling", "ClipPlane", "Clipping", "Isosurface", "Scene",
            "Mode", "ShadingMode", "MODES", "SHADINGS", "Interpolation", "INTERPOLATIONS", "ADAPTIVE_SHADINGS",
@@ -171,6 +172,13 @@ class Isosurface(JsonData):
         object.__setattr__(self, "color", _vec("Isosurface.color", self.color))
 
 
+def _first_transfer(volume, mode: str) -> TransferFunction:
+    """The transfer function of a scene made without one: the volume's default preset (in memory), else the ramp."""
+    if volume is None or is_chunked(volume.data):
+        return TransferFunction()
+    return default_preset(volume, mode)
+
+
 @dataclass(frozen=True, kw_only=True)
 class Scene:
     """Everything but the camera that decides a picture.
@@ -181,7 +189,11 @@ class Scene:
         The data, at run time; not part of equality nor of the JSON.
     volume_ref : str
         Where the volume comes from (a path or ``"phantom:NAME"``); written to JSON.
-    transfer : TransferFunction
+    transfer : TransferFunction, optional
+        Default: the volume's default preset for the mode (:func:`default_preset`: ``ct-skin-bone`` on a CT's
+        values, ``mr-default`` over another scan's display range, ``mip-gray`` for the projections), so a scene
+        made with a volume alone shows its anatomy; the plain 0..1 ramp without a volume, or with a chunked one
+        (choosing would read its chunks).
     lights : sequence of Light
         Used by the shading modes ``phong``, ``shadows``, ``scattering`` and
         ``pathtrace`` (any number).
@@ -199,7 +211,7 @@ class Scene:
 
     volume: Any = field(default=None, compare=False, repr=False)
     volume_ref: str = ""
-    transfer: TransferFunction = field(default_factory=TransferFunction)
+    transfer: TransferFunction | None = None
     lights: tuple[Light, ...] = ()
     mode: Mode = "composite"
     shading: Shading = field(default_factory=Shading)
@@ -212,6 +224,8 @@ class Scene:
 
     def __post_init__(self) -> None:
         _choice("Scene.mode", self.mode, MODES)
+        if self.transfer is None:
+            object.__setattr__(self, "transfer", _first_transfer(self.volume, self.mode))
         object.__setattr__(self, "lights", tuple(self.lights))
         for name, cls in (("transfer", TransferFunction), ("shading", Shading), ("sampling", Sampling),
                           ("clipping", Clipping), ("isosurface", Isosurface), ("environment", Environment),

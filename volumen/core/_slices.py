@@ -19,12 +19,13 @@ from typing import Literal
 
 import numpy as np
 
+from ..errors import ModalityError, OutsideVolumeError, UnknownChoiceError
 from ._ct import hu_offset, is_ct
 from ._display import display_range
 from ._volume import Volume, axis_codes, is_chunked
 
-__all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "default_window", "montage", "slice_at", "slice_image",
-           "window_to_uint8"]
+__all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "default_window", "montage", "named_window", "slice_at",
+           "slice_image", "window_to_uint8"]
 
 Plane = Literal["axial", "coronal", "sagittal"]
 PLANES: tuple[str, ...] = ("axial", "coronal", "sagittal")
@@ -56,6 +57,33 @@ WINDOW_PRESETS: dict[str, Window] = {
     "lung": Window(level=-600.0, width=1500.0),
     "brain": Window(level=40.0, width=80.0),
 }
+
+
+def named_window(name: str, volume: Volume | None = None) -> Window:
+    """The CT window ``name`` of :data:`WINDOW_PRESETS` (HU) for ``volume``: moved onto a CT's stored values
+    (:func:`hu_offset`).
+
+    Raises
+    ------
+    volumen.errors.UnknownChoiceError
+        ``name`` is not a window name (the message lists them and the closest).
+    volumen.errors.ModalityError
+        ``volume`` is not a CT (:func:`is_ct`): a window in HU would saturate it; the message gives the level and
+        width of its own display range.
+    """
+    if name not in WINDOW_PRESETS:
+        raise UnknownChoiceError("window", name, WINDOW_PRESETS)
+    window = WINDOW_PRESETS[name]
+    if volume is None:
+        return window
+    offset = hu_offset(volume)
+    if offset is None:
+        own = default_window(volume)
+        kind = f"modality {volume.modality}" if volume.modality else "no modality"
+        raise ModalityError(f"window {name!r} is a CT window in HU (level {window.level:g}, width {window.width:g}) "
+                            f"and this scan is not a CT ({kind}, {_named(volume)}): give LEVEL,WIDTH in its units "
+                            f"(its display range is level {own.level:.4g}, width {own.width:.4g})")
+    return Window(level=window.level + offset, width=window.width)
 
 
 def default_window(volume: Volume) -> Window:
@@ -92,7 +120,7 @@ def window_to_uint8(values: np.ndarray, window: Window | str | tuple[float, floa
         window = Window(level=(lo + hi) / 2, width=hi - lo)
     elif isinstance(window, str):
         if window not in WINDOW_PRESETS:
-            raise ValueError(f"unknown window preset {window!r}; choose one of {sorted(WINDOW_PRESETS)}")
+            raise UnknownChoiceError("window", window, WINDOW_PRESETS)
         window = WINDOW_PRESETS[window]
     elif not isinstance(window, Window):
         window = Window(*window)
@@ -140,7 +168,20 @@ def _plane_axis(plane: str) -> int:
     try:
         return {"axial": 0, "coronal": 1, "sagittal": 2}[plane]
     except KeyError:
-        raise ValueError(f"unknown plane {plane!r}; choose one of {list(PLANES)}") from None
+        raise UnknownChoiceError("plane", plane, PLANES) from None
+
+
+def _named(volume: Volume) -> str:
+    """How a message names the volume: its file, else its name."""
+    return str(volume.meta.get("source") or volume.name or "the volume")
+
+
+def _outside_error(volume: Volume, world) -> OutsideVolumeError:
+    """The error for a world point (RAS+ mm) outside ``volume``: the point, the volume's extent, its file."""
+    lo, hi = volume.bounds()
+    span = ", ".join(f"{a} {lo[i]:.1f}..{hi[i]:.1f}" for i, a in enumerate("xyz"))
+    point = ", ".join(f"{v:g}" for v in np.asarray(world, float))
+    return OutsideVolumeError(f"point ({point}) mm (RAS) is outside {_named(volume)}, which spans {span} mm")
 
 
 def slice_at(volume: Volume, plane: Plane, index: int | None = None, world: tuple[float, float, float] | None = None,
@@ -157,6 +198,12 @@ def slice_at(volume: Volume, plane: Plane, index: int | None = None, world: tupl
         patient's left. Default: the middle slice.
     world : (3,) float, optional
         A world RAS+ mm point; the slice through its nearest voxel is cut.
+
+    Raises
+    ------
+    volumen.errors.OutsideVolumeError
+        The slice (or the point's) is outside the volume; the message gives the point in mm, the volume's extent
+        and its file.
     canonical_volume : Volume, optional
         ``canonical(volume)`` when the caller already has it (avoids recomputing).
 
@@ -178,7 +225,9 @@ def slice_at(volume: Volume, plane: Plane, index: int | None = None, world: tupl
     if index is None:
         index = n // 2
     if not 0 <= index < n:
-        raise IndexError(f"{plane} slice {index} is outside 0..{n - 1}")
+        if world is not None:
+            raise _outside_error(volume, world)
+        raise OutsideVolumeError(f"{plane} slice {index} is outside 0..{n - 1} of {_named(volume)}")
     dz, dy, dx = can.spacing
     if ax == 0:  # axial: rows A (top) -> P, columns R (left) -> L
         img, sp = can.data[index, ::-1, ::-1], (dy, dx)
@@ -198,12 +247,15 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     axis with the larger pixel spacing so one pixel covers the same mm both ways.
     Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
     ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
-    data with no window is shown as stored, 0..255). With no window a CT (:func:`is_ct`) gets the
+    data with no window is shown as stored, 0..255). A window name is a CT window (:func:`named_window`: on a CT's
+    stored values; refused for another modality). With no window a CT (:func:`is_ct`) gets the
     ``soft-tissue`` window (:func:`default_window`), anything else the slice's 1st..99th percentile, its values
     below the display range (a resampler's fill outside the field of view: ``_display``) raised to it. A volume whose
     ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
+    if isinstance(window, str):
+        window = named_window(window, volume)
     if window is None and is_ct(volume):
         window = default_window(volume)  # soft tissue, on the stored values
     if window is None and volume.is_color and img.dtype == np.uint8:

@@ -14,6 +14,7 @@ from typing import Literal, get_args
 
 import numpy as np
 
+from ..errors import UnknownChoiceError
 from ._ct import hu_offset
 from ._display import display_range
 from ._jsondata import JsonData
@@ -156,7 +157,7 @@ class TransferFunction(JsonData):
         Valid names: see ``PRESETS``.
         """
         if name not in PRESETS:
-            raise ValueError(f"unknown transfer function preset {name!r}; valid: {', '.join(PRESETS)}")
+            raise UnknownChoiceError("transfer function preset", name, PRESETS)
         if name in _CT_PRESETS:
             color, opacity = _CT_PRESETS[name]
             return cls(color=color, opacity=opacity, name=name)

@@ -13,6 +13,7 @@ import inspect
 from collections.abc import Callable
 
 from ..core import Volume
+from ..errors import UnknownChoiceError
 from ._abdomen import abdomen
 from ._airways import airways
 from ._chest import arch
@@ -116,7 +117,7 @@ def phantom(name: str, size=None, **params) -> Volume:
     try:
         builder = _BUILDERS[name]
     except (KeyError, TypeError):
-        raise ValueError(f"unknown phantom {name!r}; choose one of {', '.join(PHANTOMS)}") from None
+        raise UnknownChoiceError("phantom", name, PHANTOMS) from None
     accepted = [p for p in inspect.signature(builder).parameters if p != "size"]
     unknown = sorted(set(params) - set(accepted))
     if unknown:

@@ -44,10 +44,9 @@ class VideoWriter:
         if suffix == ".mp4":
             import imageio.v2 as iio
 
-            try:
-                import imageio_ffmpeg  # noqa: F401 - imported only to find out whether it is installed
-            except ImportError:  # pragma: no cover - depends on the installation
-                raise ValueError("writing MP4 needs the imageio-ffmpeg package (pip install imageio-ffmpeg)") from None
+            from ..errors import require
+
+            require("imageio_ffmpeg", "writing MP4")
             self._writer = iio.get_writer(str(self.path), format="FFMPEG", mode="I", fps=self.fps, codec="libx264",
                                           pixelformat="yuv420p", macro_block_size=1, quality=8)
 

@@ -45,6 +45,10 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
         An ipywidgets box; ``.scene``, ``.camera`` (settable), ``.wait()``, ``.frame``, ``.snapshot_html()``.
     """
     from ..core import Camera, Scene, Volume
+    from ..errors import require
+
+    for package in ("ipywidgets", "jupyter_rfb"):
+        require(package, "volumen.show")
     from ._widget import Viewer
 
     if isinstance(volume_or_scene, Volume):

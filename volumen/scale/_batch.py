@@ -185,8 +185,12 @@ def run_batch(manifest, out_dir, *, client=None, scheduler: str | None = None, w
     ``client``: a ``distributed.Client`` to use; else one connected to ``scheduler`` (an address), else a
     ``LocalCluster`` of ``workers`` single-threaded worker processes, closed at the end.
     """
-    from distributed import Client, LocalCluster, as_completed
     from tqdm import tqdm
+
+    from ..errors import require
+
+    require("distributed", "batch rendering on Dask")
+    from distributed import Client, LocalCluster, as_completed
 
     rows = read_manifest(manifest) if not isinstance(manifest, list) else manifest
     out = Path(out_dir)

@@ -81,8 +81,10 @@ def get_context():
             raise RasterUnavailable(_state["error"])
         try:
             import moderngl
-        except ImportError as exc:  # pragma: no cover - depends on the install
-            _state["error"] = f"moderngl is not installed ({exc}); install volumen[gl]"
+        except ImportError:  # pragma: no cover - depends on the install
+            from ...errors import MissingExtraError
+
+            _state["error"] = str(MissingExtraError("moderngl", "drawing on OpenGL"))
             raise RasterUnavailable(_state["error"]) from None
         forced = os.environ.get("VOLUMEN_GL_BACKEND")
         attempts = [forced] if forced else ["egl", None]

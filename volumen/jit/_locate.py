@@ -37,7 +37,17 @@ __all__ = ["install", "installed", "kernel_folder", "group_folder", "KEEP_DAYS"]
 KEEP_DAYS = 30
 #: characters of the content key that name its folder (96 bits)
 _KEY_CHARS = 24
-_state: dict = {"installed": False, "root": None, "touched": set()}
+_state: dict = {"installed": False, "root": None, "touched": set(), "keys": {}}
+
+
+def _group_key(group: tuple) -> str:
+    """The content key of ``group``, worked out once per process: the kernels a process defines are compiled from
+    the sources it imported, so the key of those is the one to keep them under (hashing the files again for each
+    of the ray caster's two hundred kernels took 1.6 s of a command's start)."""
+    key = _state["keys"].get(group)
+    if key is None:
+        key = _state["keys"][group] = source_stamp(group)
+    return key
 
 
 def kernel_folder(*, refresh: bool = False) -> Path:
@@ -68,7 +78,7 @@ def _prune(root: Path, keep: Path) -> None:
 def group_folder(files) -> Path:
     """The folder of the kernels compiled from ``files`` (a group): :func:`kernel_folder` ``/<key>``; made and
     marked used (its modification time) the first time a process asks."""
-    folder = kernel_folder() / source_stamp(files)[:_KEY_CHARS]
+    folder = kernel_folder() / _group_key(tuple(files))[:_KEY_CHARS]
     if folder not in _state["touched"]:
         _state["touched"].add(folder)
         made = not folder.is_dir()
@@ -90,7 +100,7 @@ def _locators():
             self._lineno = py_func.__code__.co_firstlineno
             folder = Path(py_file).resolve().parent
             inside = folder.relative_to(_PACKAGE).as_posix() if folder.is_relative_to(_PACKAGE) else folder.name
-            self._stamp = source_stamp(group)
+            self._stamp = _group_key(group)
             self._path = group_folder(group) / (inside if inside != "." else "volumen")
 
         def get_cache_path(self):
@@ -124,7 +134,7 @@ def _locators():
                 return None
             locator = super().from_function(py_func, py_file)
             if locator is not None:
-                locator._volumen_key = source_stamp(group)
+                locator._volumen_key = _group_key(group)
             return locator
 
         def get_source_stamp(self):

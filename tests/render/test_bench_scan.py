@@ -141,7 +141,7 @@ def test_a_scan_that_cannot_be_benched_is_refused_in_one_line_without_its_path(t
 @pytest.mark.skipif(not vtk_available(), reason="vtk is not installed (pip install 'volumen[bench]')")
 def test_bench_render_gives_a_scan_its_ratio_and_bar_with_no_patient_identity(ct_folder, tmp_path):
     table = bench_render(datasets=scan_datasets([read_scan(ct_folder)], ((20, 24, 12),)),
-                         images={"32x32": (32, 32)}, cases=[("composite", "headlight", "ct-bone", "adaptive")],
+                         images={"32x32": (32, 32)}, cases=[("composite", "headlight", "ct-bone", "default")],
                          rounds=1, memory=False, progress=lambda *_: None)
     (row,) = table.rows
     assert row["data"] == "scan1-20x24x12" and row["ct"] and np.isfinite(row["ratio_vtk"])

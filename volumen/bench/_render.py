@@ -7,8 +7,9 @@ most rays); the MRI template from ``volumen.data.sample`` where installed, as it
 at half its size. Per CT the notes give the share of the picture's rays that cross the body and soft
 tissue (:func:`._datasets.ray_shares`).
 Cases: composite ct-bone headlight, composite ct-skin-bone headlight (translucent), composite ct-bone
-unshaded, plus mip and isosurface; the three composite cases again with adaptive sampling
-(``Sampling.adaptive``: sampling "adaptive"), whose rows also give the mean |RGB diff| from the full-rate
+unshaded, at full rate (``Sampling(adaptive=False)``: sampling "full"), plus mip and isosurface; the three
+composite cases again with the default sampling (``Sampling()``, adaptive for these models: sampling "default",
+what ``render`` and the viewers draw with no flags), whose rows also give the mean |RGB diff| from the full-rate
 picture.
 
 Timing: VTK's ``vtkFixedPointVolumeRayCastMapper`` renders the same scene
@@ -35,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core import adaptive_on
 from ._datasets import CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
 from ._table import WARMUP_FRAMES, Table, resolve_device
 from ._vtk import VtkScene, vtk_available
@@ -44,16 +46,16 @@ __all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "load_da
 IMAGES = {"512x512": (512, 512)}
 #: issue 27's bars on ours / VTK for every CT, by (shading, preset) of the composite cases
 BARS = {("headlight", "ct-skin-bone"): 0.7, ("headlight", "ct-bone"): 0.5, ("none", "ct-bone"): 0.5}
-#: (mode, shading, preset, sampling: "full" or "adaptive")
+#: (mode, shading, preset, sampling: "full" (no adaptive sampling) or "default" (``Sampling()``: adaptive here))
 CASES = [
     ("composite", "headlight", "ct-bone", "full"),
     ("composite", "headlight", "ct-skin-bone", "full"),
     ("composite", "none", "ct-bone", "full"),
     ("mip", "none", None, "full"),
     ("isosurface", "headlight", None, "full"),
-    ("composite", "headlight", "ct-bone", "adaptive"),
-    ("composite", "headlight", "ct-skin-bone", "adaptive"),
-    ("composite", "none", "ct-bone", "adaptive"),
+    ("composite", "headlight", "ct-bone", "default"),
+    ("composite", "headlight", "ct-skin-bone", "default"),
+    ("composite", "none", "ct-bone", "default"),
 ]
 #: data set name -> (kind, (nx, ny, nz) or None); a scan of the user's: ("scan", size, scan) (``--scan``:
 #: ``_datasets.scan_datasets``)
@@ -69,6 +71,7 @@ QUICK = {"datasets": {"aorta-96x80x88": ("aorta", (96, 80, 88)), "abdomen-61x51x
 
 
 def _scene(volume, mode, shading, preset, offset, spv, adaptive=False):
+    """The benchmark's scene; ``adaptive`` None: the default sampling."""
     from volumen.core import Isosurface, Sampling, Scene, Shading, TransferFunction
     from volumen.render import default_transfer
 
@@ -131,12 +134,12 @@ def peak_memory(kind: str, shape, shading: str = "headlight", size=(512, 512)) -
             "from volumen.render import render\n"
             "tiny = phantom('head', size=(16, 16, 16))\n"
             "tiny = Volume(tiny.data.astype(np.int16), spacing=tiny.spacing, affine=tiny.affine, modality='CT')\n"
-            f"render(_scene(tiny, 'composite', {shading!r}, 'ct-bone', 0.0, 1.0), Camera.orbit(tiny), (8, 8))\n"
+            f"render(_scene(tiny, 'composite', {shading!r}, 'ct-bone', 0.0, 1.0, None), Camera.orbit(tiny), (8, 8))\n"
             "base = hwm()\n"
             "m = json.loads(open(sys.argv[1] + '/meta.json').read())\n"
             "vol = Volume(np.load(sys.argv[1] + '/data.npy'), spacing=tuple(m['spacing']), "
             "affine=np.array(m['affine']), modality='CT')\n"
-            f"render(_scene(vol, 'composite', {shading!r}, 'ct-bone', m['offset'], 1.0), Camera.orbit(vol), "
+            f"render(_scene(vol, 'composite', {shading!r}, 'ct-bone', m['offset'], 1.0, None), Camera.orbit(vol), "
             f"{tuple(size)!r})\n"
             "peak = hwm()\n"
             "print('MEM', vol.data.nbytes, base * 1024, peak * 1024)\n"
@@ -171,7 +174,7 @@ def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
         row.update(vtk_ms=float(np.median(b)) * 1e3, ratio_vtk=ours_s / float(np.median(b)),
                    ratio_lo=float(each.min()), ratio_hi=float(each.max()),
                    diff_vtk=float(np.mean(np.abs(np.clip(image.rgba[..., :3], 0, 1) - theirs))))
-    if scene.sampling.adaptive:
+    if adaptive_on(scene):
         full = render(replace(scene, sampling=replace(scene.sampling, adaptive=False)), camera, size, device=backend)
         shown, ref = (np.clip(im.rgba[..., :3], 0, 1) for im in (image, full))
         row["diff_full"] = float(np.mean(np.abs(shown - ref)))
@@ -265,7 +268,8 @@ def bench_render(*, datasets=None, images=None, cases=None, spv: float = 1.0, ro
                                    f"{SOFT_TISSUE_HU[1]:.0f} HU)")
                 progress("  " + table.notes[-1])
             for mode, shading, preset, sampling in cases:
-                scene = _scene(vol, mode, shading, preset, offset, spv, adaptive=sampling == "adaptive")
+                adaptive = None if sampling == "default" else False
+                scene = _scene(vol, mode, shading, preset, offset, spv, adaptive=adaptive)
                 shown = (preset if offset is not None else "data default") if preset else "-"
                 label = dict(data=dname, image=iname, mode=mode, shading=shading, preset=shown, sampling=sampling)
                 row = _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label)

@@ -16,7 +16,7 @@ DEMO_STAMP := $(VENV)/.installed-demo
 # kernels side by side; whole files per worker left one long file running alone); Numba caches them beside the sources
 PYTEST_ARGS ?= -n 2 --dist worksteal
 
-.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps clean
+.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps lint-web clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -96,16 +96,32 @@ pacs-server:
 	else echo "not root: orthanc not installed; the archive tests will skip"; fi
 
 # The browser viewer's tests (tests/web) emulate a headset with the npm package iwer (the Immersive Web Emulation
-# Runtime, MIT), installed here into the git-ignored .web-deps/ (nothing else from npm; the page itself needs
-# nothing but a browser). Without npm or the registry those tests skip with the reason printed.
+# Runtime, MIT); its code (volumen/web/static) is linted by ESLint (with @eslint/js and globals) and type checked
+# by TypeScript's tsc over the JSDoc types (with @types/webxr), configured by eslint.config.mjs and jsconfig.json.
+# All are installed here, at these exact versions, into the git-ignored .web-deps/ (the page itself needs nothing
+# but a browser); .web-deps/.installed lists what is there. Without npm or the registry those tests skip with the
+# reason printed.
 IWER_VERSION ?= 2.5.0
+ESLINT_VERSION ?= 10.15.0
+ESLINT_JS_VERSION ?= 10.0.1
+GLOBALS_VERSION ?= 17.14.0
+TYPESCRIPT_VERSION ?= 5.9.3
+WEBXR_TYPES_VERSION ?= 0.5.24
+WEB_DEPS := iwer@$(IWER_VERSION) eslint@$(ESLINT_VERSION) @eslint/js@$(ESLINT_JS_VERSION) \
+  globals@$(GLOBALS_VERSION) typescript@$(TYPESCRIPT_VERSION) @types/webxr@$(WEBXR_TYPES_VERSION)
 web-deps:
-	@if [ -f .web-deps/node_modules/iwer/build/iwer.min.js ]; then :; \
+	@if [ "$$(cat .web-deps/.installed 2>/dev/null)" = "$(WEB_DEPS)" ]; then :; \
 	elif command -v npm >/dev/null; then \
-	  echo "installing iwer $(IWER_VERSION) from npm into .web-deps (headset emulator of the browser tests)"; \
-	  npm install --silent --no-audit --no-fund --prefix .web-deps iwer@$(IWER_VERSION) >/dev/null 2>&1 || \
-	  echo "iwer could not be installed; the WebXR tests will skip"; \
-	else echo "npm not found: iwer not installed; the WebXR tests will skip"; fi
+	  echo "installing $(WEB_DEPS) from npm into .web-deps (headset emulator, lint and type check of the browser viewer)"; \
+	  (npm install --silent --no-audit --no-fund --save-exact --prefix .web-deps $(WEB_DEPS) >/dev/null 2>&1 && \
+	   echo "$(WEB_DEPS)" > .web-deps/.installed) || \
+	  echo "the npm packages could not be installed; the WebXR tests and the browser code's lint will skip"; \
+	else echo "npm not found: iwer, eslint and typescript not installed; the WebXR tests and the browser code's lint will skip"; fi
+
+# ESLint and the type check of the browser viewer's code (tests/web/test_lint.py runs the same two commands)
+lint-web: web-deps
+	.web-deps/node_modules/.bin/eslint --max-warnings 0 volumen/web/static
+	.web-deps/node_modules/.bin/tsc -p jsconfig.json
 
 demo: $(DEMO_STAMP)
 	$(VENV)/bin/volumen demo --out out

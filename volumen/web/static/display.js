@@ -11,12 +11,26 @@
 
 import { RaycastProgram } from './program.js';
 
+/** @import { LinearTarget } from './gl.js' */
+/** @import { Display } from './viewer.js' */
+/**
+ * @typedef {object} DisplayConstants  core._tonemap.shader_constants(), served in info.json
+ * @property {number[]} luma  the luminance's weights of R, G, B
+ * @property {number} grey  the linear value the aces curve shows as middle grey (a metered subject's median)
+ * @property {number[]} range  the metered exposure's (min, max), stops
+ * @property {number[]} aces  the aces curve's constants
+ * @property {number[]} srgb  the sRGB encoding's constants
+ */
+
 export const METER_PIXELS = 128 * 128;
+/** @type {Record<string, number>} */
 const TONEMAPS = { linear: 0, aces: 1 };
 
 // core._tonemap.meter: the exposure (stops) that shows the median luminance of the subject (pixels of alpha >
 // 0.5, else of alpha > 0) as middle grey, clamped to the range; `rgba` premultiplied linear, `k` the constants
+/** @param {Float32Array} rgba @param {DisplayConstants} k @returns {number} */
 export function meter(rgba, k) {
+  /** @param {(alpha: number) => boolean} sel @returns {number[]} */
   const lum = (sel) => {
     const out = [];
     for (let i = 0; i < rgba.length; i += 4) {
@@ -28,14 +42,18 @@ export function meter(rgba, k) {
   let v = lum((a) => a > 0.5);
   if (!v.length) v = lum((a) => a > 0);
   if (!v.length) return 0;
-  v = Float64Array.from(v).sort();
-  const m = v.length >> 1;
-  const med = v.length % 2 ? v[m] : (v[m - 1] + v[m]) / 2;
+  const sorted = Float64Array.from(v).sort();
+  const m = sorted.length >> 1;
+  const med = sorted.length % 2 ? sorted[m] : (sorted[m - 1] + sorted[m]) / 2;
   if (!(med > 0)) return k.range[1];
   return Math.min(Math.max(Math.log2(k.grey / med), k.range[0]), k.range[1]);
 }
 
 export class DisplayPass {
+  /**
+   * @param {WebGL2RenderingContext} gl @param {import('./program.js').StageSources} sources
+   * @param {DisplayConstants} constants
+   */
   constructor(gl, sources, constants) {
     this.gl = gl;
     this.k = constants;
@@ -44,6 +62,7 @@ export class DisplayPass {
 
   // the exposure (stops) to show the picture in `linear` (a LinearTarget) with, by `display` ({tonemap,
   // exposure} resolved): the given one, else metered (aces) or 0 (linear), as Display.stops
+  /** @param {Display} display @param {LinearTarget} linear @returns {number} */
   stops(display, linear) {
     if (display.exposure !== null && display.exposure !== undefined) return display.exposure;
     if (display.tonemap !== 'aces') return 0;
@@ -52,10 +71,15 @@ export class DisplayPass {
 
   // show `linear` in framebuffer `target`'s region `viewport` = [x, y, w, h] through the curve `tonemap`
   // with `stops` of exposure; `opaque` leaves the target's alpha as it is (an XR layer)
+  /**
+   * @param {LinearTarget} linear @param {WebGLFramebuffer | null} target @param {number[]} viewport
+   * @param {string} tonemap @param {number} stops @param {boolean} [opaque]
+   */
   draw(linear, target, viewport, tonemap, stops, opaque = false) {
     const gl = this.gl;
+    const [x, y, w, h] = viewport;
     gl.bindFramebuffer(gl.FRAMEBUFFER, target);
-    gl.viewport(...viewport);
+    gl.viewport(x, y, w, h);
     if (opaque) gl.colorMask(true, true, true, false);
     const p = this.program.variant({});
     gl.activeTexture(gl.TEXTURE0);

@@ -10,22 +10,33 @@
 
 export const FIELDS = ['vol', 'lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd', 'rgb'];
 
+/** @import { Arrays, WireArray } from './api.js' */
+/** @import { Uniforms } from './program.js' */
+/** @typedef {WebGL2RenderingContext & {canvas: HTMLCanvasElement}} GL  a context on a page's canvas */
+
 // a WebGL2 context on `canvas` able to draw into an XR layer; throws with the reason when there is none
+/** @param {HTMLCanvasElement} canvas @returns {GL} */
 export function createContext(canvas) {
   const gl = canvas.getContext('webgl2', { alpha: true, premultipliedAlpha: true, antialias: false, depth: false,
     stencil: false, preserveDrawingBuffer: true, xrCompatible: true });
   if (!gl) throw new Error('this browser has no WebGL2');
   gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-  return gl;
+  return /** @type {GL} */ (gl);
 }
 
+/**
+ * @param {WebGL2RenderingContext} gl
+ * @returns {{max3d: number, max2d: number, renderer: string, version: string}}
+ */
 export function limits(gl) {
   return { max3d: gl.getParameter(gl.MAX_3D_TEXTURE_SIZE), max2d: gl.getParameter(gl.MAX_TEXTURE_SIZE),
     renderer: gl.getParameter(gl.RENDERER), version: gl.getParameter(gl.VERSION) };
 }
 
+/** @param {WebGL2RenderingContext} gl @param {GLenum} target @param {GLenum} filter @returns {WebGLTexture} */
 function make(gl, target, filter) {
   const t = gl.createTexture();
+  if (!t) throw new Error('no texture (the WebGL context is lost)');
   gl.bindTexture(target, t);
   gl.texParameteri(target, gl.TEXTURE_MIN_FILTER, filter);
   gl.texParameteri(target, gl.TEXTURE_MAG_FILTER, filter);
@@ -33,12 +44,20 @@ function make(gl, target, filter) {
   return t;
 }
 
+/**
+ * @param {WebGL2RenderingContext} gl @param {number[]} shape (nz, ny, nx) @param {GLenum} internal
+ * @param {GLenum} format @param {GLenum} type @param {ArrayBufferView} data @param {GLenum} filter
+ */
 function texture3d(gl, [nz, ny, nx], internal, format, type, data, filter) {
   const t = make(gl, gl.TEXTURE_3D, filter);
   gl.texImage3D(gl.TEXTURE_3D, 0, internal, nx, ny, nz, 0, format, type, data);
   return t;
 }
 
+/**
+ * @param {WebGL2RenderingContext} gl @param {number} w @param {number} h @param {GLenum} internal
+ * @param {GLenum} format @param {GLenum} type @param {ArrayBufferView} data
+ */
 function texture2d(gl, w, h, internal, format, type, data) {
   const t = make(gl, gl.TEXTURE_2D, gl.NEAREST);
   gl.texImage2D(gl.TEXTURE_2D, 0, internal, w, h, 0, format, type, data);
@@ -46,14 +65,21 @@ function texture2d(gl, w, h, internal, format, type, data) {
 }
 
 export class Textures {
+  /** @param {WebGL2RenderingContext} gl */
   constructor(gl) {
     this.gl = gl;
+    /** @type {Record<string, WebGLTexture | undefined>} by FIELDS' names */
     this.tex = {};
+    /** @type {number[] | undefined} the volume's texture coordinates of table units (u_vol_map) */
+    this.volMap = undefined;
+    /** @type {number[] | undefined} */
+    this.shape = undefined;
     this.lvdWidth = Math.min(gl.getParameter(gl.MAX_TEXTURE_SIZE), 8192);
     this.tex.rgb = texture3d(gl, [1, 1, 1], gl.RGB8, gl.RGB, gl.UNSIGNED_BYTE, new Uint8Array(3), gl.LINEAR);
   }
 
   // the volume: {shape, vol_map} and its float16 texels (Uint16Array)
+  /** @param {{shape: number[], vol_map: number[]}} header @param {ArrayBufferView} texels */
   setVolume(header, texels) {
     const gl = this.gl;
     if (this.tex.vol) gl.deleteTexture(this.tex.vol);
@@ -63,13 +89,15 @@ export class Textures {
   }
 
   // the frame's tables and grids (the arrays of a /frame.bin answer)
+  /** @param {Arrays} a */
   setFrame(a) {
     const gl = this.gl;
     const old = ['lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd'].map((n) => this.tex[n]);
-    const row = (x, comps, internal, format) => texture2d(gl, x.shape[0], 1, internal, format, gl.FLOAT, x.data);
-    this.tex.lut = row(a.lut, 4, gl.RGBA32F, gl.RGBA);
-    this.tex.sig = row(a.sig, 1, gl.R32F, gl.RED);
-    this.tex.glut = row(a.glut, 1, gl.R32F, gl.RED);
+    /** @param {WireArray} x @param {GLenum} internal @param {GLenum} format */
+    const row = (x, internal, format) => texture2d(gl, x.shape[0], 1, internal, format, gl.FLOAT, x.data);
+    this.tex.lut = row(a.lut, gl.RGBA32F, gl.RGBA);
+    this.tex.sig = row(a.sig, gl.R32F, gl.RED);
+    this.tex.glut = row(a.glut, gl.R32F, gl.RED);
     this.tex.pre = texture2d(gl, a.pre.shape[1], a.pre.shape[0], gl.RGBA32F, gl.RGBA, gl.FLOAT, a.pre.data);
     this.tex.bflag = texture3d(gl, a.bflag.shape, gl.R8UI, gl.RED_INTEGER, gl.UNSIGNED_BYTE, a.bflag.data, gl.NEAREST);
     this.tex.bmin = texture3d(gl, a.bmin.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmin.data, gl.NEAREST);
@@ -85,17 +113,19 @@ export class Textures {
   get ready() { return Boolean(this.tex.vol && this.tex.lut); }
 
   // bind every texture to its unit; the sampler uniforms and the layout uniforms to set
+  /** @returns {Uniforms} */
   bind() {
     const gl = this.gl;
+    /** @type {Uniforms} */
     const u = {};
     FIELDS.forEach((name, unit) => {
       gl.activeTexture(gl.TEXTURE0 + unit);
       const target = ['lut', 'pre', 'glut', 'sig', 'lvd'].includes(name) ? gl.TEXTURE_2D : gl.TEXTURE_3D;
-      gl.bindTexture(target, this.tex[name]);
+      gl.bindTexture(target, this.tex[name] ?? null);
       u[`u_${name}`] = unit;
     });
     u.u_lvd_w = this.lvdWidth;
-    u.u_vol_map = this.volMap;
+    u.u_vol_map = this.volMap ?? null;
     return u;
   }
 }
@@ -106,15 +136,20 @@ export class Textures {
 // the picture's (reduced while dragging and by the VR governor); display.js shows it, stretched, in a
 // viewport and meters its exposure on a read-back.
 export class LinearTarget {
+  /** @param {WebGL2RenderingContext} gl */
   constructor(gl) {
     this.gl = gl;
     this.size = [0, 0];
+    /** @type {WebGLTexture | null} */
+    this.tex = null;
     this.float = Boolean(gl.getExtension('EXT_color_buffer_float'));
     this.format = this.float ? [gl.RGBA16F, gl.HALF_FLOAT] : [gl.RGBA8, gl.UNSIGNED_BYTE];
     this.fbo = gl.createFramebuffer();
+    /** @type {{fbo: WebGLFramebuffer, tex: WebGLTexture | null, size: number[]}} the subsample's target */
     this.small = { fbo: gl.createFramebuffer(), tex: null, size: [0, 0] };
   }
 
+  /** @param {number} w @param {number} h @returns {WebGLTexture} */
   allocate(w, h) {
     const gl = this.gl;
     const t = make(gl, gl.TEXTURE_2D, gl.LINEAR);
@@ -122,6 +157,7 @@ export class LinearTarget {
     return t;
   }
 
+  /** @param {WebGLFramebuffer} fbo @param {WebGLTexture} tex */
   attach(fbo, tex) {
     const gl = this.gl;
     gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
@@ -129,6 +165,7 @@ export class LinearTarget {
   }
 
   // bind it as the framebuffer at `w` x `h` pixels (the viewport too), cleared to transparent
+  /** @param {number} w @param {number} h */
   use(w, h) {
     const gl = this.gl;
     if (this.size[0] !== w || this.size[1] !== h) {
@@ -145,6 +182,7 @@ export class LinearTarget {
 
   // its pixels as a Float32Array of RGBA (rows from the bottom): all of them when there are at most
   // `maxPixels`, else a nearest-neighbour subsample of at most that many (a blit: every k-th pixel)
+  /** @param {number} [maxPixels] @returns {{rgba: Float32Array, size: number[]}} */
   read(maxPixels = Infinity) {
     const gl = this.gl;
     let [w, h] = this.size;
@@ -180,6 +218,7 @@ export class LinearTarget {
 }
 
 // RGBA8 of the region [x, y, w, h] of the bound framebuffer, rows from the TOP (as volumen.core.Image)
+/** @param {WebGL2RenderingContext} gl @param {number[]} region @returns {Uint8Array} */
 export function readRGBA(gl, [x, y, w, h]) {
   const px = new Uint8Array(w * h * 4);
   gl.readPixels(x, y, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);

@@ -13,16 +13,31 @@ import { Panel, shifted } from './ui.js';
 import { Viewer } from './viewer.js';
 import { XRView, xrSupported } from './xr.js';
 
-const status = document.getElementById('status');
+/** @import { Camera, Size } from './camera.js' */
+/** @import { Scene } from './viewer.js' */
 
+// the page's element `id`, of the class `type` (index.html has them all)
+/** @template {HTMLElement} T @param {string} id @param {new () => T} type @returns {T} */
+function element(id, type) {
+  const e = document.getElementById(id);
+  if (!(e instanceof type)) throw new Error(`the page has no ${type.name} #${id}`);
+  return e;
+}
+
+const status = element('status', HTMLParagraphElement);
+
+/** @param {Uint8Array} bytes @returns {string} */
 function base64(bytes) {
   let s = '';
   for (let i = 0; i < bytes.length; i += 0x8000) s += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
   return btoa(s);
 }
 
+/** @param {Viewer} viewer @param {HTMLCanvasElement} overlay */
 function fitCanvases(viewer, overlay) {
-  const box = viewer.gl.canvas.parentElement.getBoundingClientRect();
+  const parent = viewer.gl.canvas.parentElement;
+  if (!parent) return;
+  const box = parent.getBoundingClientRect();
   const w = Math.max(1, Math.round(box.width * devicePixelRatio));
   const h = Math.max(1, Math.round(box.height * devicePixelRatio));
   if (viewer.fixedSize || viewer.xrActive) return;
@@ -31,28 +46,25 @@ function fitCanvases(viewer, overlay) {
 }
 
 async function boot() {
-  const canvas = document.getElementById('gl'), overlay = document.getElementById('overlay');
+  const canvas = element('gl', HTMLCanvasElement), overlay = element('overlay', HTMLCanvasElement);
   const gl = createContext(canvas);
   const lim = limits(gl);
   const max3d = lim.max3d;
   const [info, sources, volume] = await Promise.all([getJSON('info.json', { max3d }), getJSON('shaders.json'),
     getBinary('volume.bin', { max3d })]);
   const textures = new Textures(gl);
-  textures.setVolume(volume.header, volume.arrays.vol.data);
+  const volumeHeader = /** @type {{shape: number[], vol_map: number[], notices: string[]}} */ (volume.header);
+  textures.setVolume(volumeHeader, volume.arrays.vol.data);
   const program = new RaycastProgram(gl, sources.raycast);
   const display = new DisplayPass(gl, sources.display, info.display);
   const viewer = new Viewer({ gl, program, display, textures, info, max3d });
   const xr = new XRView(viewer, { onPreset: (step) => panel.cyclePreset(step), onChange: () => panel.refresh('xr') });
-  const slices = new SliceViews(document.getElementById('slices'), { info, max3d,
+  const slices = new SliceViews(element('slices', HTMLElement), { info, max3d,
     onCrosshair: () => viewer.redraw() });
-  const panel = new Panel(document.getElementById('panel'), { viewer, slices, xr, xrAvailable: await xrSupported() });
-  panel.cyclePreset = (step) => {
-    const names = info.presets.filter((n) => n !== 'mip-gray');
-    panel.presetName = names[(names.indexOf(panel.presetName) + step + names.length) % names.length];
-    panel.applyPreset();
-  };
-  for (const n of [...info.notices, ...volume.header.notices]) panel.notice(n);
+  const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });
+  for (const n of [...info.notices, ...volumeHeader.notices]) panel.notice(n);
 
+  /** @returns {Size} */
   const size = () => [canvas.width, canvas.height];
   attachGestures(canvas, (x, y) => pickLight(viewer.scene.lights, viewer.camera, size(), lightLength(info),
     x * devicePixelRatio, y * devicePixelRatio), (kind, dx, dy, light) => {
@@ -62,7 +74,7 @@ async function boot() {
     else if (kind === 'pan') viewer.setCamera(pan(cam, dx * r, dy * r, size()));
     else if (kind === 'zoom') viewer.setCamera(dragZoom(cam, dy * r));
     else if (kind === 'wheel') viewer.setCamera(wheelZoom(cam, dy));
-    else {
+    else if (light !== null) {   // 'light' and 'aim' start on a light
       const lights = viewer.scene.lights.slice();
       lights[light] = kind === 'light' ? moveLight(lights[light], cam, dx * r, dy * r, size())
         : aimLight(lights[light], cam, dx * r, dy * r);
@@ -78,15 +90,27 @@ async function boot() {
     if (what === 'drawn') drawOverlay(overlay, { info, scene: viewer.scene, camera: viewer.camera,
       selected: panel.selected, crosshair: slices.crosshair });
   });
-  new ResizeObserver(() => fitCanvases(viewer, overlay)).observe(canvas.parentElement);
+  new ResizeObserver(() => fitCanvases(viewer, overlay)).observe(/** @type {HTMLElement} */ (canvas.parentElement));
   fitCanvases(viewer, overlay);
   viewer.requestFrame();
   const slicesShown = slices.update();
   status.textContent = `${lim.renderer} | ${lim.version}`;
 
-  window.volumen = {
+  /**
+   * @typedef {object} Capture
+   * @property {number} width
+   * @property {number} height
+   * @property {string} rgba
+   * @property {Camera} camera
+   * @property {Scene} scene
+   * @property {{tonemap: string, exposure: number} | null} shown
+   * @property {string | null} error
+   * @property {{width: number, height: number, rgba: string, float: boolean}} [linear]
+   */
+  const volumen = {
     viewer, xr, info, limits: lim, shifted,
     // fix the picture's size (pixels) and show `scene` / `camera` (JSON); resolves once it is drawn
+    /** @param {{scene?: Scene, camera?: Camera, size?: number[]}} view */
     async show({ scene, camera, size: wh }) {
       if (wh) {
         viewer.fixedSize = true;
@@ -107,7 +131,9 @@ async function boot() {
     // the canvas: RGBA8 (base64), rows from the top, with the scene and camera it shows and the display
     // transform it was shown with ({tonemap, exposure}); `linear`: also the picture before that transform
     // (float32 RGBA, base64, rows from the top)
+    /** @param {{linear?: boolean}} [options] @returns {Capture} */
     capture({ linear = false } = {}) {
+      /** @type {Capture} */
       const out = { width: canvas.width, height: canvas.height, rgba: base64(viewer.read()), camera: viewer.camera,
         scene: viewer.scene, shown: viewer.shown, error: viewer.error };
       if (linear) {
@@ -129,19 +155,24 @@ async function boot() {
       return shots.map((s) => ({ ...s, rgba: base64(s.rgba) }));
     },
     stateVR() { return { model: xr.model, scene: viewer.scene, stats: xr.stats(), eyes: xr.lastEyes }; },
+    /** @param {number} n */
     framesVR(n) { return xr.afterFrames(n); },
+    /** @param {number} n */
     timeFrames(n) { return viewer.timeFrames(n); },
     // resolves once the first picture and the slice views are shown
     async shown() { await Promise.all([viewer.settled(), slicesShown]); },
+    /** @param {number} n */
     timeFramesVR(n) { return xr.timeFrames(n); },
     // a new scene during an XR session: resolves once its frame arrived
+    /** @param {Scene} scene */
     async sceneVR(scene) { viewer.setScene(scene); await viewer.idle(); await xr.afterFrames(1); },
   };
+  Object.assign(window, { volumen });
   document.body.dataset.ready = 'yes';
 }
 
-window.volumenReady = boot().catch((e) => {
-  status.textContent = `error: ${e.message || e}`;
+Object.assign(window, { volumenReady: boot().catch((e) => {
+  status.textContent = `error: ${(e instanceof Error && e.message) || e}`;
   document.body.dataset.ready = 'error';
   throw e;
-});
+}) });

@@ -5,12 +5,22 @@
 import { basis, lightInWorld, project } from './camera.js';
 import { add, cross, dot, scale, sub, unit } from './linalg.js';
 
+/** @import { Camera, Light, Size } from './camera.js' */
+/** @import { Vec3 } from './linalg.js' */
+/** @import { Info, Scene } from './viewer.js' */
+/** @typedef {number[]} Point  a point on the screen: [x, y] pixels */
+
 const CONE_DEGREES = 25;
 const AXIS_COLOURS = ['#e33', '#3c3', '#37f'];
 
+/** @type {(info: Info) => number} the length of a light's cone, mm */
 export const lightLength = (info) => 0.08 * info.volume.diagonal;
 
 // the cone of `light` on the screen: {apex, outline (convex hull), visible}
+/**
+ * @param {Light} light @param {Camera} cam @param {Size} size @param {number} length
+ * @returns {{apex: Vec3, outline: Point[], visible: boolean}}
+ */
 export function lightCone(light, cam, size, length) {
   const [pos, d] = lightInWorld(light, cam);
   const radius = length * Math.tan(CONE_DEGREES * Math.PI / 180);
@@ -28,8 +38,11 @@ export function lightCone(light, cam, size, length) {
   return { apex: pts[0], outline: visible ? hull(pts.map((p) => [p[0], p[1]])) : [], visible };
 }
 
-function hull(points) {   // monotone chain, counter-clockwise
+// the convex hull, counter-clockwise (monotone chain)
+/** @param {Point[]} points @returns {Point[]} */
+function hull(points) {
   const pts = points.slice().sort((p, q) => p[0] - q[0] || p[1] - q[1]);
+  /** @param {Point[]} seq */
   const half = (seq) => {
     const out = [];
     for (const p of seq) {
@@ -46,6 +59,7 @@ function hull(points) {   // monotone chain, counter-clockwise
   return lower.slice(0, -1).concat(upper.slice(0, -1));
 }
 
+/** @param {Point[]} poly convex @param {Point} p @returns {boolean} */
 function inside(poly, p) {
   if (poly.length < 3) return false;
   let pos = true, neg = true;
@@ -58,8 +72,14 @@ function inside(poly, p) {
 }
 
 // index of the world light whose cone is under (x, y) or within 10 px of its apex, else null (pick_light)
+/**
+ * @param {Light[]} lights @param {Camera} cam @param {Size} size @param {number} length
+ * @param {number} x @param {number} y @returns {number | null}
+ */
 export function pickLight(lights, cam, size, length, x, y) {
-  let best = null, bestD = Infinity;
+  /** @type {number | null} */
+  let best = null;
+  let bestD = Infinity;
   lights.forEach((lt, i) => {
     if (lt.kind === 'headlight' || lt.attach === 'camera') return;
     const c = lightCone(lt, cam, size, length);
@@ -72,22 +92,33 @@ export function pickLight(lights, cam, size, length, x, y) {
 }
 
 // world corners of a crop box (Clipping.crop: voxel indices or world mm) as 12 edges
+/** @param {Info} info @param {Scene['clipping']} clipping @returns {Vec3[][]} */
 function cropEdges(info, clipping) {
   const c = clipping.crop;
   if (!c) return [];
   const a = info.volume.affine;
+  /** @type {(p: Vec3) => Vec3} */
   const world = clipping.crop_space === 'world' ? (p) => p
     : (p) => [0, 1, 2].map((r) => a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2] + a[r][3]);
-  const corner = (i) => world([c[i & 1 ? 1 : 0], c[i & 2 ? 3 : 2], c[i & 4 ? 5 : 4]]);
+  const corner = (/** @type {number} */ i) => world([c[i & 1 ? 1 : 0], c[i & 2 ? 3 : 2], c[i & 4 ? 5 : 4]]);
   const edges = [];
   for (let i = 0; i < 8; i++) for (const bit of [1, 2, 4]) if (!(i & bit)) edges.push([corner(i), corner(i | bit)]);
   return edges;
 }
 
+// draw on the 2-D canvas `canvas` (cleared first) for the scene seen by `camera`; `selected` the index of the
+// selected light (or null), `crosshair` the slice views' world point (or null)
+/**
+ * @param {HTMLCanvasElement} canvas
+ * @param {{info: Info, scene: Scene, camera: Camera, selected: number | null, crosshair: Vec3 | null}} state
+ */
 export function drawOverlay(canvas, { info, scene, camera, selected, crosshair }) {
   const ctx = canvas.getContext('2d');
+  if (!ctx) return;
+  /** @type {Size} */
   const size = [canvas.width, canvas.height];
   ctx.clearRect(0, 0, size[0], size[1]);
+  /** @param {Vec3} p @param {Vec3} q @param {string} colour */
   const line = (p, q, colour) => {
     const a = project(camera, p, size), b = project(camera, q, size);
     if (a[2] <= 0 || b[2] <= 0) return;
@@ -118,6 +149,7 @@ export function drawOverlay(canvas, { info, scene, camera, selected, crosshair }
 }
 
 // world box of the voxel centres (Volume.bounds)
+/** @param {Info} info @returns {[Vec3, Vec3]} */
 export function bounds(info) {
   const a = info.volume.affine, [nz, ny, nx] = info.volume.shape;
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];

@@ -5,10 +5,25 @@
 
 import { getSlice } from './api.js';
 
+/** @import { Slice } from './api.js' */
+/** @import { Vec3 } from './linalg.js' */
+/** @import { Info } from './viewer.js' */
+/**
+ * @typedef {object} View  one plane's picture and lines
+ * @property {HTMLImageElement} img
+ * @property {Slice['map'] | null} map
+ * @property {Slice['cross'] | null} cross
+ * @property {HTMLDivElement} rowLine
+ * @property {HTMLDivElement} colLine
+ */
+
 export const PLANES = ['axial', 'coronal', 'sagittal'];
+/** @type {Record<string, string>} */
 export const PLANE_COLOURS = { axial: 'rgb(60, 120, 255)', coronal: 'rgb(230, 60, 60)', sagittal: 'rgb(60, 200, 60)' };
 
-// the picture's box inside its element (object-fit: contain): [left, top, scale] in CSS pixels
+// the picture's box inside its element (object-fit: contain): [left, top, scale] in CSS pixels, and the
+// element's box
+/** @param {HTMLImageElement} img @returns {[number, number, number, DOMRect]} */
 function fitted(img) {
   const box = img.getBoundingClientRect();
   const s = Math.min(box.width / img.naturalWidth, box.height / img.naturalHeight);
@@ -16,11 +31,21 @@ function fitted(img) {
 }
 
 export class SliceViews {
+  /**
+   * @param {HTMLElement} root
+   * @param {object} options
+   * @param {Info} options.info
+   * @param {number} options.max3d  the browser's 3-D texture size (the server slices the volume it sends)
+   * @param {(crosshair: Vec3) => void} options.onCrosshair  called when a click moved the crosshair
+   */
   constructor(root, { info, max3d, onCrosshair }) {
-    Object.assign(this, { info, max3d, onCrosshair });
+    this.info = info;
+    this.max3d = max3d;
+    this.onCrosshair = onCrosshair;
     const v = info.volume;
     this.window = { ...v.window };  // the server's first window (core.default_window), as the app's
     this.crosshair = v.center.slice();
+    /** @type {Record<string, View>} by plane */
     this.views = {};
     this.seq = 0;
     for (const plane of PLANES) {
@@ -41,6 +66,7 @@ export class SliceViews {
     }
   }
 
+  /** @param {string} plane @param {MouseEvent} e */
   click(plane, e) {
     const { img, map } = this.views[plane];
     if (!map) return;
@@ -51,6 +77,7 @@ export class SliceViews {
     this.onCrosshair(this.crosshair);
   }
 
+  /** @param {number} level @param {number} width */
   setWindow(level, width) {
     this.window = { level, width };
     this.update();

@@ -5,20 +5,32 @@
 
 import { lightAtCamera } from './camera.js';
 
+/** @import { SliceViews } from './slices.js' */
+/** @import { Scene, TransferFunction, Viewer } from './viewer.js' */
+/** @import { XRView } from './xr.js' */
+
 const MODES = ['composite', 'mip', 'minip', 'average', 'isosurface'];
 const SHADINGS = ['none', 'headlight', 'phong', 'shadows', 'scattering'];   // path tracing: cpu and cuda only
 const TONEMAPS = ['auto', 'linear', 'aces'];   // core._tonemap.Display
 
+// a new element `tag` with the properties `props` and the children `children`
+/**
+ * @template {keyof HTMLElementTagNameMap} K
+ * @param {K} tag @param {Partial<HTMLElementTagNameMap[K]>} [props] @param {...(Node | string)} children
+ * @returns {HTMLElementTagNameMap[K]}
+ */
 function el(tag, props = {}, ...children) {
   const e = Object.assign(document.createElement(tag), props);
   e.append(...children);
   return e;
 }
 
+/** @param {string} text @param {HTMLElement} control */
 function labelled(text, control) {
   return el('label', {}, el('span', { textContent: text }), control);
 }
 
+/** @param {string[]} options @param {string} value @param {(value: string) => void} onChange */
 function select(options, value, onChange) {
   const s = el('select');
   for (const o of options) s.append(el('option', { value: o, textContent: o, selected: o === value }));
@@ -26,22 +38,41 @@ function select(options, value, onChange) {
   return s;
 }
 
+/**
+ * @param {number} min @param {number} max @param {number} step @param {number} value
+ * @param {(value: number) => void} onInput
+ */
 function slider(min, max, step, value, onInput) {
-  const s = el('input', { type: 'range', min, max, step, value });
+  const s = el('input', { type: 'range', min: String(min), max: String(max), step: String(step),
+    value: String(value) });
   s.addEventListener('input', () => onInput(Number(s.value)));
   return s;
 }
 
 // TransferFunction.shifted: the inner control points moved by `offset`, clamped between the end points
+/** @param {TransferFunction} tf @param {number} offset @returns {TransferFunction} */
 export function shifted(tf, offset) {
+  /** @param {number[][]} pts */
   const move = (pts) => (pts.length <= 2 ? pts : [pts[0], ...pts.slice(1, -1).map(([v, ...rest]) =>
     [Math.min(Math.max(v + offset, pts[0][0]), pts[pts.length - 1][0]), ...rest]), pts[pts.length - 1]]);
   return { ...tf, color: move(tf.color), opacity: move(tf.opacity) };
 }
 
 export class Panel {
+  /**
+   * @param {HTMLElement} root
+   * @param {object} parts
+   * @param {Viewer} parts.viewer
+   * @param {SliceViews} parts.slices
+   * @param {XRView} parts.xr
+   * @param {boolean} parts.xrAvailable  whether the browser offers immersive-vr sessions
+   */
   constructor(root, { viewer, slices, xr, xrAvailable }) {
-    Object.assign(this, { root, viewer, slices, xr });
+    this.root = root;
+    this.viewer = viewer;
+    this.slices = slices;
+    this.xr = xr;
+    /** @type {number | null} the index of the selected light */
     this.selected = null;
     this.presetName = viewer.scene.transfer.name || viewer.info.presets[0];
     const info = viewer.info;
@@ -54,6 +85,7 @@ export class Panel {
     this.lightList.addEventListener('change', () => this.select(this.lightList.selectedIndex));
     this.iso = slider(lo, hi, span / 500, viewer.scene.isosurface.value, (v) => this.edit({ isosurface:
       { ...viewer.scene.isosurface, value: v } }));
+    this.isoRow = labelled('iso value', this.iso);
     const sc = viewer.scene;
     root.append(
       el('h2', { textContent: 'volumen' }),
@@ -64,7 +96,7 @@ export class Panel {
         this.applyPreset();
       })),
       labelled('mode', select(MODES, sc.mode, (m) => this.setMode(m))),
-      labelled('iso value', this.iso),
+      this.isoRow,
       labelled('shading', select(SHADINGS, sc.shading.mode, (m) => this.edit({ shading: { ...viewer.scene.shading,
         mode: m } }))),
       el('h3', { textContent: 'display' }), ...this.displayControls(),
@@ -86,6 +118,7 @@ export class Panel {
     this.refresh('scene');
   }
 
+  /** @param {Partial<Scene>} changes */
   edit(changes) { this.viewer.setScene({ ...this.viewer.scene, ...changes }); }
 
   applyPreset() {
@@ -93,6 +126,15 @@ export class Panel {
     this.edit({ transfer: shifted(tf, this.shift) });
   }
 
+  // the preset `step` places after the current one in the list (the projections' gray ramp skipped), applied
+  /** @param {number} step */
+  cyclePreset(step) {
+    const names = this.viewer.info.presets.filter((n) => n !== 'mip-gray');
+    this.presetName = names[(names.indexOf(this.presetName) + step + names.length) % names.length];
+    this.applyPreset();
+  }
+
+  /** @param {string} mode */
   setMode(mode) {
     const projection = ['mip', 'minip', 'average'].includes(mode);
     const transfer = projection ? this.viewer.info.transfers['mip-gray']
@@ -100,6 +142,7 @@ export class Panel {
     this.edit({ mode, transfer });
   }
 
+  /** @param {number} i the light's index, or -1: none */
   select(i) {
     this.selected = i >= 0 ? i : null;
     this.viewer.redraw();
@@ -153,9 +196,10 @@ export class Panel {
       labelled('exposure', ev), labelled('metered', metered)];
   }
 
+  /** @param {boolean} available */
   vrControls(available) {
     const enter = el('button', { textContent: 'Enter VR', disabled: !available, onclick: () => this.xr.enter()
-      .catch((e) => this.notice(`VR: ${e.message || e}`)) });
+      .catch((e) => this.notice(`VR: ${(e instanceof Error && e.message) || e}`)) });
     const placement = select(['table-top', 'life-size'], 'table-top', (p) => this.xr.place(p));
     const gov = el('input', { type: 'checkbox', checked: true });
     gov.addEventListener('change', () => { this.xr.governor = gov.checked; });
@@ -164,15 +208,17 @@ export class Panel {
         + 'or desktop Chrome with an OpenXR runtime, over https or localhost)' }));
   }
 
+  /** @param {string} text */
   notice(text) { this.notices.append(el('li', { textContent: text })); }
 
+  /** @param {string} what what changed: a Viewer's Change, or 'xr', 'xr-end', 'governor' */
   refresh(what) {
     const v = this.viewer;
     if (what === 'scene') {
       const names = v.scene.lights.map((lt, i) => `${i + 1}: ${lt.kind} at ${lt.position.map((x) => x.toFixed(0))
         .join(', ')} mm`);
       this.lightList.replaceChildren(...names.map((t, i) => el('option', { textContent: t, selected: i === this.selected })));
-      this.iso.parentElement.hidden = v.scene.mode !== 'isosurface';
+      this.isoRow.hidden = v.scene.mode !== 'isosurface';
     }
     if (what === 'error' && v.error) this.notice(v.error);
     const xr = this.xr.session ? this.xr.stats() : null;

@@ -15,30 +15,77 @@ import { add, column, fromScale, fromTranslation, invertSimilarity, multiply, no
   transformVector, unit } from './linalg.js';
 import { readRGBA } from './gl.js';
 
+/** @import { Camera, PackedCamera } from './camera.js' */
+/** @import { Mat4, Vec3 } from './linalg.js' */
+/** @import { Viewer } from './viewer.js' */
+/** @typedef {XRViewerPose['views'][number]} EyeView  one eye of WebXR's viewer pose (its type XRView) */
+/**
+ * @typedef {object} Hand  a controller's state between frames
+ * @property {boolean[]} pressed  its buttons in the last frame
+ * @property {number | null} light  the index of the light its trigger drags
+ * @property {{start: number[], model: number[]} | null} grab  the hand and the model when the grip was pressed
+ * @property {number[]} [matrix]  its pose (the target ray space's) in the 'local' space
+ * @property {boolean} [stick]  its thumbstick is pushed aside (a preset step taken)
+ */
+/**
+ * @typedef {object} Eye  an eye of the last XR frame
+ * @property {string} eye  'left', 'right' or 'none'
+ * @property {number[]} viewport  [x, y, w, h] in the layer's framebuffer
+ * @property {Camera} camera
+ * @property {{tonemap: string, exposure: number} | null} shown
+ */
+/** @typedef {Eye & {rgba: Uint8Array}} Shot  an eye's picture (RGBA8, rows from the top) */
+
 const BUTTON = { trigger: 0, squeeze: 1, a: 4 };
 // volume axes (RAS) -> room axes (x right, y up, z toward the viewer)
 const TABLE_TOP = [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1];   // lying: anterior up, superior away
 const LIFE_SIZE = [-1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 1];    // standing, facing the viewer
 const GOVERNOR_LEVELS = [[1, 1], [0.5, 1], [0.25, 1], [0.25, 0.75], [0.25, 0.5]];   // (samples per voxel, scale)
 
+/** @returns {Promise<boolean>} */
 export async function xrSupported() {
   return Boolean(navigator.xr && await navigator.xr.isSessionSupported('immersive-vr').catch(() => false));
 }
 
 export class XRView {
+  /**
+   * @param {Viewer} viewer
+   * @param {object} callbacks
+   * @param {(step: number) => void} callbacks.onPreset  a thumbstick asks for the next (1) or previous (-1) preset
+   * @param {(what: string) => void} callbacks.onChange  'xr' (entered), 'xr-end', 'governor' (its level changed)
+   */
   constructor(viewer, { onPreset, onChange }) {
-    Object.assign(this, { viewer, onPreset, onChange });
+    this.viewer = viewer;
+    this.onPreset = onPreset;
+    this.onChange = onChange;
+    /** @type {XRSession | null} */
     this.session = null;
+    /** @type {XRReferenceSpace | null} */
+    this.ref = null;
     this.governor = true;
     this.level = 0;
+    this.base = 1;              // the scene's samples per voxel when the session began (the governor's level 0)
+    /** @type {number[]} */
     this.frameTimes = [];
+    /** @type {((shots: Shot[]) => void)[]} */
     this.captures = [];
+    /** @type {{n: number, resolve: () => void}[]} */
     this.frameWaiters = [];
-    this.hands = new Map();     // handedness -> {buttons, grab, light}
+    /** @type {Map<string, Hand>} by handedness */
+    this.hands = new Map();
     this.placement = 'table-top';
+    /** @type {number[]} the volume's world mm -> the 'local' space */
+    this.model = [];
+    this.place(this.placement);
+    /** @type {Eye[] | undefined} the eyes of the last frame drawn */
+    this.lastEyes = undefined;
+    /** @type {{n: number, ms: number[], resolve: (ms: number) => void} | null} timeFrames' measure in progress */
+    this.timing = null;
   }
 
-  // model matrix: the volume's centre `distance` m ahead of the viewer, `size` m across
+  // model matrix: table-top, the volume 0.4 m across (its diagonal), its centre 0.6 m ahead of the viewer and
+  // 0.25 m below; life-size, the volume at its own size, its centre 1.2 m ahead
+  /** @param {string} kind 'table-top' or 'life-size' */
   place(kind) {
     const v = this.viewer.info.volume;
     this.placement = kind;
@@ -50,6 +97,7 @@ export class XRView {
 
   async enter() {
     const gl = this.viewer.gl;
+    if (!navigator.xr) throw new Error('this browser has no WebXR');
     const session = await navigator.xr.requestSession('immersive-vr');
     await gl.makeXRCompatible?.();
     session.updateRenderState({ baseLayer: new XRWebGLLayer(session, gl) });
@@ -71,6 +119,10 @@ export class XRView {
   async exit() { if (this.session) await this.session.end(); }
 
   // eye of `view` in volume mm: {packed, camera, shift}
+  /**
+   * @param {EyeView} view @param {XRViewport} vp
+   * @returns {{packed: PackedCamera, camera: Camera, shift: number[]}}
+   */
   eye(view, vp) {
     const e = multiply(invertSimilarity(this.model), view.transform.matrix);
     const p = view.projectionMatrix;
@@ -79,19 +131,24 @@ export class XRView {
     return { packed, camera, shift: [-p[8] / 2, -p[9] / 2] };
   }
 
-  onFrame(t, frame) {
+  /** @param {DOMHighResTimeStamp} _time @param {XRFrame} frame */
+  onFrame(_time, frame) {
     const session = frame.session;
     session.requestAnimationFrame((t2, f2) => this.onFrame(t2, f2));
-    const pose = frame.getViewerPose(this.ref);
-    this.controllers(frame);
+    const ref = this.ref, layer = session.renderState.baseLayer;
+    if (!ref || !layer) return;
+    const pose = frame.getViewerPose(ref);
+    this.controllers(frame, ref);
     const viewer = this.viewer;
     if (!pose || !viewer.frame || !viewer.textures.ready) return;
-    const gl = viewer.gl, layer = session.renderState.baseLayer;
+    const gl = viewer.gl;
     const t0 = performance.now();
     gl.bindFramebuffer(gl.FRAMEBUFFER, layer.framebuffer);
     gl.clearColor(0, 0, 0, 1);
     gl.clear(gl.COLOR_BUFFER_BIT);
+    /** @type {Eye[]} */
     const eyes = [];
+    /** @type {number | null} */
     let stops = null;   // the exposure: metered on the first eye (when it is metered), both eyes shown with it
     for (const view of pose.views) {
       const vp = layer.getViewport(view);
@@ -117,13 +174,16 @@ export class XRView {
 
   // milliseconds to draw both eyes, each frame finished (a pixel read back) before the next: the median of
   // `n` frames (the benchmark's measure; the governor's is the time to submit)
+  /** @param {number} n @returns {Promise<number>} */
   timeFrames(n) {
     return new Promise((resolve) => { this.timing = { n, ms: [], resolve }; });
   }
 
+  /** @param {WebGL2RenderingContext} gl @param {number} t0 the frame's start (performance.now()) */
   timeFrame(gl, t0) {
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
     const tm = this.timing;
+    if (!tm) return;
     tm.ms.push(performance.now() - t0);
     if (tm.ms.length >= tm.n) {
       this.timing = null;
@@ -132,22 +192,26 @@ export class XRView {
   }
 
   // resolves after `n` more XR frames were drawn
+  /** @param {number} [n] @returns {Promise<void>} */
   afterFrames(n = 1) {
     return new Promise((resolve) => this.frameWaiters.push({ n, resolve }));
   }
 
   // the next frame's pictures of both eyes (after the pending frame of the server, if any, arrived)
+  /** @returns {Promise<Shot[]>} */
   async capture() {
     await this.viewer.idle();
     return new Promise((resolve) => this.captures.push(resolve));
   }
 
   // ---- controllers ----
-  controllers(frame) {
+  /** @param {XRFrame} frame @param {XRReferenceSpace} ref */
+  controllers(frame, ref) {
     for (const src of frame.session.inputSources) {
       if (!src.gamepad) continue;
-      const ray = frame.getPose(src.targetRaySpace, this.ref);
+      const ray = frame.getPose(src.targetRaySpace, ref);
       if (!ray) continue;
+      /** @type {Hand} */
       const hand = this.hands.get(src.handedness) ?? { pressed: [], light: null, grab: null };
       this.hands.set(src.handedness, hand);
       const b = src.gamepad.buttons.map((x) => x.pressed || x.value > 0.5);
@@ -173,7 +237,10 @@ export class XRView {
   // one hand: the volume follows the hand rigidly (model = hand * hand0^-1 * model0); two hands: it also
   // scales by the change of the distance between them, about their midpoint
   grab() {
-    const grabbing = [...this.hands.values()].filter((h) => h.grab);
+    // a hand's pose is set in every frame it is tracked, before its grab can be
+    const grabbing = [...this.hands.values()].filter(
+      /** @type {(h: Hand) => h is Hand & {grab: {start: number[], model: number[]}, matrix: number[]}} */
+      (h) => Boolean(h.grab && h.matrix));
     if (grabbing.length === 1) {
       const h = grabbing[0];
       this.model = multiply(h.matrix, multiply(invertSimilarity(h.grab.start), h.grab.model));
@@ -188,11 +255,14 @@ export class XRView {
     }
   }
 
+  // the controller pose `m` as a light's position and direction in volume mm (the ray's origin, pointing along it)
+  /** @param {Mat4} m @returns {{position: Vec3, direction: Vec3}} */
   toVolume(m) {
     const inv = invertSimilarity(this.model);
     return { position: transformPoint(inv, column(m, 3)), direction: unit(transformVector(inv, scale(column(m, 2), -1))) };
   }
 
+  /** @param {Hand} hand @param {Mat4} m */
   placeLight(hand, m) {
     const viewer = this.viewer;
     const { position, direction } = this.toVolume(m);
@@ -205,13 +275,16 @@ export class XRView {
     viewer.setScene({ ...sc, shading, lights: [...sc.lights, light] });
   }
 
+  /** @param {Hand} hand @param {Mat4} m */
   dragLight(hand, m) {
-    const viewer = this.viewer;
+    const viewer = this.viewer, i = hand.light;
+    if (i === null) return;
     const lights = viewer.scene.lights.slice();
-    lights[hand.light] = { ...lights[hand.light], ...this.toVolume(m) };
+    lights[i] = { ...lights[i], ...this.toVolume(m) };
     viewer.scene = { ...viewer.scene, lights };   // drawn at once; its shadows when the trigger is released
   }
 
+  /** @param {Mat4} m */
   deleteNearest(m) {
     const viewer = this.viewer;
     const p = this.toVolume(m).position;
@@ -223,6 +296,7 @@ export class XRView {
   }
 
   // ---- frame-time governor ----
+  /** @param {number} drawMs */
   record(drawMs) {
     this.frameTimes.push(drawMs);
     if (this.frameTimes.length > 120) this.frameTimes.shift();
@@ -255,3 +329,4 @@ export class XRView {
       samples_per_voxel: this.viewer.scene.sampling.samples_per_voxel, scale: GOVERNOR_LEVELS[this.level][1] };
   }
 }
+

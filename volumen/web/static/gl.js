@@ -88,11 +88,14 @@ export class Textures {
     this.shape = header.shape;
   }
 
-  // the frame's tables and grids (the arrays of a /frame.bin answer)
+  // the frame's tables and grids (the arrays of a /frame.bin answer); a frame this browser cannot hold throws
+  // before any texture changes, so the last frame's stay bound, matching the header the viewer keeps
   /** @param {Arrays} a */
   setFrame(a) {
     const gl = this.gl;
-    const old = ['lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd'].map((n) => this.tex[n]);
+    const w = this.lvdWidth, n = a.lvd.data.length, rows = Math.ceil(n / w);
+    if (rows > w) throw new Error(`illumination volumes of ${n} values are past this browser's ${w} x ${w} texture`);
+    const old = ['lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd'].map((name) => this.tex[name]);
     /** @param {WireArray} x @param {GLenum} internal @param {GLenum} format */
     const row = (x, internal, format) => texture2d(gl, x.shape[0], 1, internal, format, gl.FLOAT, x.data);
     this.tex.lut = row(a.lut, gl.RGBA32F, gl.RGBA);
@@ -102,8 +105,6 @@ export class Textures {
     this.tex.bflag = texture3d(gl, a.bflag.shape, gl.R8UI, gl.RED_INTEGER, gl.UNSIGNED_BYTE, a.bflag.data, gl.NEAREST);
     this.tex.bmin = texture3d(gl, a.bmin.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmin.data, gl.NEAREST);
     this.tex.bmax = texture3d(gl, a.bmax.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmax.data, gl.NEAREST);
-    const w = this.lvdWidth, n = a.lvd.data.length, rows = Math.ceil(n / w);
-    if (rows > w) throw new Error(`illumination volumes of ${n} values are past this browser's ${w} x ${w} texture`);
     const lvd = new Float32Array(rows * w).fill(1);
     lvd.set(a.lvd.data);
     this.tex.lvd = texture2d(gl, w, rows, gl.R32F, gl.RED, gl.FLOAT, lvd);

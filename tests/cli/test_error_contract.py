@@ -109,7 +109,7 @@ def test_a_missing_manifest_or_path_file_is_one_line(work, capsys):
      ["point (0, 0, 900) mm", "ct.nrrd", "x 0.0..9.0, y 0.0..8.0, z 0.0..14.0 mm"]),
     (["slices", "ct.nrrd", "-o", "shots/deeper", "--at", "-50,4,4"], ["point (-50, 4, 4) mm", "ct.nrrd"]),
     (["fly", "ct.nrrd", "-o", "f.gif", "--start", "0,0,900", "--end", "4,4,4"],
-     ["(0, 0, 900) mm lies outside the scan"]),
+     ["(0.0, 0.0, 900.0) mm lies outside the scan"]),
     (["cpr", "ct.nrrd", "--path", "path.json", "-o", "c.png", "--sections", "99"], ["outside the path (0..14.0 mm)"]),
 ])
 def test_a_point_outside_is_said_in_millimetres_with_the_extent(work, capsys, argv, needles):

@@ -23,9 +23,9 @@ def test_millimetres_read_to_a_tenth():
 
 
 def test_a_volume_says_how_its_values_read():
-    ct = Volume(np.zeros((2, 2, 2), np.int16), spacing=(1, 1, 1))
-    mr = Volume(np.zeros((2, 2, 2), np.float32), spacing=(1, 1, 1), units="")
-    assert values_of(ct)["whole"] and not values_of(mr)["whole"]
+    ct = Volume(np.zeros((2, 2, 2), np.int16), spacing=(1, 1, 1), units="HU")
+    mr = Volume(np.zeros((2, 2, 2), np.int16), spacing=(1, 1, 1))
+    assert value_text(298.972, **values_of(ct)) == "299" and value_text(310.5, **values_of(mr)) == "310.5"
 
 
 def test_the_lumen_line_reads_whole_hounsfield_units():

@@ -153,5 +153,5 @@ def test_a_point_in_soft_tissue_is_in_no_lumen(aorta):
     which point."""
     from volumen.errors import LumenError
 
-    with pytest.raises(LumenError, match=r"the start point \(200, 150, 20\) mm is in no lumen"):
+    with pytest.raises(LumenError, match=r"the start point \(200.0, 150.0, 20.0\) mm is in no lumen"):
         find_lumen(aorta[0], (200.0, 150.0, 20.0), ENDS["left iliac"])

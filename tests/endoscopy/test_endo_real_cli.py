@@ -107,9 +107,9 @@ def test_bad_points_and_masks_get_one_line_and_write_nothing(tmp_path, capsys, t
     colon, airway = torso.meta["truth"]["colon"], torso.meta["truth"]["airway"]
     out = ["-o", str(tmp_path / "f.gif"), "--save-path", str(tmp_path / "f.json"), *TINY]
     _fails(["fly", "phantom:torso", "--start", "-900,0,0", "--end", _p(colon.centerline[-1]), *out], tmp_path,
-           capsys, "the start point (-900, 0, 0) mm lies outside the scan")
+           capsys, "the start point (-900.0, 0.0, 0.0) mm lies outside the scan")
     _fails(["fly", "phantom:torso", "--start", _p(colon.centerline[0]), "--end", "0,0,5000", *out], tmp_path,
-           capsys, "the end point (0, 0, 5000) mm lies outside the scan")
+           capsys, "the end point (0.0, 0.0, 5000.0) mm lies outside the scan")
     _fails(["fly", "phantom:torso", "--start", _p(colon.centerline[0]), "--end", _p(airway.centerline[0]), *out],
            tmp_path, capsys, "lies in a lumen that does not connect to the start point's")
     two = (torso.meta["truth"]["colon"].mask | torso.meta["truth"]["airway"].mask).astype(np.uint8)

@@ -114,7 +114,6 @@ def run(args):
 
     z, y, x = facts["shape_zyx"]
     dz, dy, dx = facts["spacing_mm_zyx"]
-    whole = np.issubdtype(np.dtype(facts["dtype"]), np.integer) if facts["dtype"] else False
     lines = [
         f"name:         {facts['name'] or '-'}",
         f"format:       {facts['format']}",
@@ -125,7 +124,7 @@ def run(args):
         f"(voxel axes i, j, k toward these patient directions)",
         f"origin:       {', '.join(mm_text(v) for v in facts['origin_ras_mm'])} mm (RAS)",
         f"modality:     {facts['modality']}",
-        f"values:       {range_text(*facts['value_range'], facts['units'], whole=whole).replace('..', ' .. ')} "
+        f"values:       {range_text(*facts['value_range'], facts['units']).replace('..', ' .. ')} "
         f"{facts['units']} ({facts['dtype']})",
     ]
     if facts["colour"]:

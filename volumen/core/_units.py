@@ -31,10 +31,9 @@ def range_text(lo: float, hi: float, units: str = "", *, whole: bool = False) ->
 
 
 def values_of(volume) -> dict:
-    """The keywords of :func:`value_text` for ``volume``'s values: its units, and whether it stores integers."""
-    import numpy as np
-
-    return {"units": getattr(volume, "units", "") or "", "whole": bool(np.issubdtype(volume.dtype, np.integer))}
+    """The keywords of :func:`value_text` for ``volume``'s values: its units (a threshold half-way between two
+    integers of a scan in other units is a value of its own: 310.5 stays 310.5)."""
+    return {"units": getattr(volume, "units", "") or ""}
 
 
 def mm_text(value: float) -> str:

@@ -116,10 +116,11 @@ def test_bad_points_and_masks_get_one_line_and_write_nothing(tmp_path, capsys, t
     _nifti(tmp_path / "two.nii.gz", two.transpose(2, 1, 0), torso.affine)
     _fails(["fly", "phantom:torso", "--start", _p(colon.centerline[0]), "--end", _p(airway.centerline[0]),
             "--lumen-mask", str(tmp_path / "two.nii.gz"), *out], tmp_path, capsys,
-           "two.nii.gz: the end point (4, 0, 198.02) mm lies in a part of the mask that does not connect to the start")
+           "two.nii.gz: the end point (4.0, 0.0, 198.0) mm lies in a part of the mask that does not connect to the "
+           "start")
     _fails(["fly", "phantom:torso", "--start", "0,-80,0", "--end", _p(airway.centerline[0]),
             "--lumen-mask", str(tmp_path / "two.nii.gz"), *out], tmp_path, capsys,
-           "two.nii.gz: the start point (0, -80, 0) mm is not in the lumen mask")
+           "two.nii.gz: the start point (0.0, -80.0, 0.0) mm is not in the lumen mask")
     shifted = torso.affine.copy()
     shifted[:3, 3] += 5000.0
     _nifti(tmp_path / "elsewhere.nii.gz", np.ones(torso.shape[::-1], np.uint8), shifted)

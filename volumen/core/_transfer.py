@@ -19,11 +19,14 @@ from ._ct import hu_offset
 from ._display import display_range
 from ._jsondata import JsonData
 
-__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "fitted_preset", "is_color_slab"]
+__all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "fitted_preset", "is_color_slab",
+           "MR_CLEAR"]
 
 Preset = Literal["ct-bone", "ct-skin-bone", "ct-soft-tissue", "ct-vessels", "ct-lung", "ct-cinematic-bone",
                  "ct-cinematic-vessels", "ct-cinematic-soft-tissue", "mr-default", "mip-gray"]
 PRESETS: tuple[str, ...] = get_args(Preset)
+#: the share of its value range at the bottom that ``mr-default`` leaves transparent (an MRI's background)
+MR_CLEAR = 0.1
 
 
 def _points(name: str, pts, width: int) -> tuple[tuple[float, ...], ...]:
@@ -169,10 +172,10 @@ class TransferFunction(JsonData):
         span = hi - lo
         if name == "mip-gray":
             return cls.window_level(span, lo + span / 2, opacity=(1.0, 1.0), name=name)
-        # mr-default: background below 10 % transparent, warm ramp above
+        # mr-default: the background (the bottom MR_CLEAR of the range) transparent, a warm ramp above
         return cls(color=((lo, 0.0, 0.0, 0.0), (lo + 0.15 * span, 0.55, 0.35, 0.3),
                           (lo + 0.5 * span, 0.95, 0.85, 0.75), (hi, 1.0, 1.0, 1.0)),
-                   opacity=((lo, 0.0), (lo + 0.1 * span, 0.0), (lo + 0.3 * span, 0.05),
+                   opacity=((lo, 0.0), (lo + MR_CLEAR * span, 0.0), (lo + 0.3 * span, 0.05),
                             (lo + 0.7 * span, 0.3), (hi, 0.5)), name=name)
 
 

@@ -15,17 +15,18 @@ from __future__ import annotations
 import numpy as np
 
 from ._ct import hu_offset
-from ._display import LABEL_VALUES, display_range
-from ._transfer import MR_CLEAR
-from ._values import SAMPLE
+from ._display import LABEL_VALUES, MR_CLEAR, display_range
+from ._values import SAMPLE, strided_values
 from ._volume import is_chunked
 
-__all__ = ["subject_level", "subject_corners", "SUBJECT_HU", "TAIL"]
+__all__ = ["subject_level", "subject_corners", "subject_floor", "SUBJECT_HU", "TAIL", "FLOOR_PERCENTILE"]
 
 #: a CT's subject starts here (HU): above air and the inside of the lung, below fat and skin
 SUBJECT_HU = -500.0
 #: the share of the subject's sampled voxels each axis's bounds may leave out at either end
 TAIL = 0.001
+#: the percentile of the subject's values where its darkest tissue is taken to start (:func:`subject_floor`)
+FLOOR_PERCENTILE = 5.0
 
 
 def subject_level(volume) -> float:
@@ -37,6 +38,15 @@ def subject_level(volume) -> float:
         return SUBJECT_HU + offset
     lo, hi = display_range(volume)
     return lo + MR_CLEAR * (hi - lo)
+
+
+def subject_floor(volume) -> float | None:
+    """The :data:`FLOOR_PERCENTILE`-th percentile of the subject's values (those of the strided sample above
+    :func:`subject_level`): where its darkest tissue starts; None where no sampled voxel is above the level."""
+    s = strided_values(volume)
+    with np.errstate(invalid="ignore"):
+        inside = s[s > subject_level(volume)]
+    return float(np.percentile(inside, FLOOR_PERCENTILE)) if inside.size else None
 
 
 def _stride(shape) -> int:

@@ -128,8 +128,8 @@ class AppState:
     def set_volume(self, volume, ref: str, *, transfer=None, camera: Camera | None = None) -> None:
         """Show a new volume: camera (``core.default_camera``: anterior, a slab face-on, fitted to the subject),
         crosshair and window reset; without a ``transfer`` (a session's) the compositing mode and transfer function
-        too, as the command line picks them (``render.default_look``: a single slice's MIP), and the shading into and out of a colour slab
-        (unshaded; the lighting chosen for other volumes carries over)."""
+        too, as the command line picks them (``render.default_look``: a single slice's MIP), and the shading into
+        and out of a colour slab (unshaded; the lighting chosen for other volumes carries over)."""
         from ..render import default_look
 
         with self.batch():

@@ -3,8 +3,11 @@
 :func:`cpr_figure` lays out, left to right, the CPR (row 0, the path's start,
 at the top) and a column of cross-sections (:func:`cross_section`), each with a
 coloured frame; the CPR carries a tick of the same colour at both edges and a
-dot on the centerline at the section's arc. The whole figure is enlarged by an
-integer factor (nearest neighbour) to about ``height`` pixels.
+dot on the centerline at the section's arc. The CPR and the column are each
+enlarged by an integer factor (nearest neighbour) to about ``height`` pixels:
+enlarged by the one factor that fitted the taller of them, a short path's CPR
+(VMTK's aorta into an iliac artery: 87 rows beside four sections' 204) filled
+under half the figure's height above a black band.
 """
 
 from __future__ import annotations
@@ -55,18 +58,24 @@ def cpr_figure(volume, centerline, cpr: CPR, marks=(), *, window=None, section_w
         img[r, max(c - 1, 0):c + 2] = color
         tiles.append(_frame(window_grey(cross_section(volume, centerline, s, width=section_width, pixel=cpr.pixel),
                                         window), color))
-    if tiles:
-        col_w = max(t.shape[1] for t in tiles)
-        column = np.zeros((sum(t.shape[0] for t in tiles), col_w, 3), np.uint8)
-        y = 0
-        for t in tiles:
-            column[y:y + t.shape[0], :t.shape[1]] = t
-            y += t.shape[0]
-        h = max(img.shape[0], column.shape[0])
-        fig = np.zeros((h, img.shape[1] + 4 + col_w, 3), np.uint8)
-        fig[:img.shape[0], :img.shape[1]] = img
-        fig[:column.shape[0], img.shape[1] + 4:] = column
-    else:
-        fig = img
-    k = max(1, int(round(height / fig.shape[0])))
-    return np.repeat(np.repeat(fig, k, axis=0), k, axis=1)
+    img = _enlarged(img, height)
+    if not tiles:
+        return img
+    col_w = max(t.shape[1] for t in tiles)
+    column = np.zeros((sum(t.shape[0] for t in tiles), col_w, 3), np.uint8)
+    y = 0
+    for t in tiles:
+        column[y:y + t.shape[0], :t.shape[1]] = t
+        y += t.shape[0]
+    column = _enlarged(column, height)
+    fig = np.zeros((max(img.shape[0], column.shape[0]), img.shape[1] + 4 + column.shape[1], 3), np.uint8)
+    fig[:img.shape[0], :img.shape[1]] = img
+    fig[:column.shape[0], img.shape[1] + 4:] = column
+    return fig
+
+
+def _enlarged(picture: np.ndarray, height: int) -> np.ndarray:
+    """``picture`` enlarged by the integer factor (at least 1, nearest neighbour) that brings it nearest ``height``
+    rows."""
+    k = max(1, int(round(height / picture.shape[0])))
+    return np.repeat(np.repeat(picture, k, axis=0), k, axis=1)

@@ -203,6 +203,6 @@ def test_cpr_window_is_level_and_width_as_in_slices(tmp_path):
     for window, lo_hi in (("40,400", (-160.0, 240.0)), ("bone", (-500.0, 1300.0))):
         out = tmp_path / f"cpr-{window}.png"
         assert main(["cpr", str(tmp_path / "ct.nrrd"), "--path", str(tmp_path / "path.json"), "-o", str(out),
-                     "--window", window, "--sections", "4", "--height", "100"]) == 0
+                     "--window", window, "--sections", "4", "--height", "100", "--width", "40"]) == 0
         expected = cpr_figure(vol, cl, cpr, [4.0], window=lo_hi, section_width=40.0, height=100)
         np.testing.assert_array_equal(np.asarray(PILImage.open(out)), expected)

@@ -116,14 +116,15 @@ class Endoscopy:
             self._collider = Collider(self.lumen_estimate().wall_field(self.drawn_volume()), margin=self.margin)
         return self._collider
 
-    def cpr(self, kind: str = "straightened", width: float = 40.0, sections: int = 4):
-        """``(H, W, 3)`` uint8 picture of the curved planar reformation along the centerline, ``sections``
-        cross-sections evenly spread, marked and shown beside it."""
-        from ..endoscopy import cpr_figure, curved_reformation
+    def cpr(self, kind: str = "straightened", width: float | None = None, sections: int = 4):
+        """``(H, W, 3)`` uint8 picture of the curved planar reformation along the centerline (``width`` mm across,
+        None: ``endoscopy.cpr_width``), ``sections`` cross-sections evenly spread, marked and shown beside it."""
+        from ..endoscopy import cpr_figure, cpr_width, curved_reformation
 
         if self.centerline is None:
             raise ValueError("compute the centerline first")
         cl = self.centerline
+        width = cpr_width(cl) if width is None else width
         marks = list(np.linspace(0.0, cl.length, sections + 2)[1:-1])
         return cpr_figure(self.volume, cl, curved_reformation(self.volume, cl, kind=kind, width=width), marks,
                           section_width=width)

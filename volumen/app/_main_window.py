@@ -30,7 +30,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..core import VIEWS, WINDOW_PRESETS, Camera
+from ..core import VIEWS, WINDOW_PRESETS, default_camera
 from ._clip_panel import ClipPanel
 from ._endo_panel import EndoscopyPanel
 from ._frame import FrameJob
@@ -158,7 +158,7 @@ class MainWindow(QMainWindow):
     def set_view(self, view: str) -> None:
         """One of the six anatomical views (``volumen.core.VIEWS``)."""
         if self.state.volume is not None:
-            self.state.set_camera(Camera.anatomical(self.state.volume, view))
+            self.state.set_camera(default_camera(self.state.volume, view=view))
 
     # -- errors ---------------------------------------------------------------
     def report_error(self, title: str, message: str):

@@ -18,7 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import Camera, Scene, Window, canonical, default_iso, default_window, is_color_slab
+from ..core import Camera, Scene, Window, canonical, default_camera, default_iso, default_window, is_color_slab
 from ..render import Technique, resolve_device
 
 __all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
@@ -126,10 +126,10 @@ class AppState:
 
     # -- data ---------------------------------------------------------------
     def set_volume(self, volume, ref: str, *, transfer=None, camera: Camera | None = None) -> None:
-        """Show a new volume: camera (``Camera.anatomical``: anterior, a slab face-on), crosshair and window reset;
-        without a ``transfer`` (a session's) the compositing mode and transfer function too, as the command line picks
-        them (``render.default_look``: a single slice's MIP), and the shading into and out of a colour slab
-        (unshaded; the lighting chosen for other volumes carries over)."""
+        """Show a new volume: camera (``core.default_camera``: anterior, a slab face-on, fitted to the subject),
+        crosshair and window reset; without a ``transfer`` (a session's) the compositing mode and transfer function
+        too, as the command line picks them (``render.default_look``: a single slice's MIP), and the shading into
+        and out of a colour slab (unshaded; the lighting chosen for other volumes carries over)."""
         from ..render import default_look
 
         with self.batch():
@@ -147,7 +147,7 @@ class AppState:
                 mode, tf = self.scene.mode, transfer
             self.scene = replace(self.scene, volume=volume, volume_ref=ref, transfer=tf, mode=mode, shading=shading,
                                  isosurface=iso, clipping=replace(self.scene.clipping, crop=None))
-            self.camera = camera if camera is not None else Camera.anatomical(volume)
+            self.camera = camera if camera is not None else default_camera(volume)
             self.crosshair = np.asarray(volume.center, float)
             self.window = default_window(volume)
             self.mask = self.mask_canonical = None

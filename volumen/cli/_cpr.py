@@ -30,10 +30,12 @@ def register(sub):
     p.add_argument("--kind", choices=["straightened", "stretched"], default="straightened",
                    help="straightened (default): the centerline straight down the middle; stretched: along a fixed "
                         "direction, the vessel keeps its course")
-    p.add_argument("--width", type=float, default=40.0, help="width across the path, mm (default 40)")
+    p.add_argument("--width", type=float, help="width across the path, mm (default: 8 times the path's median "
+                   "lumen radius, the lumen a quarter of it; 40 along a keyframe path)")
     p.add_argument("--sections", help="arc lengths S1,S2,... (mm) of the cross-sections to mark and show "
                                       "(default: four evenly spread)")
-    p.add_argument("--window", help=f"{WINDOW_HELP} (default: the path's 1st..99.5th percentile)")
+    p.add_argument("--window", help=f"{WINDOW_HELP} (default: the lumen and the tissue round it a quarter and three "
+                   "quarters up the ramp, a vascular window)")
     p.add_argument("--height", type=int, default=600, help="approximate picture height in pixels (default 600)")
     add_load_options(p)
     return p
@@ -63,7 +65,7 @@ def load_centerline(path):
 def run(args):
     from PIL import Image as PILImage
 
-    from volumen.endoscopy import cpr_figure, curved_reformation
+    from volumen.endoscopy import cpr_figure, cpr_width, curved_reformation
 
     out = Path(args.out)
     if out.suffix.lower() != ".png":
@@ -76,11 +78,12 @@ def run(args):
     bad = [s for s in marks if not 0.0 <= s <= cl.length]
     if bad:
         raise ValueError(f"--sections {bad} mm lie outside the path (0..{cl.length:.1f} mm)")
-    cpr = curved_reformation(volume, cl, kind=args.kind, width=args.width)
-    fig = cpr_figure(volume, cl, cpr, marks, window=window and window.range, section_width=args.width,
+    width = args.width or cpr_width(cl)
+    cpr = curved_reformation(volume, cl, kind=args.kind, width=width)
+    fig = cpr_figure(volume, cl, cpr, marks, window=window and window.range, section_width=width,
                      height=args.height)
     out.parent.mkdir(parents=True, exist_ok=True)
     PILImage.fromarray(fig).save(out)
     print(f"{out}: {args.kind} CPR {cpr.values.shape[1]}x{cpr.values.shape[0]} px of {cpr.pixel:.2f} mm along "
-          f"{cl.length:.1f} mm; cross-sections at {', '.join(f'{s:.1f}' for s in marks)} mm")
+          f"{cl.length:.1f} mm, {width:.1f} mm across; cross-sections at {', '.join(f'{s:.1f}' for s in marks)} mm")
     return 0

@@ -171,6 +171,7 @@ def build(args, base: dict | None, volume):
         Sampling,
         Scene,
         TransferFunction,
+        default_camera,
         default_iso,
         fitted_preset,
     )
@@ -242,7 +243,7 @@ def build(args, base: dict | None, volume):
         prev = (base or {}).get("orbit", {})
         orbit = {k: (v if v is not None else prev.get(k)) for k, v in cam_flags.items()}
         orbit = {k: v for k, v in orbit.items() if v is not None}
-        camera = Camera.orbit(volume, **orbit)
+        camera = default_camera(volume, **orbit)
         cam_flags = orbit
     size = _size(args.size) or (tuple(base["size"]) if base else (512, 512))
     background = parse_point(args.background) if args.background else tuple((base or {}).get("background", (0, 0, 0)))

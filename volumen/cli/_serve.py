@@ -60,7 +60,7 @@ def register(sub):
 
 
 def _scene_and_camera(args, volume):
-    from volumen.core import Camera, Display, Isosurface, Scene, Shading, default_iso, fitted_preset
+    from volumen.core import Camera, Display, Isosurface, Scene, Shading, default_camera, default_iso, fitted_preset
     from volumen.render import default_look
 
     if args.settings:
@@ -73,7 +73,7 @@ def _scene_and_camera(args, volume):
     else:
         mode, tf, _ = default_look(volume, transfer_named=bool(args.preset))  # the page refuses colour volumes
         scene = Scene(volume=volume, transfer=tf, mode=mode, isosurface=Isosurface(value=default_iso(volume)))
-        camera = Camera.orbit(volume, view=args.view, azimuth=args.azimuth, elevation=args.elevation, zoom=args.zoom)
+        camera = default_camera(volume, view=args.view, azimuth=args.azimuth, elevation=args.elevation, zoom=args.zoom)
     if args.preset:
         scene = scene.with_(transfer=fitted_preset(args.preset, volume))
     if args.shift:

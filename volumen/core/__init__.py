@@ -5,7 +5,7 @@ Image, Volume and Mesh show themselves in notebooks through pictures made above 
 (:mod:`volumen.notebook.pictures`, registered by the root package: :mod:`._repr`)."""
 
 from . import gestures
-from ._camera import VIEWS, Camera, default_view
+from ._camera import FITS, SUBJECT_FILL, VIEWS, Camera, default_camera, default_view
 from ._ct import is_ct
 from ._display import default_iso, display_range, drawable_range, table_range
 from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
@@ -39,6 +39,7 @@ from ._slices import (
     slice_image,
     window_to_uint8,
 )
+from ._subject import subject_corners, subject_level
 from ._tonemap import TONEMAPS, Display
 from ._transfer import PRESETS, TransferFunction, default_preset, fitted_preset, hu_offset, is_color_slab
 from ._units import mm_text, range_text, value_text, values_of
@@ -63,6 +64,11 @@ __all__ = [
     "Camera",
     "VIEWS",
     "default_view",
+    "default_camera",
+    "FITS",
+    "SUBJECT_FILL",
+    "subject_corners",
+    "subject_level",
     "TransferFunction",
     "PRESETS",
     "default_preset",

@@ -25,10 +25,16 @@ from typing import Literal, get_args
 import numpy as np
 
 from ._jsondata import JsonData
+from ._subject import subject_corners
 
-__all__ = ["Camera", "Projection", "View", "VIEWS", "default_view"]
+__all__ = ["Camera", "Projection", "View", "VIEWS", "Fit", "FITS", "SUBJECT_FILL", "default_view", "default_camera"]
 
 Projection = Literal["perspective", "orthographic"]
+#: what :meth:`Camera.orbit` frames: the volume's bounding sphere, or its subject's box seen from the eye
+Fit = Literal["volume", "subject"]
+FITS: tuple[str, ...] = get_args(Fit)
+#: the share of the picture's height the subject's box spans in the camera fitted to it
+SUBJECT_FILL = 0.9
 View = Literal["anterior", "posterior", "left", "right", "superior", "inferior"]
 VIEWS: tuple[str, ...] = get_args(View)
 
@@ -194,13 +200,13 @@ class Camera(JsonData):
     # -- framing a volume ---------------------------------------------------
     @classmethod
     def anatomical(cls, volume, view: View | None = None, *, projection: Projection = "perspective",
-                   fov: float = 30.0, zoom: float = 1.0) -> Camera:
-        """The camera of one of the six anatomical views, framing the whole volume.
+                   fov: float = 30.0, zoom: float = 1.0, fit: Fit = "volume") -> Camera:
+        """The camera of one of the six anatomical views, framing the volume (or its subject: ``fit``).
 
         Parameters
         ----------
         volume : Volume
-            Framed by its voxel-centre bounding sphere (world RAS+).
+            Framed by its voxel-centre bounding sphere (world RAS+), or by its subject's box (``fit``).
         view : {"anterior", "posterior", "left", "right", "superior", "inferior"} or None
             The side of the patient the eye is on (None: :func:`default_view`, anterior unless the volume is a
             slab such as a single slice). Lateral, anterior and
@@ -210,13 +216,15 @@ class Camera(JsonData):
             As in :class:`Camera`.
         zoom : float
             > 1 magnifies (the eye moves closer, or the parallel scale shrinks).
+        fit : {"volume", "subject"}
+            As in :meth:`orbit`.
         """
-        return cls.orbit(volume, view=view, projection=projection, fov=fov, zoom=zoom)
+        return cls.orbit(volume, view=view, projection=projection, fov=fov, zoom=zoom, fit=fit)
 
     @classmethod
     def orbit(cls, volume, *, azimuth: float = 0.0, elevation: float = 0.0, zoom: float = 1.0,
               view: View | None = None, projection: Projection = "perspective",
-              fov: float = 30.0) -> Camera:
+              fov: float = 30.0, fit: Fit = "volume") -> Camera:
         """A camera on a sphere around the volume's centre, starting from an anatomical view.
 
         The eye starts on the ``view`` side (see :meth:`anatomical`; None: :func:`default_view`); then
@@ -227,36 +235,69 @@ class Camera(JsonData):
         right axis toward the up side (from anterior, elevation 90 looks down
         from superior). ``up`` turns with the eye.
 
-        The distance is chosen so the volume's bounding sphere (of its voxel
+        ``fit="volume"``: the distance is chosen so the volume's bounding sphere (of its voxel
         centres) fits in the vertical field of view; for orthographic
-        projection ``parallel_scale`` is the sphere's radius. Both are divided
-        by ``zoom``.
+        projection ``parallel_scale`` is the sphere's radius. ``fit="subject"``: the camera looks at the
+        centre of the subject's box (``core.subject_corners``: what the default transfer function shows, not
+        the air or background around it) from as far as makes that box, seen from the eye, span
+        :data:`SUBJECT_FILL` of the picture's height (and as much of a square picture's width); the parallel
+        scale is its half-extent over :data:`SUBJECT_FILL`. Both are divided by ``zoom``.
         """
         view = default_view(volume) if view is None else view
         _check_choice("view", view, VIEWS)
         _check_choice("projection", projection, get_args(Projection))
+        _check_choice("fit", fit, FITS)
         if not zoom > 0:
             raise ValueError(f"zoom must be > 0, got {zoom}")
-        centre = np.asarray(volume.center, dtype=float)
-        radius = max(volume.diagonal / 2, min(volume.spacing))
-        back, up = (np.array(v) for v in _VIEW_DIRS[view])
-        back = _rotate(back, up, azimuth)
-        right = np.cross(-back, up)
-        right /= np.linalg.norm(right)
-        back = _rotate(back, right, -elevation)
-        up = _rotate(up, right, -elevation)
-        if projection == "perspective":
-            dist = radius / np.sin(np.radians(fov) / 2) / zoom
-            scale = radius / zoom
+        back, up = _orbit_axes(view, azimuth, elevation)
+        floor = min(volume.spacing)
+        radius = max(volume.diagonal / 2, floor)
+        if fit == "subject":
+            centre, dist, scale = _fit_subject(subject_corners(volume), back, up, fov, floor)
         else:
-            dist = 2.0 * radius + 10.0 * min(volume.spacing)
-            scale = radius / zoom
+            centre, dist, scale = np.asarray(volume.center, dtype=float), radius / np.sin(np.radians(fov) / 2), radius
+        dist = dist / zoom if projection == "perspective" else 2.0 * radius + 10.0 * floor
         return cls(position=tuple(centre + back * dist), target=tuple(centre), up=tuple(up), fov=fov,
-                   projection=projection, parallel_scale=scale)
+                   projection=projection, parallel_scale=scale / zoom)
 
     def with_(self, **changes) -> Camera:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
+
+
+def _orbit_axes(view: str, azimuth: float, elevation: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(back, up)``: the unit vector from the target to the eye and the picture's up, of ``view`` turned by
+    ``azimuth`` about its up axis, then by ``elevation`` about the camera's right axis (:meth:`Camera.orbit`)."""
+    back, up = (np.array(v) for v in _VIEW_DIRS[view])
+    back = _rotate(back, up, azimuth)
+    right = np.cross(-back, up)
+    right /= np.linalg.norm(right)
+    return _rotate(back, right, -elevation), _rotate(up, right, -elevation)
+
+
+def _fit_subject(corners: np.ndarray, back: np.ndarray, up: np.ndarray, fov: float,
+                 floor: float) -> tuple[np.ndarray, float, float]:
+    """``(target, distance, parallel scale)`` fitting the box of ``corners`` ((8, 3) world mm) seen along
+    ``-back`` with ``up`` up: each corner within :data:`SUBJECT_FILL` of the half field of view across and up,
+    at its own depth (the near face looks larger), half-extents at least ``floor`` mm."""
+    centre = corners.mean(axis=0)
+    rel = corners - centre
+    right = np.cross(-back, up)
+    right /= np.linalg.norm(right)
+    across = np.maximum(np.abs(rel @ right), np.abs(rel @ up))
+    half = max(float(across.max()), floor)
+    slope = np.tan(np.radians(fov) / 2) * SUBJECT_FILL
+    dist = max(float(np.max(across / slope + rel @ back)), half / slope)
+    return centre, dist, half / SUBJECT_FILL
+
+
+def default_camera(volume, *, view: View | None = None, azimuth: float = 0.0, elevation: float = 0.0,
+                   zoom: float = 1.0, projection: Projection = "perspective") -> Camera:
+    """The camera a volume is first shown with where none is named: :meth:`Camera.orbit` fitted to the subject
+    (``fit="subject"``), the one answer of ``render_volume``, the command line, the app, the notebook and the
+    browser page."""
+    return Camera.orbit(volume, view=view, azimuth=azimuth, elevation=elevation, zoom=zoom, projection=projection,
+                        fit="subject")
 
 
 def _cross(a, b) -> tuple[float, float, float]:

@@ -49,7 +49,7 @@ from ._values import strided_values
 from ._volume import is_chunked
 
 __all__ = ["display_range", "table_range", "drawable_range", "default_iso", "OUTLIER_FACTOR", "TOP_PERCENTILE",
-           "LABEL_VALUES", "BONE_ISO_HU", "REACH", "FLOOR_GAP", "FILL_SHARE", "CT_FLOOR_HU"]
+           "LABEL_VALUES", "BONE_ISO_HU", "REACH", "FLOOR_GAP", "FILL_SHARE", "CT_FLOOR_HU", "MR_CLEAR"]
 
 #: the percentile of the foreground values that the display range may end at
 TOP_PERCENTILE = 99.9
@@ -63,8 +63,10 @@ BONE_ISO_HU = 300.0
 _KEEP_TOP = ("PT", "NM", "SEG", "RTDOSE")
 #: how many display ranges past the minimum a renderer's table reaches at most (:func:`table_range`)
 REACH = 16.0
+#: the share of the display range at its bottom that ``mr-default`` leaves transparent (an MRI's background)
+MR_CLEAR = 0.1
 #: a negative minimum is a fill value where the voxels above it start more than this share of the range above it
-#: (half of the transparent tenth at the bottom of ``mr-default``: a background lifted past it turns milky) ...
+#: (half of the transparent bottom of ``mr-default``, :data:`MR_CLEAR`: a background lifted past it turns milky) ...
 FLOOR_GAP = 0.05
 #: ... and at least this share of the sampled voxels hold it (a region; the minimum of noise is one voxel)
 FILL_SHARE = 0.001

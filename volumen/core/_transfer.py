@@ -16,8 +16,9 @@ import numpy as np
 
 from ..errors import UnknownChoiceError
 from ._ct import hu_offset
-from ._display import display_range
+from ._display import MR_CLEAR, display_range
 from ._jsondata import JsonData
+from ._subject import subject_floor
 
 __all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "fitted_preset", "is_color_slab"]
 
@@ -169,10 +170,10 @@ class TransferFunction(JsonData):
         span = hi - lo
         if name == "mip-gray":
             return cls.window_level(span, lo + span / 2, opacity=(1.0, 1.0), name=name)
-        # mr-default: background below 10 % transparent, warm ramp above
+        # mr-default: the background (the bottom MR_CLEAR of the range) transparent, a warm ramp above
         return cls(color=((lo, 0.0, 0.0, 0.0), (lo + 0.15 * span, 0.55, 0.35, 0.3),
                           (lo + 0.5 * span, 0.95, 0.85, 0.75), (hi, 1.0, 1.0, 1.0)),
-                   opacity=((lo, 0.0), (lo + 0.1 * span, 0.0), (lo + 0.3 * span, 0.05),
+                   opacity=((lo, 0.0), (lo + MR_CLEAR * span, 0.0), (lo + 0.3 * span, 0.05),
                             (lo + 0.7 * span, 0.3), (hi, 0.5)), name=name)
 
 
@@ -240,13 +241,18 @@ def default_preset(volume, mode: str | None = "composite") -> TransferFunction:
 def fitted_preset(name: str, volume) -> TransferFunction:
     """Preset ``name`` for ``volume``: a Hounsfield-unit preset moved onto a CT's stored values (:func:`hu_offset`);
     ``mr-default`` over the volume's display range (:func:`display_range`: its data range, less far outliers);
-    ``mip-gray`` from the display range's bottom (past a fill cut off) to the data's maximum (a projection's
-    brightest voxels are often its finding: an angiogram). Every place that names a preset for a volume asks here,
+    ``mip-gray`` over the display range (a CT's and a PET's: the data range; a projection's brightest voxels are
+    often its finding, an angiogram's vessels, which the cut of far outliers leaves), from the subject's darkest
+    tissue (:func:`subject_floor`) in a scan that is not a CT: a projection shows the brightest voxel along each
+    ray, so through an MRI's subject never its background, and spanned from the background the subject took the
+    top third of the ramp (milky). Every place that names a preset for a volume asks here,
     so a preset picked again is the default it was."""
     if name in _CT_PRESETS:
         tf, offset = TransferFunction.preset(name), hu_offset(volume)
         return tf.shifted(offset) if offset else tf
-    lo, hi = volume.value_range()
-    bottom, top = display_range(volume, (lo, hi))
-    return TransferFunction.preset(name, value_range=(bottom, top) if name == "mr-default" else (bottom, hi))
+    bottom, top = display_range(volume)
+    if name == "mip-gray" and not volume.is_color and hu_offset(volume) is None:
+        floor = subject_floor(volume)
+        bottom = bottom if floor is None or not floor < top else max(bottom, floor)
+    return TransferFunction.preset(name, value_range=(bottom, top))
 

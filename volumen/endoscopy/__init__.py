@@ -30,8 +30,8 @@ from ._stamp import stamped as stamped  # first: our kernels inline the ray cast
 from ._aim import aim_keyframes
 from ._centerline import Centerline, compute_centerline
 from ._collision import Collider, MoveResult
-from ._cpr import CPR, cross_section, curved_reformation
-from ._cpr_figure import cpr_figure
+from ._cpr import CPR, cpr_width, cross_section, curved_reformation
+from ._cpr_figure import cpr_figure, vessel_window
 from ._flight import Flight
 from ._flythrough import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
 from ._keyframes import Keyframe, KeyframePath, catmull_rom
@@ -97,4 +97,6 @@ __all__ = [
     "curved_reformation",
     "cross_section",
     "cpr_figure",
+    "cpr_width",
+    "vessel_window",
 ]

@@ -25,9 +25,21 @@ from typing import Literal
 
 import numpy as np
 
-__all__ = ["CPR", "curved_reformation", "cross_section", "sample_world"]
+__all__ = ["CPR", "curved_reformation", "cross_section", "sample_world", "cpr_width", "WIDTH_RADII", "WIDTH_MM"]
 
 CPR_KINDS = ("straightened", "stretched")
+#: a CPR is this many of its path's median lumen radii wide: the lumen a quarter of it, the wall and the tissue
+#: round it the rest (a fixed 40 mm was all lumen along a colon and a sliver along a small artery)
+WIDTH_RADII = 8.0
+#: ... or this wide (mm) along a path that carries no radius (a keyframe path)
+WIDTH_MM = 40.0
+
+
+def cpr_width(centerline) -> float:
+    """The width (mm) a CPR along ``centerline`` is drawn with where none is named: :data:`WIDTH_RADII` times its
+    median lumen radius, :data:`WIDTH_MM` where it has none."""
+    radius = float(np.median(centerline.radius)) if len(centerline.radius) else 0.0
+    return WIDTH_RADII * radius if radius > 0 else WIDTH_MM
 
 
 def sample_world(volume, points) -> np.ndarray:
@@ -112,7 +124,7 @@ def _stretched(volume, cl, width, pixel, direction):
 
 
 def curved_reformation(volume, centerline, *, kind: Literal["straightened", "stretched"] = "straightened",
-                       width: float = 40.0, pixel: float | None = None, angle: float = 0.0,
+                       width: float | None = None, pixel: float | None = None, angle: float = 0.0,
                        direction=None) -> CPR:
     """A CPR of ``volume`` along ``centerline``.
 
@@ -121,9 +133,9 @@ def curved_reformation(volume, centerline, *, kind: Literal["straightened", "str
     volume : Volume
     centerline : Centerline
     kind : {"straightened", "stretched"}
-    width : float, mm
+    width : float or None, mm
         Extent across the path (straightened), or margin around the curve's
-        extent along ``direction`` (stretched).
+        extent along ``direction`` (stretched); None: :func:`cpr_width`.
     pixel : float, mm
         Pixel size (default: the smallest voxel spacing).
     angle : float, degrees
@@ -138,6 +150,7 @@ def curved_reformation(volume, centerline, *, kind: Literal["straightened", "str
     if kind not in CPR_KINDS:
         raise ValueError(f"kind must be one of {', '.join(CPR_KINDS)}; got {kind!r}")
     pixel = float(min(volume.spacing)) if pixel is None else float(pixel)
+    width = cpr_width(centerline) if width is None else float(width)
     if not (pixel > 0 and width > 0):
         raise ValueError(f"pixel and width must be > 0 mm, got {pixel}, {width}")
     if kind == "straightened":

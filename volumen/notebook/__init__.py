@@ -27,7 +27,7 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
         A volume is drawn as ``volumen render`` draws it with no flags (``volumen.render.default_look``: a single
         slice's MIP, a colour slab opaque and unshaded), or with ``preset``.
     camera : Camera, optional
-        Default: ``Camera.orbit(volume)`` (the anterior view).
+        Default: ``core.default_camera(volume)`` (the anterior view, fitted to the subject).
     size : (width, height), pixels of the 3-D view
     slices : bool
         Show the linked axial / coronal / sagittal views with window and level.
@@ -44,7 +44,7 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
     Viewer
         An ipywidgets box; ``.scene``, ``.camera`` (settable), ``.wait()``, ``.frame``, ``.snapshot_html()``.
     """
-    from ..core import Camera, Scene, Volume
+    from ..core import Scene, Volume, default_camera
     from ..errors import require
 
     for package in ("ipywidgets", "jupyter_rfb"):
@@ -69,7 +69,7 @@ def show(volume_or_scene, camera=None, *, size=(384, 384), slices: bool = True, 
         raise ValueError(f"show takes a Volume or a Scene, got {type(volume_or_scene).__name__}")
     if scene.volume is None:
         raise ValueError("the scene has no volume attached (Scene(volume=...))")
-    return Viewer(scene, camera or Camera.orbit(scene.volume), size, slices=slices, **how)
+    return Viewer(scene, camera or default_camera(scene.volume), size, slices=slices, **how)
 
 
 def phantom_ref(volume) -> str:

@@ -13,6 +13,7 @@ from ..core import (
     Scene,
     Shading,
     TransferFunction,
+    default_camera,
     default_iso,
     default_preset,
     fitted_preset,
@@ -226,7 +227,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
         A preset name (``volumen.core.PRESETS``) or a transfer function;
         None picks :func:`default_transfer`.
     view, azimuth, elevation, zoom, projection :
-        As in :meth:`volumen.core.Camera.orbit`.
+        As in :meth:`volumen.core.Camera.orbit`; the camera is fitted to the subject (``core.default_camera``).
     mode : {"composite", "mip", "minip", "average", "isosurface"} or None
         None: composite, or with no ``preset`` :func:`default_mode` (MIP for a scalar slab).
     size : (width, height), pixels
@@ -249,7 +250,7 @@ def render_volume(volume, *, preset: Preset | TransferFunction | None = None, vi
         iso_value = default_iso(volume)
     scene = Scene(volume=volume, transfer=tf, mode=mode, shading=Shading(mode=shading or shaded),
                   sampling=Sampling(samples_per_voxel=samples_per_voxel), isosurface=Isosurface(value=iso_value))
-    camera = Camera.orbit(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
+    camera = default_camera(volume, azimuth=azimuth, elevation=elevation, zoom=zoom, view=view, projection=projection)
     return render(scene, camera, size, device=device, technique=technique, **options)
 
 

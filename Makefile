@@ -16,7 +16,7 @@ DEMO_STAMP := $(VENV)/.installed-demo
 # kernels side by side; whole files per worker left one long file running alone); Numba caches them beside the sources
 PYTEST_ARGS ?= -n 2 --dist worksteal
 
-.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps lint-web clean
+.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps lint-web readme-venv clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -32,10 +32,32 @@ $(STAMP): pyproject.toml | $(PY)
 
 install: $(STAMP)
 
+# make demo's install, into the venv $(1): volumen with every user extra, byte-compiled on every core
+define demo_install
+	$(1)/bin/python -m pip install --quiet --no-compile -e ".[$(DEMO_EXTRAS)]"
+	-$(1)/bin/python -m compileall -q -j 0 $(1)/lib >/dev/null 2>&1
+endef
+
 $(DEMO_STAMP): pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet --no-compile -e ".[$(DEMO_EXTRAS)]"
-	-$(PY) -m compileall -q -j 0 $(VENV)/lib >/dev/null 2>&1
+	$(call demo_install,$(VENV))
 	touch $(DEMO_STAMP)
+
+# The README's commands are run by tests/test_readme.py with a venv of their own made by make demo's recipe (every
+# user extra, none of the test tools), so a command that needs a package only the test extra brings fails the
+# suite as it would fail a new user; where it cannot be made (no registry), the test runs them in the test venv and
+# says so
+README_VENV := .venv-readme
+README_STAMP := $(README_VENV)/.installed-demo
+$(README_STAMP): pyproject.toml
+	rm -rf $(README_VENV)
+	$(PYTHON) -m venv $(README_VENV)
+	$(README_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(call demo_install,$(README_VENV))
+	touch $(README_STAMP)
+
+readme-venv:
+	@$(MAKE) --no-print-directory $(README_STAMP) || \
+	  (rm -rf $(README_VENV); echo "the README's venv could not be made: its commands run in the test venv")
 
 # Optional real data: Debian's mricron-data ships MRI brain templates used by
 # volumen.data.sample(). Installing it needs root and apt; when that is not
@@ -129,7 +151,7 @@ demo: $(DEMO_STAMP)
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff]); the test extra installs
 # the CUDA compiler's libraries, so the CUDA kernels' PTX check must run, not skip (VOLUMEN_REQUIRE_PTX)
-test: $(STAMP) system-data system-libs browser pacs-server web-deps
+test: $(STAMP) system-data system-libs browser pacs-server web-deps readme-venv
 	$(VENV)/bin/ruff check volumen tests
 	VOLUMEN_REQUIRE_PTX=1 $(PY) -m pytest $(PYTEST_ARGS)
 
@@ -146,4 +168,4 @@ huge: $(STAMP)
 	$(VENV)/bin/volumen bench scale --huge
 
 clean:
-	rm -rf $(VENV) out test-output .web-deps
+	rm -rf $(VENV) $(README_VENV) out test-output .web-deps

@@ -18,6 +18,8 @@ reader's own data are made here:
   ``dicomweb://`` commands skip, saying so, where Orthanc is not installed).
 * ``cert.pem`` / ``key.pem``: a self-signed certificate made with ``openssl`` (the https line skips without it).
 
+The commands run with the README's own venv where ``make readme-venv`` (``make test`` does) made it with make demo's
+recipe: every user extra and none of the test tools, as a new user has them; else in this process, saying so.
 ``volumen serve`` answers one request for ``info.json`` with its token (over https where it serves https) and
 stops instead of serving until Ctrl-C, and opens no browser; its ``--screenshot`` lines run headless Chromium
 in a small window (they skip, saying so, without Chromium, or without the iwer emulator for ``--vr``).
@@ -36,6 +38,8 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+#: the README's own venv (``make readme-venv``: make demo's recipe); without it the commands run in this process
+VENV_PYTHON = ROOT / ".venv-readme" / "bin" / "python"
 SERIES = "1.2.840.99.1"
 STUDY = "1.2.840.99"
 SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"},
@@ -240,6 +244,52 @@ def _uses_archive(argv: list[str]) -> bool:
     return argv[0] == "pacs" or any(a.startswith(("dicomweb://", "dimse://")) for a in argv)
 
 
+def _serve_in(argv: list[str], workdir: Path, env: dict) -> tuple[int, str]:
+    """``volumen serve`` in the README's venv: started, asked for info.json with the token from the address it
+    prints, stopped."""
+    import json
+    import ssl
+    import subprocess
+    import urllib.parse
+    import urllib.request
+
+    argv = argv if "--no-browser" in argv else [*argv, "--no-browser"]
+    proc = subprocess.Popen([str(VENV_PYTHON), "-m", "volumen", *argv], cwd=workdir, env=env, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    ok, why = False, "no answer"
+    try:
+        url = urllib.parse.urlsplit(proc.stdout.readline().strip())
+        token = urllib.parse.parse_qs(url.query).get("token", [""])[0]
+        ctx = ssl._create_unverified_context() if url.scheme == "https" else None  # the test's self-signed cert
+        req = urllib.request.Request(f"{url.scheme}://127.0.0.1:{url.port}/info.json",
+                                     headers={"X-Volumen-Token": token})
+        with urllib.request.urlopen(req, timeout=120, context=ctx) as r:
+            ok = r.status == 200 and "volume" in json.loads(r.read())
+    except (OSError, ValueError) as exc:
+        ok, why = False, f"{type(exc).__name__}: {exc}"
+    finally:
+        proc.terminate()
+        err = proc.communicate(timeout=60)[1]
+    return (0, err) if ok else (1, f"{why}; {err}")
+
+
+def _run_in_readme_venv(argv: list[str], workdir: Path) -> tuple[int, str]:
+    """``(exit code, stderr)`` of ``volumen ARGV`` run by the README's venv (``make readme-venv``: make demo's
+    recipe), the kernels from the suite's kernel folder."""
+    import os
+    import subprocess
+
+    from volumen.jit import kernel_folder
+
+    env = dict(os.environ, VOLUMEN_KERNEL_DIR=str(kernel_folder()))
+    env.pop("PYTHONPATH", None)
+    if argv[0] == "serve" and "--screenshot" not in argv:
+        return _serve_in(argv, workdir, env)
+    done = subprocess.run([str(VENV_PYTHON), "-m", "volumen", *argv], cwd=workdir, env=env, capture_output=True,
+                          text=True, timeout=1200)
+    return done.returncode, done.stderr
+
+
 def _run(line: str, workdir: Path, capsys, archive=None) -> str | None:
     """Run one README line; None when it worked, else what went wrong."""
     from volumen.cli import main
@@ -261,10 +311,12 @@ def _run(line: str, workdir: Path, capsys, archive=None) -> str | None:
     if reason:
         print(f"skipped ({reason}): {line}")
         return None
-    code = main(argv)
-    captured = capsys.readouterr()
+    if VENV_PYTHON.exists():
+        code, err = _run_in_readme_venv(argv, workdir)
+    else:
+        code, err = main(argv), capsys.readouterr().err
     if code != 0:
-        return f"{line}\n -> exit {code}: {captured.err}"
+        return f"{line}\n -> exit {code}: {err}"
     for out in _outputs(argv):
         p = workdir / out
         if not (p.exists() and (p.is_dir() or p.stat().st_size > 0)):
@@ -298,5 +350,7 @@ def test_readme_commands_run_in_order(workdir, readme_archive, monkeypatch, caps
         monkeypatch.setenv(PASSWORD_ENV, PASSWORD)
     lines = readme_commands()
     assert len(lines) >= 15
+    print(f"the README's commands run with {VENV_PYTHON} (make demo's extras)" if VENV_PYTHON.exists() else
+          f"{VENV_PYTHON} is missing (`make readme-venv` makes it): the README's commands run in the test venv")
     failures = [f for f in (_run(line, workdir, capsys, readme_archive) for line in lines) if f]
     assert not failures, "\n".join(failures)

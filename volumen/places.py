@@ -12,7 +12,8 @@ folder                 variables, in order                    default
                        ``XDG_CONFIG_HOME`` + ``/volumen``
 :func:`cache_dir`      ``VOLUMEN_CACHE_DIR``,                 ``~/.cache/volumen``
                        ``XDG_CACHE_HOME`` + ``/volumen``
-:func:`kernel_dir`     ``NUMBA_CACHE_DIR`` + ``/volumen``,    ``~/.cache/volumen/kernels``
+:func:`kernel_dir`     ``VOLUMEN_KERNEL_DIR``,                ``~/.cache/volumen/kernels``
+                       ``NUMBA_CACHE_DIR`` + ``/volumen``,
                        :func:`cache_dir` + ``/kernels``
 =====================  =====================================  =================================
 """
@@ -44,9 +45,11 @@ def cache_dir() -> Path:
 
 
 def kernel_dir(numba_cache_dir: str | None = None) -> Path:
-    """Where compiled kernels are kept: ``<numba_cache_dir>/volumen`` where Numba's own cache folder is set
-    (``NUMBA_CACHE_DIR``; the caller passes ``numba.config.CACHE_DIR``, which Numba read from it), else
-    :func:`cache_dir` ``/kernels``."""
+    """Where compiled kernels are kept: ``VOLUMEN_KERNEL_DIR``, else ``<numba_cache_dir>/volumen`` where Numba's
+    own cache folder is set (``NUMBA_CACHE_DIR``; the caller passes ``numba.config.CACHE_DIR``, which Numba read
+    from it), else :func:`cache_dir` ``/kernels``."""
+    if os.environ.get("VOLUMEN_KERNEL_DIR"):
+        return Path(os.environ["VOLUMEN_KERNEL_DIR"])
     if numba_cache_dir is None:
         numba_cache_dir = os.environ.get("NUMBA_CACHE_DIR", "")
     if numba_cache_dir:

@@ -22,8 +22,11 @@ def _optional_dependencies() -> dict[str, list[str]]:
 def test_make_demo_installs_every_user_extra_and_no_test_tool():
     make = (ROOT / "Makefile").read_text()
     extras = set(re.search(r"^DEMO_EXTRAS\s*:=\s*(\S+)", make, flags=re.M).group(1).split(","))
-    recipe = re.search(r"^\$\(DEMO_STAMP\):.*?\n((?:\t.*\n)+)", make, flags=re.M).group(1)
-    assert '-e ".[$(DEMO_EXTRAS)]"' in recipe
+    install = re.search(r"^define demo_install\n(.*?)^endef", make, flags=re.M | re.S).group(1)
+    assert '-e ".[$(DEMO_EXTRAS)]"' in install
+    for stamp in ("DEMO_STAMP", "README_STAMP"):  # the demo's venv and the README test's are made alike
+        recipe = re.search(rf"^\$\({stamp}\):.*?\n((?:\t.*\n)+)", make, flags=re.M).group(1)
+        assert "$(call demo_install," in recipe, stamp
     assert extras == USER_EXTRAS
     assert extras <= set(_optional_dependencies())
 

@@ -21,17 +21,30 @@ folder                 variables, in order                    default
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
 
 __all__ = ["config_dir", "cache_dir", "kernel_dir"]
 
 
+def _given(name: str) -> Path | None:
+    """The folder a variable names, ``~`` expanded and made absolute (a later change of directory does not move
+    it), or None where it is unset or empty."""
+    value = os.environ.get(name)
+    return Path(value).expanduser().absolute() if value else None
+
+
+def _home() -> Path:
+    """The home folder, or (a user with none: a container's, say) a folder of the user's in the temporary one."""
+    try:
+        return Path.home()
+    except (RuntimeError, KeyError):
+        return Path(tempfile.gettempdir()) / f"volumen-{os.getuid()}"
+
+
 def _folder(own: str, xdg: str, fallback: str) -> Path:
     """``$own``, else ``$xdg/volumen``, else ``~/fallback/volumen``."""
-    if os.environ.get(own):
-        return Path(os.environ[own])
-    base = os.environ.get(xdg)
-    return (Path(base) if base else Path.home() / fallback) / "volumen"
+    return _given(own) or (_given(xdg) or _home() / fallback) / "volumen"
 
 
 def config_dir() -> Path:
@@ -48,8 +61,8 @@ def kernel_dir(numba_cache_dir: str | None = None) -> Path:
     """Where compiled kernels are kept: ``VOLUMEN_KERNEL_DIR``, else ``<numba_cache_dir>/volumen`` where Numba's
     own cache folder is set (``NUMBA_CACHE_DIR``; the caller passes ``numba.config.CACHE_DIR``, which Numba read
     from it), else :func:`cache_dir` ``/kernels``."""
-    if os.environ.get("VOLUMEN_KERNEL_DIR"):
-        return Path(os.environ["VOLUMEN_KERNEL_DIR"])
+    if _given("VOLUMEN_KERNEL_DIR"):
+        return _given("VOLUMEN_KERNEL_DIR")
     if numba_cache_dir is None:
         numba_cache_dir = os.environ.get("NUMBA_CACHE_DIR", "")
     if numba_cache_dir:

@@ -9,7 +9,7 @@ from volumen.core import Volume, mm_text, range_text, value_text, values_of
 
 def test_hounsfield_units_and_integer_data_read_whole():
     assert value_text(298.972, "HU") == "299" and value_text(-598.585, "HU+1000") == "-599"
-    assert value_text(135.944, whole=True) == "136"
+    assert value_text(-0.2, "HU") == "0" and value_text(-0.0) == "0"
     assert range_text(335.981, 3343, "HU") == "336..3343"
 
 

@@ -14,6 +14,7 @@ import shutil
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -75,7 +76,8 @@ def _package(where: Path) -> Path:
 
 def _probe(where: Path, cache: Path, **env) -> dict:
     """Run :data:`PROBE` with ``where`` first on the path and the kernels kept in ``cache``; its result."""
-    environ = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "NUMBA_CPU_NAME")}
+    environ = {k: v for k, v in os.environ.items()
+               if k not in ("NUMBA_CACHE_DIR", "NUMBA_CPU_NAME", "VOLUMEN_KERNEL_DIR")}
     environ.update(VOLUMEN_CACHE_DIR=str(cache), PYTHONPATH=os.pathsep.join([str(where), str(ROOT)]), **env)
     done = subprocess.run([sys.executable, "-c", PROBE], env=environ, cwd=where, capture_output=True, text=True,
                           timeout=300)
@@ -97,6 +99,40 @@ def test_a_copy_elsewhere_loads_what_the_first_compiled_and_an_edit_recompiles_i
     assert edited["other"] == [0.5, 1, 0], "the group that does not hold the edited file still loads"
     assert _probe(tmp_path / "a", cache)["kern"] == [4.0, 1, 0]  # the first checkout keeps its own kernels
     assert len(list((cache / "kernels").iterdir())) == 3  # a folder per content key: kern twice, other once
+
+
+EDIT_WHILE_RUNNING = textwrap.dedent('''
+    import json, pathlib
+    from pkg.kern import twice_bumped
+    helper = pathlib.Path(__import__("pkg.helper").helper.__file__)
+    helper.write_text(helper.read_text().replace("x + 1.0", "x + 2.0"))  # edited under the running process
+    print(json.dumps({"kern": [twice_bumped(1.0)]}))
+''')
+
+
+def test_a_source_edited_while_a_process_runs_never_gets_that_process_s_kernel(tmp_path):
+    """The process compiles the code it imported: it is kept under the key of that code, so a later process of the
+    edited sources compiles them instead of loading it."""
+    where, cache = _package(tmp_path / "a"), tmp_path / "cache"
+    environ = {k: v for k, v in os.environ.items()
+               if k not in ("NUMBA_CACHE_DIR", "NUMBA_CPU_NAME", "VOLUMEN_KERNEL_DIR")}
+    environ.update(VOLUMEN_CACHE_DIR=str(cache), PYTHONPATH=os.pathsep.join([str(where), str(ROOT)]))
+    done = subprocess.run([sys.executable, "-c", EDIT_WHILE_RUNNING], env=environ, cwd=where, capture_output=True,
+                          text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.strip().splitlines()[-1])["kern"] == [4.0]  # the code it imported
+    assert _probe(where, cache)["kern"] == [6.0, 0, 1]  # the edited code, compiled
+
+
+def test_pruning_removes_old_key_folders_only(tmp_path):
+    from volumen.jit import _locate
+
+    old = time.time() - (_locate.KEEP_DAYS + 1) * 86400
+    for name in ("0123456789abcdef01234567", "a-folder-of-the-users", "fedcba9876543210fedcba98"):
+        (tmp_path / name).mkdir()
+        os.utime(tmp_path / name, (old, old))
+    _locate._prune(tmp_path, tmp_path / "fedcba9876543210fedcba98")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-folder-of-the-users", "fedcba9876543210fedcba98"]
 
 
 def test_another_cpu_misses(tmp_path):
@@ -156,6 +192,26 @@ def test_a_cache_folder_that_cannot_be_written_falls_back_beside_the_sources_sti
     monkeypatch.setattr(_locate, "group_folder", refuse)
     locator = caching.CompileResultCacheImpl(_march._trace_tiles.py_func).locator
     assert isinstance(locator, caching.InTreeCacheLocator) and type(locator).__module__ == "volumen.jit._locate"
+    assert locator.get_source_stamp() == source_stamp(stamped_with(_march.__file__))
+
+
+def test_where_neither_folder_can_be_written_a_temporary_one_holds_the_kernels_keyed_on_the_group(monkeypatch):
+    import tempfile
+
+    from numba.core import caching
+
+    from volumen.jit import _locate, source_stamp, stamped_with
+    from volumen.render.raycast import _march
+
+    def refuse(files):
+        raise PermissionError("read-only cache")
+
+    monkeypatch.setattr(_locate, "group_folder", refuse)
+    in_tree = caching.CacheImpl._locator_classes[1]
+    monkeypatch.setattr(in_tree, "from_function", classmethod(lambda cls, f, p: None))  # __pycache__ read-only
+    locator = caching.CompileResultCacheImpl(_march._trace_tiles.py_func).locator
+    assert type(locator).__name__ == "_Temporary"
+    assert Path(locator.get_cache_path()).is_relative_to(tempfile.gettempdir())
     assert locator.get_source_stamp() == source_stamp(stamped_with(_march.__file__))
 
 

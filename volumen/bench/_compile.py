@@ -70,8 +70,16 @@ print(json.dumps({"shown": seen[0][0] - w0, "cpu": [t for t, final in seen if fi
 """
 
 
-def _child(script: str, mode: str, shading: str, cache: str) -> dict:
+def _cold_env(cache: str) -> dict:
+    """This process's environment with ``cache`` as the kernel folder (``NUMBA_CACHE_DIR``; an exported
+    ``VOLUMEN_KERNEL_DIR``, which would win, is dropped)."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    env.pop("VOLUMEN_KERNEL_DIR", None)
+    return env
+
+
+def _child(script: str, mode: str, shading: str, cache: str) -> dict:
+    env = _cold_env(cache)
     out = subprocess.run([sys.executable, "-c", script, mode, shading], env=env, capture_output=True, text=True,
                          check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -79,7 +87,7 @@ def _child(script: str, mode: str, shading: str, cache: str) -> dict:
 
 def _demo(cache: str) -> dict:
     """``volumen demo`` in a child process with ``cache`` as its Numba cache: wall and CPU seconds (children's)."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    env = _cold_env(cache)
     cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     with tempfile.TemporaryDirectory(prefix="volumen-demo-") as out:
         t0 = time.perf_counter()

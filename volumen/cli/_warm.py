@@ -36,7 +36,7 @@ OPTIONS = ("nearest", "bspline", "full-rate", "preintegrate", "labels", "colour"
 #: the commands whose kernels are not the ray caster's, run on phantoms (``volumen ARGV``; ``{out}``: a folder)
 COMMANDS = (("mesh", "phantom:head", "--iso", "300", "-o", "{out}/head.stl"),
             ("fly", "phantom:airways", "--lumen", "air", "--start", "0,1,40", "--end", "-26,-8,-14",
-             "-o", "{out}/airways.gif", "--size", "16x16", "--frames", "2"))
+             "-o", "{out}/airways.gif", "--size", "16x16", "--frames", "2", "--unfold", "{out}/unfolded.png"))
 
 
 def register(sub):
@@ -102,8 +102,10 @@ def catalogue(common: bool = False) -> list[tuple[str, object, object]]:
 
 def _commands(out: str, workers: int, bar) -> list[str]:
     """Run :data:`COMMANDS` in child processes, ``workers`` at a time; the failures, one line each."""
+    from volumen.jit import kernel_folder
+
     failed, running, todo = [], [], list(COMMANDS)
-    env = dict(os.environ, VOLUMEN_STANDIN="0")
+    env = dict(os.environ, VOLUMEN_STANDIN="0", VOLUMEN_KERNEL_DIR=str(kernel_folder()))
     while todo or running:
         while todo and len(running) < workers:
             argv = [a.format(out=out) for a in todo.pop(0)]
@@ -130,6 +132,8 @@ def run(args):
     if args.list:
         for key, label in keys.items():
             print(f"{'cached ' if key in cached else 'to do  '} {label}")
+        if not args.common:
+            print(f"and the kernels of {', '.join('volumen ' + c[0] for c in COMMANDS)}, which volumen warm runs")
         return 0
     todo = [(scene, camera) for _, scene, camera in jobs if kernel_key(scene, camera) not in cached]
     commands = 0 if args.common else len(COMMANDS)
@@ -140,7 +144,8 @@ def run(args):
     failed = []
     with tqdm(total=len({kernel_key(*j) for j in todo}) + commands, desc="warm", unit="kernel") as bar:
         done = warm(todo, workers=workers, progress=lambda line: bar.update(1)) if todo else {}
-        failed += [f"{keys[k]}: not warmed (it compiles on first use)" for k, s in done.items() if s is None]
+        failed += [f"{keys[kernel_key(s, c)]}: not warmed (it compiles on first use)" for s, c in todo
+                   if done.get(kernel_key(s, c)) is None]
         if commands:
             with tempfile.TemporaryDirectory(prefix="volumen-warm-") as out:
                 failed += _commands(out, workers, bar)

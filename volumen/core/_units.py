@@ -12,22 +12,21 @@ import math
 __all__ = ["value_text", "mm_text", "range_text", "values_of"]
 
 
-def value_text(value: float, units: str = "", *, whole: bool = False) -> str:
-    """``value`` in the data's units: whole for Hounsfield units (``units`` ``"HU"``, ``"HU+1000"``) or data stored
-    as integers (``whole``: a CT in scanner units), else four significant digits; ``nan`` / ``inf`` as Python
-    writes them."""
-    v = float(value)
+def value_text(value: float, units: str = "") -> str:
+    """``value`` in the data's units: whole for Hounsfield units (``units`` ``"HU"``, ``"HU+1000"``), else four
+    significant digits; ``nan`` / ``inf`` as Python writes them, ``-0`` as ``0``."""
+    v = float(value) + 0.0
     if not math.isfinite(v):
         return f"{v}"
-    if whole or units.upper().startswith("HU"):
-        return f"{round(v):d}"
+    if units.upper().startswith("HU"):
+        return f"{round(v) + 0:d}"
     text = f"{v:.4g}"
     return f"{round(v):d}" if "e+" in text and abs(v) < 1e15 else text
 
 
-def range_text(lo: float, hi: float, units: str = "", *, whole: bool = False) -> str:
+def range_text(lo: float, hi: float, units: str = "") -> str:
     """``lo..hi`` in the data's units (:func:`value_text`)."""
-    return f"{value_text(lo, units, whole=whole)}..{value_text(hi, units, whole=whole)}"
+    return f"{value_text(lo, units)}..{value_text(hi, units)}"
 
 
 def values_of(volume) -> dict:

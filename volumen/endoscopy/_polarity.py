@@ -138,11 +138,11 @@ class LumenEstimate:
         lo, hi = self.value_range
         return replace(self, threshold=t, value_range=(lo, t) if self.kind == "air" else (t, hi))
 
-    def describe(self, units: str = "", *, whole: bool = False) -> str:
-        """One line for the user: what was chosen, values in the data's precision (``core.value_text``: ``units``
-        and ``whole`` as ``core.values_of(volume)`` gives them)."""
+    def describe(self, units: str = "") -> str:
+        """One line for the user: what was chosen, values in the data's precision (``core.value_text``; ``units``
+        as ``core.values_of(volume)`` gives them)."""
         def v(x):
-            return value_text(x, units, whole=whole)
+            return value_text(x, units)
 
         lo, hi = self.value_range
         line = (f"lumen: {self.kind} (the lumen is {'darker' if self.kind == 'air' else 'brighter'} than its wall), "

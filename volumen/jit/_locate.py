@@ -13,7 +13,8 @@ For a file registered with :func:`volumen.jit.stamp_sources`:
   filled; a change to one source makes a new key for the groups holding that file only, so only their kernels
   compile again; another CPU, Numba or llvmlite has another key. The index's stamp is the key itself.
 * :class:`_InTree`, where that folder cannot be written: Numba's ``__pycache__`` beside the source, the index
-  stamped with the group's content key (never with the file's own contents alone).
+  stamped with the group's content key (never with the file's own contents alone); where that cannot be written
+  either, :class:`_Temporary`: a temporary folder of the process's own (the kernels compile in every process).
 
 Processes that fill one folder at the same time (the suite's workers, ``volumen warm``'s children) write each
 index under a lock (:mod:`._savelock`), data files whole (Numba renames a finished temporary file). Each process
@@ -24,7 +25,9 @@ new key's folder is made, so old versions of the code do not pile up.
 from __future__ import annotations
 
 import os
+import re
 import shutil
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -37,6 +40,7 @@ __all__ = ["install", "installed", "kernel_folder", "group_folder", "KEEP_DAYS"]
 KEEP_DAYS = 30
 #: characters of the content key that name its folder (96 bits)
 _KEY_CHARS = 24
+_KEY_NAME = re.compile(f"[0-9a-f]{{{_KEY_CHARS}}}")
 _state: dict = {"installed": False, "root": None, "touched": set(), "keys": {}}
 
 
@@ -65,11 +69,13 @@ def kernel_folder(*, refresh: bool = False) -> Path:
 
 
 def _prune(root: Path, keep: Path) -> None:
-    """Remove the key folders under ``root`` other than ``keep`` that no process used for :data:`KEEP_DAYS` days."""
+    """Remove the key folders under ``root`` other than ``keep`` that no process used for :data:`KEEP_DAYS` days
+    (only folders named as keys are: ``VOLUMEN_KERNEL_DIR`` may name a folder that holds other things)."""
     cutoff = time.time() - KEEP_DAYS * 86400
     for folder in root.iterdir() if root.is_dir() else ():
         try:
-            if folder != keep and folder.is_dir() and folder.stat().st_mtime < cutoff:
+            if folder != keep and _KEY_NAME.fullmatch(folder.name) and folder.is_dir() and \
+                    folder.stat().st_mtime < cutoff:
                 shutil.rmtree(folder, ignore_errors=True)
         except OSError:
             continue
@@ -120,12 +126,12 @@ def _locators():
             try:
                 self = cls(py_func, py_file, group)
                 self.ensure_cache_path()
-            except OSError:
-                return None  # the cache folder cannot be written: beside the sources
+            except (OSError, RuntimeError, KeyError):  # not writable, or no home folder: beside the sources
+                return None
             return self
 
-    class _InTree(caching.InTreeCacheLocator):
-        """Numba's ``__pycache__`` beside the source, the index stamped with the group's content key."""
+    class _Keyed:
+        """One of Numba's locators, for a registered file only, the index stamped with the group's content key."""
 
         @classmethod
         def from_function(cls, py_func, py_file):
@@ -140,7 +146,21 @@ def _locators():
         def get_source_stamp(self):
             return self._volumen_key
 
-    return _Shared, _InTree
+    class _InTree(_Keyed, caching.InTreeCacheLocator):
+        """Numba's ``__pycache__`` beside the source."""
+
+    class _Temporary(_Keyed, caching.InTreeCacheLocator):
+        """A temporary folder of this process's, removed when it ends: where neither the kernel cache nor
+        ``__pycache__`` can be written, a registered file's kernels compile in every process rather than fall to
+        Numba's own locators, which would key them on their own file only."""
+
+        def __init__(self, py_func, py_file):
+            super().__init__(py_func, py_file)
+            if _state.get("temporary") is None:
+                _state["temporary"] = tempfile.TemporaryDirectory(prefix="volumen-kernels-")
+            self._cache_path = _state["temporary"].name
+
+    return _Shared, _InTree, _Temporary
 
 
 def install() -> bool:

@@ -67,8 +67,12 @@ def _locked(index_path):
 
     fd = None
     for beside in (True, False):
-        try:
-            fd = os.open(lock_path(index_path, beside), os.O_CREAT | os.O_RDWR, 0o600)
+        try:  # readable by every user of a shared kernel folder (the umask decides), read-only where another made it
+            path = lock_path(index_path, beside)
+            try:
+                fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o666)
+            except PermissionError:
+                fd = os.open(path, os.O_RDONLY)
             break
         except OSError:
             continue

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import os
 import sys
 from collections.abc import Iterable
 from pathlib import Path
@@ -57,6 +56,8 @@ def stamp_sources(files: Iterable, *, also: Iterable = ()) -> tuple[Path, ...]:
     key = tuple(sorted(group))
     for f in own:
         _KEYS[f] = tuple(sorted(set(_KEYS.get(f, ())) | group))
+    for f in group:
+        _RECORDED.setdefault(f, hashlib.sha256(f.read_bytes()).hexdigest())
     return key
 
 
@@ -65,11 +66,16 @@ def stamped_with(path) -> tuple[Path, ...]:
     return _KEYS.get(Path(path).resolve(), ())
 
 
-@functools.cache
-def _file_hash(path: Path, mtime_ns: int, size: int) -> str:
-    """SHA-256 of a file's bytes (memoised on its modification time and size: a file edited while the process
-    runs is hashed again)."""
-    return hashlib.sha256(path.read_bytes()).hexdigest()
+#: registered file -> the SHA-256 of its bytes when it was registered: the sources this process compiles from
+_RECORDED: dict[Path, str] = {}
+
+
+def _file_hash(path: Path) -> str:
+    """SHA-256 of a registered file's bytes as they were when it was registered (a file edited while the process
+    runs keeps the hash of the code the process imported: a kernel compiled later from that code is kept under
+    it, never under the edited file's), of any other file as it is now."""
+    recorded = _RECORDED.get(path)
+    return recorded if recorded is not None else hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def _name(f: Path) -> str:
@@ -98,6 +104,5 @@ def source_stamp(files: Iterable) -> str:
     h = hashlib.sha256(_VERSION.encode())
     h.update(repr(machine()).encode())
     for f in sorted(Path(f) for f in files):
-        st = os.stat(f)
-        h.update(f"\0{_name(f)}\0{_file_hash(f, st.st_mtime_ns, st.st_size)}".encode())
+        h.update(f"\0{_name(f)}\0{_file_hash(f)}".encode())
     return h.hexdigest()

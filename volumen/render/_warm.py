@@ -138,11 +138,20 @@ def _serve(jobs, results) -> None:
             results.put((i, None, f"{type(exc).__name__}: {exc}"))
 
 
-def _child(jobs, results, parent: int, nice: int) -> None:
-    """A warming process: :func:`_serve` once it is sure to die with its parent."""
+def _child(jobs, results, parent: int, nice: int, kernels: str | None = None) -> None:
+    """A warming process: :func:`_serve` once it is sure to die with its parent, its kernels in ``kernels`` (the
+    parent's kernel folder, whatever the environment it inherited says now)."""
+    if kernels:
+        os.environ["VOLUMEN_KERNEL_DIR"] = kernels
     _dies_with_parent(nice)
     if os.getppid() == parent:  # else the parent died before the request above
         _serve(jobs, results)
+
+
+def _kernels() -> str | None:
+    """This process's kernel folder, where it has fixed one (``volumen.jit.kernel_folder``), for its children."""
+    jit = sys.modules.get("volumen.jit")
+    return str(jit.kernel_folder()) if jit is not None else None
 
 
 def _order(jobs):
@@ -178,7 +187,7 @@ def warm(jobs: Sequence, workers: int | None = None, progress: Callable[[str], N
         inbox.put((i, warm_scene(scene), camera))
     for _ in range(workers):
         inbox.put(None)
-    procs = [ctx.Process(target=_child, args=(inbox, results, os.getpid(), nice), daemon=True,
+    procs = [ctx.Process(target=_child, args=(inbox, results, os.getpid(), nice, _kernels()), daemon=True,
                          name=f"volumen-warm-{n}") for n in range(workers - 1 if here else workers)]
     with _main_unseen():
         for p in procs:

@@ -33,7 +33,7 @@ def request(port, method, path, *, headers=None, body=None):
     """``(status, headers, body)`` of one request sent with ``path`` exactly as given (no normalization)."""
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
     try:
-        c.putrequest(method, path, skip_accept_encoding=True)
+        c.putrequest(method, path, skip_accept_encoding=True, skip_host="Host" in (headers or {}))
         for k, v in (headers or {}).items():
             c.putheader(k, v)
         if body is not None:

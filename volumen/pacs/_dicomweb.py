@@ -21,6 +21,7 @@ the password or token travels in a ``requests`` authentication object, not in th
 from __future__ import annotations
 
 import re
+import struct
 import time
 import warnings
 from collections.abc import Callable, Iterable
@@ -157,7 +158,7 @@ class DicomWebArchive:
         """Map ``requests`` failures to typed errors: ``what`` is the request in words, ``missing`` what a 404
         means (None: a plain refusal)."""
         import requests
-        from pydicom.errors import InvalidDicomError
+        from pydicom.errors import BytesLengthException, InvalidDicomError
 
         label = self.server.label
         try:
@@ -188,7 +189,8 @@ class DicomWebArchive:
                                              "(no file meta information)") from None
         except ReplyShapeError as exc:
             raise ArchiveRefusedError(label, f"{what}: {exc}") from None
-        except (ValueError, TypeError, KeyError, AttributeError, IndexError, RecursionError) as exc:  # its answer
+        except (ValueError, TypeError, KeyError, AttributeError, IndexError, RecursionError, OverflowError, EOFError,
+                struct.error, BytesLengthException, NotImplementedError) as exc:  # what pydicom makes of its answer
             text = str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__
             raise ArchiveRefusedError(label, f"{what}: unexpected answer ({printable(text)})") from None
 
@@ -227,9 +229,15 @@ class DicomWebArchive:
         for uid in sop_uids:
             if stop():
                 return
-            with self._errors("the retrieve", f"has no instance {uid} (deleted since it was listed?)"):
+            with self._errors("the retrieve", f"has no instance {uid} (deleted since it was listed?)"), \
+                    warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
+                warnings.simplefilter("ignore")
                 ds = self.client.retrieve_instance(study_uid, series_uid, uid)
-            sink(ds)
+                sent = str(ds.get("SOPInstanceUID", ""))
+                if sent != uid:
+                    raise ArchiveRefusedError(self.server.label, f"sent instance {printable(sent[:64]) or '(none)'} "
+                                                                 f"when asked for {uid}")
+                sink(ds)
 
     def store(self, datasets: Iterable) -> int:
         """STOW-RS ``datasets``; the number stored. A refused instance is an error naming its SOP Instance UID."""

@@ -68,6 +68,20 @@ def _too_big(server: Server, response, mib: float, setting: str, declared: int |
     return ArchiveRefusedError(server.label, f"sent an answer of {size} ({setting} in servers.toml)")
 
 
+def _piece(raw, server: Server) -> bytes:
+    """What has arrived of a body (at most 64 KiB); urllib3's failures as the archive's errors."""
+    from urllib3.exceptions import DecodeError, HTTPError, ReadTimeoutError
+
+    try:
+        return raw.read1(_PIECE)
+    except ReadTimeoutError:
+        raise ArchiveUnreachableError(server.label, "did not answer in time") from None
+    except DecodeError:
+        raise ArchiveRefusedError(server.label, "sent an answer that does not decode (its content encoding)") from None
+    except (HTTPError, OSError):
+        raise ArchiveUnreachableError(server.label, "the connection broke in the middle of a transfer") from None
+
+
 def _read_capped(response, server: Server, end: float) -> bytes:
     """The body of a streamed ``response``: at most its cap (:func:`_cap`), whole before ``end``."""
     mib, setting = _cap(server, response.request)
@@ -82,7 +96,7 @@ def _read_capped(response, server: Server, end: float) -> bytes:
             response.close()
             raise ArchiveUnreachableError(server.label, f"did not send its answer within {server.deadline:g} s "
                                                         "(deadline in servers.toml)")
-        piece = raw.read1(_PIECE)
+        piece = _piece(raw, server)
         if not piece:
             return b"".join(pieces)
         size += len(piece)

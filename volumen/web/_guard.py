@@ -49,6 +49,12 @@ class _Connection(RequestHandler):
         self._manager.guard_data(self)
         super().data_received(data)
 
+    def log_exception(self, *args, **kw) -> None:
+        """aiohttp's reports (a body it could not decode while draining it, ...): one line, the exception's type."""
+        exc = kw.get("exc_info")
+        what = type(exc).__name__ if isinstance(exc, BaseException) else ""
+        log.info("connection: %s %s", str(args[0]) if args else "", what)
+
     def handle_error(self, request, status: int = 500, exc=None, message=None):
         """One plain line to the client, one line to the log (no request text, no traceback)."""
         if status >= 500:

@@ -105,6 +105,9 @@ class _Server(socketserver.ThreadingMixIn, http.server.HTTPServer):
     daemon_threads = True
     allow_reuse_address = True
 
+    def handle_error(self, request, client_address):
+        """A client that hung up mid-answer is what the archive expects: no report."""
+
 
 class HostileArchive:
     """The archive: ``with HostileArchive() as archive: archive.reply = Reply(...)``; :attr:`url` is its

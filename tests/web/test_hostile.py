@@ -176,3 +176,21 @@ def test_a_body_past_the_limit_and_unknown_methods(server):
     conn.request("PUT", "/frame.bin", body=b"{}", headers={"X-Volumen-Token": server.token})
     assert conn.getresponse().status == 405
     conn.close()
+
+
+def test_the_certificates_names_are_read_for_the_host_allow_list(tmp_path):
+    """``--certfile``: the DNS names of the certificate's Subject Alternative Name join the allowed hosts."""
+    import shutil
+    import subprocess
+
+    from volumen.web._certificate import certificate_names
+
+    if shutil.which("openssl") is None:
+        pytest.skip("openssl is not installed (Debian package openssl): no test certificate")
+    subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj", "/CN=viewer",
+                    "-keyout", str(tmp_path / "key.pem"), "-out", str(tmp_path / "cert.pem"), "-addext",
+                    "subjectAltName=DNS:viewer.example,DNS:ward.local,IP:10.0.0.5"], check=True, capture_output=True)
+    names = certificate_names(tmp_path / "cert.pem")
+    assert names == ("viewer.example", "ward.local")
+    assert host_allowed("viewer.example:8765", names) and not host_allowed("evil.example", names)
+    assert certificate_names(tmp_path / "missing.pem") == ()

@@ -38,7 +38,7 @@ class ServeLimits:
     workers : int
         Threads that resample the volume and pack frames (never the event loop).
     queue : int
-        Requests waiting for a worker at most; past it a request answers 429.
+        Requests in the worker pool (running or waiting) at most; past it a request answers 429.
     cached_volumes : int
         Resampled volumes kept (one per power-of-two texture size asked for), least recently used dropped.
     frame_mb : float, MiB

@@ -216,3 +216,57 @@ def test_accept_errors_are_one_rate_limited_line():
             _, err = proc.communicate()
     print(f"stderr: {len(err)} bytes, {err.count(chr(10))} lines")
     assert "Traceback" not in err and token not in err and len(err) < 20000
+
+
+def test_accept_errors_are_reported_once_per_ten_seconds(caplog):
+    """10,000 ``accept()`` failures for want of file descriptors in a burst: one log line with the count, no
+    traceback (asyncio's own handler writes a traceback each)."""
+    import asyncio
+    import errno
+    import logging
+
+    from volumen.web._guard import quiet_loop_errors
+
+    caplog.set_level(logging.DEBUG)
+    loop = asyncio.new_event_loop()
+    try:
+        quiet_loop_errors(loop)
+        for _ in range(10000):
+            loop.call_exception_handler({"message": "socket.accept() out of system resource",
+                                         "exception": OSError(errno.EMFILE, "Too many open files")})
+    finally:
+        loop.close()
+    lines = [r for r in caplog.records if r.name == "volumen.web"]
+    assert len(lines) == 1 and "Too many open files" in lines[0].getMessage() and not lines[0].exc_info
+
+
+def test_a_slow_resample_does_not_stall_other_requests(tight_server, monkeypatch):
+    """While a volume is resampled for a new texture size (made 1.5 s slow here), the event loop answers other
+    requests at once: the work runs in the worker pool (before: 4 ms -> 155 ms for every request meanwhile)."""
+    import threading
+
+    import volumen.web._handlers as handlers
+
+    real = handlers.ServedVolume
+
+    def slow(*args, **kw):
+        time.sleep(1.5)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(handlers, "ServedVolume", slow)
+    port, token = tight_server.port, tight_server.token
+    done = threading.Event()
+
+    def resample():
+        c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+        c.request("GET", "/info.json?max3d=128", headers={"X-Volumen-Token": token})
+        c.getresponse().read()
+        done.set()
+
+    t = threading.Thread(target=resample)
+    t.start()
+    time.sleep(0.3)
+    status, seconds = _page(port, token)
+    print(f"page during a 1.5 s resample: {status} in {seconds * 1e3:.0f} ms")
+    t.join(60)
+    assert status == 200 and seconds < 0.5 and done.is_set()

@@ -1,14 +1,14 @@
 """Connections under guard: a cap on open connections, a deadline for a request's headers, quiet accept errors.
 
-aiohttp closes a connection idle between two requests (``keepalive_timeout``) but lets a client that sends a
-byte now and then hold it for ever, and accepts connections until the process runs out of file descriptors.
-:class:`GuardedServer` (aiohttp's low-level ``web.Server``) adds:
+aiohttp closes a connection that waits for a request longer than ``keepalive_timeout`` and accepts connections
+until the process runs out of file descriptors. :class:`GuardedServer` (aiohttp's low-level ``web.Server``) adds:
 
 * **a cap**: a connection past :func:`~._limits.connection_cap` closes the oldest connection that is not
   inside a request (idle, or still sending its headers), else itself: idle clients cannot lock out one
   that asks something;
-* **a header deadline**: from its opening, and from the first byte of each later request, a connection has
-  ``header_timeout`` seconds to deliver a request's line and headers, else it is closed;
+* **a header deadline** of its own, whatever the keep-alive allows: from its opening, and from the first byte
+  of each later request, a connection has ``header_timeout`` seconds to deliver a request's line and headers,
+  else it is closed;
 * **short error answers**: a malformed request (a bad request line, an HTTP version it does not speak, bare
   line feeds) answers 400 with one plain line, and the log gets one line without the request's text.
 

@@ -146,3 +146,11 @@ def test_credentials_in_a_configured_url_are_refused(config, capsys):
     name = config("http://user:secret@127.0.0.1:9/dicom-web")
     err = _one_line(capsys, main(["pacs", "echo", name]))
     assert "secret" not in err and "credentials" in err
+
+
+def test_a_retrieve_answered_busy_is_one_line(archive, config, capsys):
+    """An instance asked for and answered 503 twice (dicomweb-client retries): one line, exit 1."""
+    listed = Reply(json.dumps([dataset_json(SOPInstanceUID="1.2.3.4.5")]).encode())
+    archive.reply = lambda path: listed if path.split("?")[0].endswith("/instances") else Reply(b"", status=503)
+    err = _one_line(capsys, main(["pacs", "get", archive.url, UID, UID + ".1", "--no-progress"]))
+    assert "HTTP 503" in err

@@ -159,6 +159,7 @@ class DicomWebArchive:
         means (None: a plain refusal)."""
         import requests
         from pydicom.errors import BytesLengthException, InvalidDicomError
+        from retrying import RetryError  # dicomweb-client's retries of 429, 503 and 504
 
         label = self.server.label
         try:
@@ -187,6 +188,9 @@ class DicomWebArchive:
         except InvalidDicomError:
             raise ArchiveRefusedError(label, f"{what}: the server sent an instance that is not a DICOM Part 10 file "
                                              "(no file meta information)") from None
+        except RetryError as exc:
+            code = getattr(getattr(exc.last_attempt, "value", None), "status_code", "?")
+            raise ArchiveRefusedError(label, f"{what} failed (HTTP {code}, asked twice)") from None
         except ReplyShapeError as exc:
             raise ArchiveRefusedError(label, f"{what}: {exc}") from None
         except (ValueError, TypeError, KeyError, AttributeError, IndexError, RecursionError, OverflowError, EOFError,

@@ -3,8 +3,9 @@
 * **server**: :func:`run_requests` starts the viewer's server in a process of its own (:mod:`._target`), sends
   it mutated requests (:mod:`._mutate_http`) from a few threads, watches that it lives and its memory, and
   reads its log at the end for the token, the cookie's value, the patient's identity and tracebacks;
-* **archive client**: :func:`run_replies` points ``volumen pacs`` at a hostile archive (:mod:`._archive`)
-  answering mutated replies (:mod:`._mutate_replies`) and watches the exit, the output and the memory.
+* **archive client**: :func:`run_replies` points ``volumen.pacs`` (what ``volumen pacs`` runs) at a hostile
+  archive (:mod:`._archive`) answering mutated replies (:mod:`._mutate_replies`) and watches what it raises,
+  what it would print and the memory.
 
 Bad outcomes (:data:`BAD`): a 5xx, a hang, a crash, memory over the budget, a leak in the log, an escape in a
 table. Mutant ``k`` of seed ``s`` is rebuilt from ``(s, k)`` alone.
@@ -183,15 +184,14 @@ def run_replies(n: int, *, seed: int = 1, hang_s: float = 12.0, budget_mib: floa
             os.environ["VOLUMEN_CONFIG_DIR"], os.environ["VOLUMEN_CACHE_DIR"] = str(folder / "config"), str(
                 folder / "cache")
             elsewhere = other.url.replace("127.0.0.1", "localhost")
-            for op in _mutate_replies.OPERATIONS:   # unmutated, once: the imports are not the campaign's memory
-                args, answers = _mutate_replies.OPERATIONS[op]
-                _mutate_replies.run_reply(archive, "fuzz", args, [_mutate_replies.Reply(b(), headers=dict(h))
-                                                                  for b, h in answers])
+            for op, answers in _mutate_replies.OPERATIONS.items():   # unmutated, once: imports are not the memory
+                _mutate_replies.run_reply(archive, "fuzz", op, [_mutate_replies.Reply(b(), headers=dict(h))
+                                                                for b, h in answers])
             base = _rss(os.getpid())
             for k in range(n):
-                name, args, replies = _mutate_replies.make_reply(seed, k, elsewhere)
+                name, op, replies = _mutate_replies.make_reply(seed, k, elsewhere)
                 shutil.rmtree(folder / "cache", ignore_errors=True)
-                (outcome, detail), seconds = _mutate_replies.timed(_mutate_replies.run_reply, archive, "fuzz", args,
+                (outcome, detail), seconds = _mutate_replies.timed(_mutate_replies.run_reply, archive, "fuzz", op,
                                                                    replies)
                 grown = _rss(os.getpid()) - base
                 report.peak_mib = max(report.peak_mib, grown)

@@ -3,18 +3,19 @@
 Reply ``k`` of seed ``s`` (a ``random.Random(f"{s}:{k}")``) picks an operation of :data:`OPERATIONS` (a study
 search as a table or as JSON, a series search, a retrieve: the instance list, then one instance), the one of
 its answers to spoil, and one or two mutations of :data:`MUTATIONS` (values, structure, bytes, status, headers,
-an endless body, a dribbled one). :func:`run_reply` runs the command in this process against the archive and
-says how it ended.
+an endless body, a dribbled one). :func:`run_reply` runs the ``volumen.pacs`` function behind the command in
+this process against the archive and says how it ended (the command prints an ``ArchiveError`` as one line and
+exits 1; ``tests/pacs/test_pacs_hostile.py`` runs the command itself).
 """
 
 from __future__ import annotations
 
-import contextlib
 import gzip
 import io
 import json
 import random
 import time
+import warnings
 from functools import cache
 
 from ._archive import HostileArchive, Reply, dataset_json, endless
@@ -78,14 +79,9 @@ def _multipart(part: bytes) -> bytes:
 
 _MULTIPART = {"Content-Type": f'multipart/related; type="application/dicom"; boundary={_BOUNDARY}'}
 
-#: operation -> (command arguments after the server, its answers in order: (body, headers), JSON output?)
-OPERATIONS = {
-    "find": (["find"], [(_studies, {})]),
-    "find-json": (["find", "--json"], [(_studies, {})]),
-    "series": (["find", "--study", STUDY], [(_series, {})]),
-    "get": (["get", STUDY, SERIES, "--no-progress"], [(_instances, {}), (lambda: _multipart(instance_bytes()),
-                                                                        _MULTIPART)]),
-}
+#: operation (``volumen pacs find``, ``find --json``, ``find --study``, ``get``) -> its answers in order
+OPERATIONS = {"find": [(_studies, {})], "find-json": [(_studies, {})], "series": [(_series, {})],
+              "get": [(_instances, {}), (lambda: _multipart(instance_bytes()), _MULTIPART)]}
 
 
 def _walk(value, path=()):
@@ -190,12 +186,12 @@ MUTATIONS = {"json-value": (6, lambda rng, r, o: _json_edit(rng, r)),
              "endless": (1, lambda rng, r, o: _endless(rng, r)), "dribble": (0.3, lambda rng, r, o: _dribble(rng, r))}
 
 
-def make_reply(seed: int, k: int, other: str) -> tuple[str, list[str], list[Reply]]:
-    """``(name, command arguments, answers)`` of reply ``k`` of campaign ``seed``: every answer of the operation as
-    it should be but one, mutated."""
+def make_reply(seed: int, k: int, other: str) -> tuple[str, str, list[Reply]]:
+    """``(name, operation, answers)`` of reply ``k`` of campaign ``seed``: every answer of the operation as it
+    should be but one, mutated."""
     rng = random.Random(f"{seed}:{k}")
     op = rng.choice(sorted(OPERATIONS))
-    args, answers = OPERATIONS[op]
+    answers = OPERATIONS[op]
     replies = [Reply(body(), headers=dict(headers)) for body, headers in answers]
     target = rng.randrange(len(replies))
     names = rng.choices(sorted(MUTATIONS), weights=[MUTATIONS[n][0] for n in sorted(MUTATIONS)],
@@ -204,32 +200,47 @@ def make_reply(seed: int, k: int, other: str) -> tuple[str, list[str], list[Repl
         if callable(replies[target].body) and name not in ("status", "headers"):
             continue
         MUTATIONS[name][1](rng, replies[target], other)
-    return f"{'+'.join(names)} ({op}, answer {target})", args, replies
+    return f"{'+'.join(names)} ({op}, answer {target})", op, replies
 
 
-def run_reply(archive: HostileArchive, server: str, args: list[str], replies: list[Reply]) -> tuple[str, str]:
-    """``(outcome, detail)`` of ``volumen pacs ARGS`` against ``archive`` answering ``replies`` in turn: ``ok``
-    (exit 0), ``refused`` (exit 1, one line), ``crash`` (any other exit, more lines, a traceback, an exception),
-    ``escape`` (a control character in a table)."""
-    from volumen.cli import main
+def _call(server: str, operation: str):
+    """Run ``operation`` against ``server`` as ``volumen pacs`` would; what it would print."""
+    import volumen.pacs as pacs
+
+    if operation in ("find", "find-json"):
+        found = pacs.find(server)
+        if operation == "find-json":
+            return json.dumps([{**s.__dict__, "modalities": list(s.modalities)} for s in found])
+        return "\n".join("  ".join(row) for row in found.rows())
+    if operation == "series":
+        return "\n".join("  ".join(pacs.printable(v) for v in (s.number, s.modality, s.description, s.uid))
+                         for s in pacs.series(server, STUDY))
+    return str(pacs.retrieve(server, STUDY, SERIES))
+
+
+def run_reply(archive: HostileArchive, server: str, operation: str, replies: list[Reply]) -> tuple[str, str]:
+    """``(outcome, detail)`` of ``operation`` (``volumen.pacs``'s function behind the command) against
+    ``archive`` answering ``replies`` in turn: ``ok``, ``refused`` (an ``ArchiveError`` whose message is one
+    printable line: the command's one line and exit 1), ``crash`` (any other exception, or a message holding
+    control characters), ``escape`` (a control character in what a table would print)."""
+    from volumen.errors import ArchiveError
 
     queue = list(replies)
     archive.reply = lambda path: queue.pop(0) if len(queue) > 1 else queue[0]
-    out, err = io.StringIO(), io.StringIO()
     try:
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            code = main(["pacs", args[0], server, *args[1:]])
-    except BaseException as exc:  # noqa: BLE001 - anything escaping the command is what the fuzzer looks for
-        return "crash", f"{type(exc).__name__}: {str(exc)[:100]}"
-    lines = err.getvalue().strip().splitlines()
-    if code == 0:
-        text = out.getvalue()
-        if "--json" not in args and any(not (c.isprintable() or c in "\n ") for c in text):
-            return "escape", repr(text[:100])
-        return "ok", ""
-    if code == 1 and len(lines) == 1 and "internal error" not in lines[0] and "Traceback" not in lines[0]:
-        return "refused", lines[0][:160]
-    return "crash", f"exit {code}: {' | '.join(lines)[:200]}"
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")   # a warning would be printed: it quotes the server's values
+            text = _call(server, operation)
+    except ArchiveError as exc:
+        message = str(exc)
+        if not message.isprintable():
+            return "crash", f"unprintable message {message[:100]!r}"
+        return "refused", message[:160]
+    except BaseException as exc:  # noqa: BLE001 - anything else escaping is what the fuzzer looks for
+        return "crash", f"{type(exc).__name__}: {str(exc)[:100]!r}"
+    if operation != "find-json" and any(not (c.isprintable() or c in "\n ") for c in text):
+        return "escape", repr(text[:100])
+    return "ok", ""
 
 
 def timed(fn, *args) -> tuple[tuple[str, str], float]:

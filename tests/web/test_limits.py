@@ -270,3 +270,13 @@ def test_a_slow_resample_does_not_stall_other_requests(tight_server, monkeypatch
     print(f"page during a 1.5 s resample: {status} in {seconds * 1e3:.0f} ms")
     t.join(60)
     assert status == 200 and seconds < 0.5 and done.is_set()
+
+
+def test_limits_come_from_the_environment_and_are_checked():
+    limits = ServeLimits.from_env({"VOLUMEN_SERVE_MAX_CONNECTIONS": "12", "VOLUMEN_SERVE_FRAME_MB": "64.5"})
+    assert limits.max_connections == 12 and limits.frame_mb == 64.5 and limits.workers == ServeLimits().workers
+    with pytest.raises(ValueError, match="VOLUMEN_SERVE_WORKERS must be an integer"):
+        ServeLimits.from_env({"VOLUMEN_SERVE_WORKERS": "two"})
+    for bad in ({"header_timeout": 0}, {"frame_mb": float("inf")}, {"queue": -1}):
+        with pytest.raises(ValueError, match="positive finite"):
+            ServeLimits(**bad)

@@ -59,13 +59,9 @@ def is_loopback(host: str) -> bool:
 
 
 def _machine_names() -> set[str]:
-    """This machine's names, as a browser on the network may ask for the page."""
-    names = {socket.gethostname()}
-    try:
-        names.add(socket.getfqdn())
-    except OSError:
-        pass
-    return {n for n in names if n}
+    """This machine's name (the URL's for ``--host 0.0.0.0``; no DNS look-up at start)."""
+    name = socket.gethostname()
+    return {name} if name else set()
 
 
 class ViewerServer:

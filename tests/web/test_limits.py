@@ -280,3 +280,25 @@ def test_limits_come_from_the_environment_and_are_checked():
     for bad in ({"header_timeout": 0}, {"frame_mb": float("inf")}, {"queue": -1}):
         with pytest.raises(ValueError, match="positive finite"):
             ServeLimits(**bad)
+
+
+def test_large_answers_being_sent_are_bounded(tight_server):
+    """Frames and the volume count as being sent until they are: past ``queue`` at once, 429 (a client that
+    does not read cannot pile answers up in memory); the volume's message is made once per size and shared."""
+    from aiohttp import web
+
+    handlers = tight_server.handlers
+    held = [handlers.sending("frame.bin") for _ in range(tight_server.limits.queue)]
+    for h in held:
+        h.__enter__()
+    try:
+        with pytest.raises(web.HTTPTooManyRequests), handlers.sending("volume.bin"):
+            pass
+        with handlers.sending("info.json"):   # small answers are not counted
+            pass
+    finally:
+        for h in held:
+            h.__exit__(None, None, None)
+    assert handlers._sending == 0
+    first = handlers._volume(2048)
+    assert handlers._volume(2048) is first and len(handlers._messages) <= tight_server.limits.cached_volumes

@@ -3,8 +3,9 @@
 Everything that costs more than a dictionary look-up (resampling the volume for a client's texture size,
 fitting the presets, encoding the volume, packing a frame, drawing a slice) runs in a pool of
 ``ServeLimits.workers`` threads, never on the event loop, with at most ``ServeLimits.queue`` requests waiting
-(then 429). Served volumes are made per power-of-two texture size (:func:`~._limits.cache_size`) and the
-``ServeLimits.cached_volumes`` most recently used are kept.
+(then 429), and at most as many large answers (frames, the volume) are being made or sent at once. Served
+volumes are made per power-of-two texture size (:func:`~._limits.cache_size`) and the
+``ServeLimits.cached_volumes`` most recently used are kept, each with its ``volume.bin`` message.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import json
 import threading
 from collections import OrderedDict
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from importlib import resources
 
 import numpy as np
@@ -35,6 +37,8 @@ ROUTES = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("
           **{f"static/{name}": ("GET", "static_file") for name in STATIC_FILES}}
 #: largest request body (a frame request is a few KiB): past it, 413
 MAX_BODY = 1 << 20
+#: routes whose answers are large (up to a frame's budget, the volume's texture budget)
+_LARGE = ("frame.bin", "volume.bin")
 
 
 def _static() -> dict[str, tuple[bytes, str]]:
@@ -79,7 +83,8 @@ class Handlers:
         self._served: OrderedDict[int, ServedVolume] = OrderedDict()
         self._served_lock = threading.Lock()
         self._pool = ThreadPoolExecutor(max_workers=limits.workers, thread_name_prefix="volumen-web")
-        self._waiting = 0
+        self._waiting = self._sending = 0
+        self._messages: dict[int, bytes] = {}   # volume.bin's message per served size, shared by every answer
 
     def served(self, max_3d: int = DEFAULT_MAX_3D) -> ServedVolume:
         """The volume as a client with ``max_3d`` (its 3-D texture size) gets it: made once per power of two,
@@ -90,7 +95,7 @@ class Handlers:
                 self._served.move_to_end(size)
                 return self._served[size]
             while len(self._served) >= self.limits.cached_volumes:
-                self._served.popitem(last=False)
+                self._messages.pop(self._served.popitem(last=False)[0], None)
             served = self._served[size] = ServedVolume(self.source, size, self.budget_mb)
             return served
 
@@ -108,6 +113,21 @@ class Handlers:
             return await asyncio.get_running_loop().run_in_executor(self._pool, fn, *args)
         finally:
             self._waiting -= 1
+
+    @contextmanager
+    def sending(self, route: str):
+        """Around a large answer (a frame, the volume) until it is sent: at most ``limits.queue`` at once (429),
+        so clients that read slowly cannot pile answers up in memory."""
+        if route not in _LARGE:
+            yield
+            return
+        if self._sending >= self.limits.queue:
+            raise web.HTTPTooManyRequests(text=f"429: busy ({self._sending} large answers being sent); ask again")
+        self._sending += 1
+        try:
+            yield
+        finally:
+            self._sending -= 1
 
     async def index(self, request):
         return self.static["index.html"]
@@ -148,11 +168,18 @@ class Handlers:
     def _volume(self, max_3d: int) -> bytes:
         from ._frames import encode
 
-        served = self.served(max_3d)
+        served, size = self.served(max_3d), cache_size(max_3d)
+        with self._served_lock:
+            if size in self._messages:
+                return self._messages[size]
         texels, vol_map, exact = served.encoded
         header = {"shape": list(texels.shape), "vol_map": list(vol_map), "exact": exact,
                   "notices": list(served.notices)}
-        return encode(header, {"vol": texels})
+        message = encode(header, {"vol": texels})
+        with self._served_lock:
+            if size in self._served:
+                self._messages[size] = message
+        return message
 
     async def frame(self, request):
         try:

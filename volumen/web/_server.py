@@ -179,6 +179,9 @@ class ViewerServer:
             except web.HTTPException as exc:
                 status = exc.status
                 return web.Response(status=exc.status, text=exc.text or f"{exc.status}: {exc.reason}")
+            except ConnectionError:   # the client went away while its answer was sent (logged as status 0)
+                status = 0
+                return web.Response(status=500)
             except Exception as exc:  # noqa: BLE001 - one line and a 500, never a traceback
                 log.error("internal error in %s: %s", route, type(exc).__name__)
                 return web.Response(status=500, text="500: internal error")
@@ -186,16 +189,23 @@ class ViewerServer:
                 log.info("%s %s %d %.1f ms", request.method if request.method.isalpha() else "?", route, status,
                          1e3 * (time.perf_counter() - t0))
 
-    async def _answer(self, request) -> web.Response:
-        name = ROUTES[request.path.removeprefix("/")][1]
+    async def _answer(self, request) -> web.StreamResponse:
+        """The route's answer, sent before returning (a large one counts as being sent until it is)."""
+        route = request.path.removeprefix("/")
         _, ok_by_query = self._authorized(request)
-        body, ctype, *extra = await getattr(self.handlers, name)(request)
-        headers = {"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff", **(extra[0] if extra else {})}
-        resp = web.Response(body=body, content_type=ctype, headers=headers)
-        if ok_by_query:
-            resp.set_cookie(self.cookie, self.cookie_value, httponly=True, samesite="Strict", path="/",
-                            secure=self.ssl_context is not None)
-        return resp
+        with self.handlers.sending(route):
+            body, ctype, *extra = await getattr(self.handlers, ROUTES[route][1])(request)
+            headers = {"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff",
+                       **(extra[0] if extra else {})}
+            resp = web.StreamResponse(headers=headers)
+            resp.content_type, resp.content_length = ctype, len(body)
+            if ok_by_query:
+                resp.set_cookie(self.cookie, self.cookie_value, httponly=True, samesite="Strict", path="/",
+                                secure=self.ssl_context is not None)
+            await resp.prepare(request)
+            await resp.write(body)
+            await resp.write_eof()
+            return resp
 
     def _make_server(self, loop) -> GuardedServer:
         lim = self.limits

@@ -67,7 +67,7 @@ def _set(value, path, new):
 def _body_value(rng, req):
     try:
         doc = json.loads(req["body"])
-    except ValueError:
+    except (ValueError, RecursionError):
         return _body_bytes(rng, req)
     paths = list(_json_paths(doc))
     path = rng.choice(paths)

@@ -94,7 +94,7 @@ def _walk(value, path=()):
 def _json_edit(rng, reply: Reply, delete: bool = False):
     try:
         doc = json.loads(reply.body)
-    except (ValueError, TypeError):
+    except (ValueError, TypeError, RecursionError):
         return _bytes(rng, reply)
     path = rng.choice(list(_walk(doc)))
     if not path:
@@ -113,7 +113,7 @@ def _json_edit(rng, reply: Reply, delete: bool = False):
 def _text(rng, reply: Reply):
     try:
         doc = json.loads(reply.body)
-    except (ValueError, TypeError):
+    except (ValueError, TypeError, RecursionError):
         return _bytes(rng, reply)
     strings = [p for p in _walk(doc) if p and isinstance(_get(doc, p), str)]
     if strings:

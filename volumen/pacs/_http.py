@@ -119,6 +119,7 @@ def session(server: Server):
         def get_redirect_target(self, resp):
             target = super().get_redirect_target(resp)
             if target is not None and not same_origin(urljoin(resp.url, target), server.url):
+                resp.close()
                 where = _origin(urljoin(resp.url, target))[1] or "?"
                 raise ArchiveRefusedError(server.label, f"redirected the request to another host ({where}); "
                                                         "refused (set the server's url to it if it is trusted)")
@@ -129,7 +130,12 @@ def session(server: Server):
             follow = kwargs.pop("allow_redirects", True)
             kwargs["stream"] = True
             response = super().send(request, allow_redirects=False, **kwargs)
-            response._content = _read_capped(response, server, end)
+            try:
+                response._content = _read_capped(response, server, end)
+            except BaseException:
+                response.close()   # abandoned: the connection is closed
+                raise
+            response.raw.release_conn()   # read whole: the connection goes back to the pool
             response._content_consumed = True
             if not (follow and response.is_redirect):
                 return response

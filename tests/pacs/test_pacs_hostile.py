@@ -154,3 +154,11 @@ def test_a_retrieve_answered_busy_is_one_line(archive, config, capsys):
     archive.reply = lambda path: listed if path.split("?")[0].endswith("/instances") else Reply(b"", status=503)
     err = _one_line(capsys, main(["pacs", "get", archive.url, UID, UID + ".1", "--no-progress"]))
     assert "HTTP 503" in err
+
+
+def test_a_redirect_with_an_endless_body_is_read_to_the_cap_only(archive, capsys):
+    """A 302 on the same host whose body never ends: refused at the cap like any answer (requests reads a
+    redirect's body before following it; the cap reads it first)."""
+    archive.reply = Reply(endless(b"x" * 4096, b""), status=302, headers={"Location": "/elsewhere"})
+    err = _one_line(capsys, main(["pacs", "find", archive.url]))
+    assert "more than 64 MiB" in err

@@ -11,8 +11,9 @@ use, so every request of an archive holds to the same rules:
   scheme, host and port is followed);
 * **the CA bundle**: a configured ``ca_bundle`` wins over ``REQUESTS_CA_BUNDLE`` / ``CURL_CA_BUNDLE``.
 
-The body is read with ``urllib3``'s ``read1`` (what has arrived, at most a piece) and handed to ``requests`` as
-the response's content, which ``dicomweb-client`` reads as if it had been read there.
+The body is read by a response hook, which ``requests`` runs before it follows a redirect or anyone reads the
+body, with ``urllib3``'s ``read1`` (what has arrived, at most a piece), and handed to ``requests`` as the
+response's content, which ``dicomweb-client`` reads as if it had been read there.
 """
 
 from __future__ import annotations
@@ -126,25 +127,25 @@ def session(server: Server):
             return target
 
         def send(self, request, **kwargs):
-            end = time.monotonic() + server.deadline
-            follow = kwargs.pop("allow_redirects", True)
-            kwargs["stream"] = True
-            response = super().send(request, allow_redirects=False, **kwargs)
-            try:
-                response._content = _read_capped(response, server, end)
-            except BaseException:
-                response.close()   # abandoned: the connection is closed
-                raise
-            response.raw.release_conn()   # read whole: the connection goes back to the pool
-            response._content_consumed = True
-            if not (follow and response.is_redirect):
-                return response
-            history = [response, *self.resolve_redirects(response, request, **kwargs)]
-            final = history.pop()
-            final.history = history
-            return final
+            kwargs["stream"] = True   # the body is read by the hook below, capped, before anything else reads it
+            if not hasattr(request, "volumen_deadline"):
+                request.volumen_deadline = time.monotonic() + server.deadline
+            return super().send(request, **kwargs)
+
+    def read_body(response, *args, **kwargs):
+        """The response hook (run before requests follows a redirect or anyone reads the body)."""
+        end = getattr(response.request, "volumen_deadline", time.monotonic() + server.deadline)
+        try:
+            response._content = _read_capped(response, server, end)
+        except BaseException:
+            response.close()   # abandoned: the connection is closed
+            raise
+        response._content_consumed = True
+        response.raw.release_conn()   # read whole: the connection goes back to the pool
+        return response
 
     s = Session()
     s.verify = server.ca_bundle or True
     s.max_redirects = 5
+    s.hooks["response"].append(read_body)
     return s

@@ -18,6 +18,7 @@ import hmac
 import json
 import os
 import re
+import resource
 import shutil
 import signal
 import subprocess
@@ -177,6 +178,7 @@ def run_replies(n: int, *, seed: int = 1, hang_s: float = 12.0, budget_mib: floa
     report = Report("archive client", CLIENT_OUTCOMES, budget_mib=budget_mib)
     folder = Path(tempfile.mkdtemp(prefix="volumen-netfuzz-"))
     saved = {k: os.environ.get(k) for k in ("VOLUMEN_CONFIG_DIR", "VOLUMEN_CACHE_DIR")}
+    saved_as = resource.getrlimit(resource.RLIMIT_AS)
     t0 = time.perf_counter()
     try:
         with HostileArchive() as archive, HostileArchive() as other:
@@ -188,6 +190,9 @@ def run_replies(n: int, *, seed: int = 1, hang_s: float = 12.0, budget_mib: floa
                 _mutate_replies.run_reply(archive, "fuzz", op, [_mutate_replies.Reply(b(), headers=dict(h))
                                                                 for b, h in answers])
             base = _rss(os.getpid())
+            # a reply that makes the client allocate without end is a MemoryError (a crash here), not the OOM killer
+            resource.setrlimit(resource.RLIMIT_AS, (int((_rss(os.getpid(), "VmSize") + 4 * budget_mib + 1024)
+                                                        * 2 ** 20), saved_as[1]))
             for k in range(n):
                 name, op, replies = _mutate_replies.make_reply(seed, k, elsewhere)
                 shutil.rmtree(folder / "cache", ignore_errors=True)
@@ -201,6 +206,7 @@ def run_replies(n: int, *, seed: int = 1, hang_s: float = 12.0, budget_mib: floa
             if other.paths:
                 report.add(-1, "redirect", "crash", f"the other host was asked {len(other.paths)} time(s)")
     finally:
+        resource.setrlimit(resource.RLIMIT_AS, saved_as)
         for key, value in saved.items():
             if value is None:
                 os.environ.pop(key, None)

@@ -6,14 +6,20 @@ Privacy and access (the scan is a patient's):
   not a loopback address);
 * every request needs the access token, a random 128-bit number printed once in the URL: in the query
   (``?token=``, the URL's), an ``X-Volumen-Token`` header, or the cookie the first answer sets (``HttpOnly``,
-  ``SameSite=Strict``; the page's module imports carry it). Compared in constant time; without it every
-  route answers 403;
+  ``SameSite=Strict``; the page's module imports carry it), which holds an HMAC of the port by the token, not
+  the token. Compared in constant time; without it every route answers 403;
+* a ``Host`` that is not an IP address, ``localhost``, this machine's name or one of ``names`` (the
+  certificate's) answers 403 (DNS rebinding), and so does a POST from another site's page (``Origin``);
 * routes are a fixed table (:data:`ROUTES`, the static files of the package read into memory at start): no
   part of a request reaches the file system, and anything not in the table (``..``, encoded ``..``,
   absolute paths) answers 404;
 * nothing served or logged names the patient: the volume's geometry, modality, units and values only
   (``ServedVolume.info``), never its name, source path or DICOM fields; log lines hold the method, the
-  route, the status and the time, never the query (the token) or a path the client sent.
+  route, the status and the time, never the query (the token) or a path the client sent, and a filter on
+  every logger the server uses removes what might (``_redact``).
+
+Limits (connections, deadlines, workers, memory per frame) are :class:`~._limits.ServeLimits`, enforced by
+``_guard`` (connections) and ``_handlers`` (work and answers).
 """
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterable
 
 from ..errors import ArchiveError, ArchiveNotFoundError, ArchiveRefusedError, ArchiveUnreachableError
@@ -150,7 +151,9 @@ class DimseArchive:
 
         assoc = self._associate([FIND])
         try:
-            return self._run("C-FIND", assoc.send_c_find(_identifier(level, keys, filters), FIND))
+            with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
+                warnings.simplefilter("ignore")
+                return self._run("C-FIND", assoc.send_c_find(_identifier(level, keys, filters), FIND))
         finally:
             assoc.release()
 
@@ -171,7 +174,9 @@ class DimseArchive:
     def _records(self, what: str, make: Callable, found: list) -> list:
         """``make(ds)`` of each identifier; an identifier whose values do not read is one error naming the search."""
         try:
-            return [make(ds) for ds in found]
+            with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
+                warnings.simplefilter("ignore")
+                return [make(ds) for ds in found]
         except (ValueError, TypeError, KeyError, AttributeError, IndexError, OverflowError) as exc:
             raise ArchiveRefusedError(self.server.label, f"the {what}: unexpected answer "
                                                          f"({type(exc).__name__})") from None

@@ -31,11 +31,12 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import _mutate_http, _mutate_replies
+from . import _mutate_dimse, _mutate_http, _mutate_replies
 from ._archive import HostileArchive
 from ._target import IDENTITY
 
-__all__ = ["Report", "run_requests", "run_replies", "BAD", "SERVER_OUTCOMES", "CLIENT_OUTCOMES"]
+__all__ = ["Report", "run_requests", "run_replies", "run_dimse_replies", "BAD", "SERVER_OUTCOMES",
+           "CLIENT_OUTCOMES"]
 
 SERVER_OUTCOMES = ("ok", "4xx", "closed", "5xx", "hang", "crash", "over-budget", "leak")
 CLIENT_OUTCOMES = ("ok", "refused", "crash", "hang", "escape", "over-budget")
@@ -166,10 +167,12 @@ def run_requests(n: int, *, seed: int = 1, threads: int = 8, timeout: float = 20
     return report
 
 
-def _servers_toml(folder: Path, url: str) -> None:
+def _servers_toml(folder: Path, url: str, dimse_port: int = 0) -> None:
     folder.mkdir(parents=True, exist_ok=True)
+    dimse = (f'[servers.dimse]\nae_title = "FUZZ"\nhost = "127.0.0.1"\nport = {dimse_port}\ntimeout = 2\n'
+             "deadline = 2\nmax_answer_mb = 4\n") if dimse_port else ""
     (folder / "servers.toml").write_text(f'[servers.fuzz]\nurl = "{url}"\ntimeout = 2\ndeadline = 2\n'
-                                         "max_answer_mb = 8\nmax_instance_mb = 8\n")
+                                         "max_answer_mb = 8\nmax_instance_mb = 8\n" + dimse)
 
 
 def run_replies(n: int, *, seed: int = 1, hang_s: float = 12.0, budget_mib: float = 256.0) -> Report:
@@ -212,6 +215,37 @@ def run_replies(n: int, *, seed: int = 1, hang_s: float = 12.0, budget_mib: floa
                 os.environ.pop(key, None)
             else:
                 os.environ[key] = value
+        report.seconds = time.perf_counter() - t0
+        shutil.rmtree(folder, ignore_errors=True)
+    return report
+
+
+def run_dimse_replies(n: int, *, seed: int = 1, hang_s: float = 12.0) -> Report:
+    """Answer ``n`` DIMSE searches (C-FIND) with mutated responses; the report of the DIMSE client surface."""
+    report = Report("archive client (DIMSE)", CLIENT_OUTCOMES, budget_mib=256.0)
+    folder = Path(tempfile.mkdtemp(prefix="volumen-netfuzz-"))
+    saved = os.environ.get("VOLUMEN_CONFIG_DIR")
+    t0 = time.perf_counter()
+    scp = _mutate_dimse.HostileScp()
+    try:
+        _servers_toml(folder / "config", "http://127.0.0.1:9/dicom-web", scp.port)
+        os.environ["VOLUMEN_CONFIG_DIR"] = str(folder / "config")
+        base = _rss(os.getpid())
+        for k in range(n):
+            name, op, responses, pause = _mutate_dimse.make_dimse_reply(seed, k)
+            (outcome, detail), seconds = _mutate_replies.timed(_mutate_dimse.run_dimse_reply, scp, "dimse", op,
+                                                               responses, pause)
+            grown = _rss(os.getpid()) - base
+            report.peak_mib = max(report.peak_mib, grown)
+            if seconds > hang_s:
+                outcome, detail = "hang", f"{seconds:.1f} s"
+            report.add(k, name, "over-budget" if grown > report.budget_mib else outcome, detail)
+    finally:
+        scp.close()
+        if saved is None:
+            os.environ.pop("VOLUMEN_CONFIG_DIR", None)
+        else:
+            os.environ["VOLUMEN_CONFIG_DIR"] = saved
         report.seconds = time.perf_counter() - t0
         shutil.rmtree(folder, ignore_errors=True)
     return report

@@ -128,8 +128,7 @@ def _screenshot(server, args) -> int:
 
 
 def run(args):
-    from volumen.web import ViewerServer, is_loopback
-    from volumen.web._certificate import certificate_names
+    from volumen.web import ViewerServer, certificate_names, is_loopback
 
     volume = load_from_args(args, args.path)
     scene, camera = _scene_and_camera(args, volume)

@@ -1,7 +1,7 @@
 # Two commands set up and use volumen on a fresh Debian machine with Python >= 3.11:
 #   make demo   - create .venv, install with every extra a user command needs, write the phantoms' pictures into out/
 #   make test   - create .venv, install with test extras, lint (ruff), run the whole suite
-#   make fuzz   - a long seeded fuzz campaign over every reader (table per format)
+#   make fuzz   - a long seeded fuzz campaign over every reader (table per format), then over the network surfaces
 #   make huge   - an 8 GiB OME-Zarr drawn out of core with a 1 GiB cache: peak RSS vs its bound (minutes)
 PYTHON ?= python3
 VENV   := .venv
@@ -16,7 +16,7 @@ DEMO_STAMP := $(VENV)/.installed-demo
 # kernels side by side; whole files per worker left one long file running alone); Numba caches them beside the sources
 PYTEST_ARGS ?= -n 2 --dist worksteal
 
-.PHONY: demo test fuzz huge install system-data system-libs browser pacs-server web-deps lint-web readme-venv clean
+.PHONY: demo test fuzz fuzz-net huge install system-data system-libs browser pacs-server web-deps lint-web readme-venv clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -159,8 +159,16 @@ test: $(STAMP) system-data system-libs browser pacs-server web-deps readme-venv
 # prints a table per family of formats and fails on any untyped error, hang, crash, out-of-memory or
 # read outside the header's folder. `make test` runs a 3,000-mutant slice (tests/io/test_fuzz.py).
 FUZZ_ARGS ?= --mutants 12000 --seed 1
-fuzz: $(STAMP)
+fuzz: $(STAMP) fuzz-net
 	$(PY) -m volumen.io.fuzz $(FUZZ_ARGS)
+
+# A long seeded campaign over the network surfaces: 20,000 mutated requests (request lines, headers, bodies, query
+# values) to `volumen serve` in a process of its own and 5,000 mutated DICOMweb answers from a hostile archive to
+# `volumen pacs`; a table per surface, failing on any 5xx, hang, crash, memory over budget, token or patient in the
+# server's log, or control character in a table. `make test` runs a slice (tests/web/test_net_fuzz.py).
+FUZZ_NET_ARGS ?= --requests 20000 --replies 5000 --seed 1
+fuzz-net: $(STAMP)
+	$(PY) -m volumen.web.fuzz $(FUZZ_NET_ARGS)
 
 # The 2048x2048x1024 int16 synthetic volume (8 GiB of disk, written to a temporary folder and deleted)
 # drawn out of core in a fresh process; prints its peak RSS, the cache, the bound and the time (issue 16).

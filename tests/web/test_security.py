@@ -33,7 +33,7 @@ def request(port, method, path, *, headers=None, body=None):
     """``(status, headers, body)`` of one request sent with ``path`` exactly as given (no normalization)."""
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
     try:
-        c.putrequest(method, path, skip_accept_encoding=True)
+        c.putrequest(method, path, skip_accept_encoding=True, skip_host="Host" in (headers or {}))
         for k, v in (headers or {}).items():
             c.putheader(k, v)
         if body is not None:
@@ -77,11 +77,13 @@ def test_every_route_needs_the_token(head_server):
     status, headers, _ = request(port, "GET", f"/?token={token}")
     assert status == 200
     cookie = headers["Set-Cookie"]
-    assert cookie.startswith(f"{head_server.cookie}={token};") and "HttpOnly" in cookie and "SameSite=Strict" in cookie
+    assert cookie.startswith(f"{head_server.cookie}={head_server.cookie_value};") and token not in cookie
+    assert "HttpOnly" in cookie and "SameSite=Strict" in cookie
     _, _, info = request(port, "GET", "/info.json", headers={"X-Volumen-Token": token})
     info = json.loads(info)
     for method, path, body in _route_paths(info):
-        status, _, data = request(port, method, path, headers={"Cookie": f"{head_server.cookie}={token}"}, body=body)
+        cookie = f"{head_server.cookie}={head_server.cookie_value}"
+        status, _, data = request(port, method, path, headers={"Cookie": cookie}, body=body)
         assert status == 200 and data, (method, path, data[:200])
 
 

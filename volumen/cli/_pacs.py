@@ -54,6 +54,9 @@ def register(sub):
 
 
 def _table(rows: list[list[str]], header: list[str]) -> str:
+    from volumen.pacs import printable
+
+    rows = [[printable(v) for v in r] for r in rows]  # a server's fields cannot move the cursor or forge a row
     widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(str(v).ljust(w) for v, w in zip(r, widths, strict=True)).rstrip() for r in [header, *rows]]
     return "\n".join(lines)

@@ -128,13 +128,14 @@ def _screenshot(server, args) -> int:
 
 
 def run(args):
-    from volumen.web import ViewerServer, is_loopback
+    from volumen.web import ViewerServer, certificate_names, is_loopback
 
     volume = load_from_args(args, args.path)
     scene, camera = _scene_and_camera(args, volume)
     try:
         server = ViewerServer(volume, scene, camera, host=args.host, port=args.port, budget_mb=args.budget,
-                              ssl_context=_ssl(args), shift=args.shift)
+                              ssl_context=_ssl(args), shift=args.shift,
+                              names=certificate_names(args.certfile) if args.certfile else ())
     except OSError as exc:
         raise ValueError(f"cannot listen on {args.host} port {args.port}: {exc.strerror or exc} "
                          "(pick another with --port, or 0 for a free one)") from None

@@ -12,10 +12,10 @@ from ._cache import SeriesCache
 from ._config import PROTOCOLS, Server, cache_dir, config_dir, load_servers, resolve_server, servers_file
 from ._credentials import unlock
 from ._derived import make_capture, make_seg, source_images
-from ._records import STUDY_COLUMNS, Query, Series, Studies, Study
+from ._records import STUDY_COLUMNS, Query, Series, Studies, Study, printable
 from ._thumbnail import thumbnail
 
 __all__ = ["find", "series", "retrieve", "load", "send", "echo", "connect", "parse_ref", "make_ref", "thumbnail",
            "REF_SCHEMES", "PROTOCOLS", "make_seg", "make_capture", "source_images", "Server", "Query", "Study",
            "Studies", "STUDY_COLUMNS", "Series", "SeriesCache", "load_servers", "resolve_server", "servers_file",
-           "config_dir", "cache_dir", "unlock"]
+           "config_dir", "cache_dir", "unlock", "printable"]

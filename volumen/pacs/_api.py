@@ -12,7 +12,13 @@ from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from pathlib import Path
 
-from ..errors import ArchiveConfigError, ArchiveNotFoundError, MultipleSeriesError, RetrieveCancelled
+from ..errors import (
+    ArchiveConfigError,
+    ArchiveNotFoundError,
+    ArchiveRefusedError,
+    MultipleSeriesError,
+    RetrieveCancelled,
+)
 from ._cache import SeriesCache
 from ._config import Server, resolve_server
 from ._credentials import Prompt
@@ -131,7 +137,13 @@ def retrieve(server: str | Server, study_uid: str, series_uid: str, *, protocol:
 
         def sink(ds):
             nonlocal done
-            where.write(ds)
+            try:
+                where.write(ds)
+            except OSError:
+                raise
+            except Exception as exc:  # noqa: BLE001 - pydicom's many ways of refusing a dataset it cannot write
+                raise ArchiveRefusedError(srv.label, f"sent an instance that cannot be written as DICOM "
+                                                     f"({type(exc).__name__})") from None
             done += 1
             if progress:
                 progress(done, len(listed))

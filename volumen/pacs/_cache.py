@@ -73,7 +73,11 @@ class SeriesCache:
         self.partial.mkdir(parents=True, exist_ok=True)
         final = self.partial / f"{uid}.dcm"
         tmp = final.with_name(final.name + ".tmp")
-        dataset.save_as(tmp, enforce_file_format=True)
+        try:
+            dataset.save_as(tmp, enforce_file_format=True)
+        except BaseException:
+            tmp.unlink(missing_ok=True)
+            raise
         os.replace(tmp, final)
         return final
 

@@ -73,7 +73,15 @@ class Server:
     ca_bundle : str, optional
         PEM file of the certificate authorities to trust for ``https`` (default: the system's).
     timeout : float, s
-        Longest wait for a connection or an answer.
+        Longest wait for a connection or for the next bytes of an answer.
+    deadline : float, s
+        Longest time one answer (a search's, an instance's, a store's) may take to arrive whole, however slowly
+        the server sends it; a DIMSE operation's responses likewise.
+    max_answer_mb : float, MiB
+        Largest search or store answer read from the server (DICOMweb); a DIMSE search's matches count as
+        1 KiB each.
+    max_instance_mb : float, MiB
+        Largest instance retrieved (DICOMweb).
     """
 
     name: str
@@ -90,6 +98,9 @@ class Server:
     token_env: str | None = None
     ca_bundle: str | None = None
     timeout: float = 30.0
+    deadline: float = 300.0
+    max_answer_mb: float = 64.0
+    max_instance_mb: float = 2048.0
     password: str | None = field(default=None, repr=False, compare=False)
     token: str | None = field(default=None, repr=False, compare=False)
 
@@ -101,13 +112,18 @@ class Server:
             raise ArchiveConfigError(self.name, f"retrieve must be 'get' or 'move', got {self.retrieve!r}")
         if self.url is None and self.ae_title is None:
             raise ArchiveConfigError(self.name, "needs a url (DICOMweb) or ae_title, host and port (DIMSE)")
+        for key in ("timeout", "deadline", "max_answer_mb", "max_instance_mb"):
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < float("inf"):
+                raise ArchiveConfigError(self.name, f"{key} must be a positive number, got {value!r}")
         if self.url is not None:
             parts = urlsplit(self.url)
+            if "@" in parts.netloc:
+                raise ArchiveConfigError(self.name, "the url holds credentials: put the user name in username and "
+                                                    "the password in servers.toml (readable by you only) or an "
+                                                    "environment variable, not in the url")
             if parts.scheme not in ("http", "https") or not parts.hostname:
                 raise ArchiveConfigError(self.name, f"url must be http(s)://HOST[:PORT]/PATH, got {self.url!r}")
-            if parts.password is not None:
-                raise ArchiveConfigError(self.name, "the url holds a password: put it in servers.toml (readable "
-                                                    "by you only) or an environment variable, not in the url")
         if self.ae_title is not None and (self.host is None or self.port is None):
             raise ArchiveConfigError(self.name, "a DIMSE server needs ae_title, host and port")
 
@@ -204,11 +220,14 @@ def resolve_server(spec: str | Server, *, protocol: str | None = None, path: Pat
     if isinstance(spec, Server):
         return spec.speaking(protocol)
     spec = str(spec)
-    if spec.startswith(("http://", "https://")):
+    if "://" in spec:
         parts = urlsplit(spec)
-        if parts.password is not None:
-            raise ArchiveConfigError(parts.hostname, "a password on the command line is visible to other users; "
-                                                     "name the server in servers.toml or set an environment variable")
+        if "@" in parts.netloc:
+            raise ArchiveConfigError(parts.hostname, "credentials in the url: a user name or password on the command "
+                                                     "line is visible to other users; name the server in servers.toml "
+                                                     "(username, password_env) instead")
+        if parts.scheme.lower() not in ("http", "https"):
+            raise ArchiveConfigError(None, f"a server's url must be http(s)://HOST[:PORT]/PATH, got {spec!r}")
         return Server(name=spec, url=spec).speaking(protocol)
     m = _AE_AT_HOST.match(spec)
     if m:

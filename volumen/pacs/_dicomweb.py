@@ -21,6 +21,7 @@ the password or token travels in a ``requests`` authentication object, not in th
 from __future__ import annotations
 
 import re
+import struct
 import time
 import warnings
 from collections.abc import Callable, Iterable
@@ -36,8 +37,9 @@ from ..errors import (
 )
 from ._config import Server
 from ._credentials import Prompt, forget, password, token
+from ._http import bearer, session
 from ._privacy import redact_logs
-from ._records import SERIES_KEYS, STUDY_KEYS, Query, Series, Study
+from ._records import SERIES_KEYS, STUDY_KEYS, Query, Series, Study, printable
 
 __all__ = ["DicomWebArchive", "query_string", "loosened", "matches"]
 
@@ -78,40 +80,6 @@ def matches(ds, filters: dict[str, str]) -> bool:
     return True
 
 
-def _bearer(value: str):
-    from requests.auth import AuthBase
-
-    class Bearer(AuthBase):
-        def __call__(self, request):
-            request.headers["Authorization"] = f"Bearer {value}"
-            return request
-
-        def __repr__(self):
-            return "Bearer(...)"
-
-    return Bearer()
-
-
-def _session(ca_bundle: str | None):
-    """A ``requests`` session trusting ``ca_bundle`` for every request, ours and ``dicomweb-client``'s.
-
-    ``requests`` lets ``REQUESTS_CA_BUNDLE`` / ``CURL_CA_BUNDLE`` (often set system-wide) override a session's
-    ``verify``; here a configured ``ca_bundle`` wins, and without one the environment's bundle applies.
-    """
-    import requests
-
-    class Session(requests.Session):
-        def merge_environment_settings(self, url, proxies, stream, verify, cert):
-            merged = super().merge_environment_settings(url, proxies, stream, verify, cert)
-            if ca_bundle:
-                merged["verify"] = ca_bundle
-            return merged
-
-    session = Session()
-    session.verify = ca_bundle or True
-    return session
-
-
 def _reason(exc: Exception) -> str:
     """A short cause for a connection failure (no URL: it is in the server's label already)."""
     import requests
@@ -130,6 +98,16 @@ def _reason(exc: Exception) -> str:
     return "did not answer (no connection)"
 
 
+class ReplyShapeError(ValueError):
+    """An answer of a shape DICOMweb does not have (``_errors`` names the request and the server)."""
+
+
+def _is_dataset_json(d) -> bool:
+    """Whether ``d`` looks like a DICOM JSON dataset: an object of ``{"vr": ...}`` objects by 8-hex-digit tag."""
+    return isinstance(d, dict) and all(isinstance(k, str) and len(k) == 8 and isinstance(v, dict)
+                                       and isinstance(v.get("vr"), str) for k, v in d.items())
+
+
 class DicomWebArchive:
     """One DICOMweb server; ``ask`` prompts for a missing password (None: never ask)."""
 
@@ -139,15 +117,14 @@ class DicomWebArchive:
 
         redact_logs()
         self.server = server
-        session = _session(server.ca_bundle)
+        self.session = session(server)
         secret = token(server)
         if secret:
-            session.auth = _bearer(secret)
+            self.session.auth = bearer(secret)
         elif server.username is not None:
-            session.auth = requests.auth.HTTPBasicAuth(server.username, password(server, ask))
-        self.session = session
+            self.session.auth = requests.auth.HTTPBasicAuth(server.username, password(server, ask))
         self.timeout = (min(server.timeout, 10.0), server.timeout)
-        self.client = DICOMwebClient(url=server.url.rstrip("/"), session=session, timeout=self.timeout)
+        self.client = DICOMwebClient(url=server.url.rstrip("/"), session=self.session, timeout=self.timeout)
         self.client.set_http_retry_params(max_attempts=2, wait_exponential_multiplier=200)
 
     def close(self) -> None:
@@ -166,16 +143,23 @@ class DicomWebArchive:
         response = self.session.send(prepared, timeout=self.timeout, **settings)
         response.raise_for_status()
         found = response.json() if response.content else []
+        found = [found] if isinstance(found, dict) else found
+        if not isinstance(found, list) or not all(_is_dataset_json(d) for d in found):
+            raise ReplyShapeError("the answer is not a list of DICOM JSON datasets")
         with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
             warnings.simplefilter("ignore")
-            return [Dataset.from_json(d) for d in ([found] if isinstance(found, dict) else found)]
+            try:
+                return [Dataset.from_json(d) for d in found]
+            except Exception as exc:  # noqa: BLE001 - pydicom's many ways of refusing odd JSON, as one error
+                raise ReplyShapeError(f"a dataset in the answer is not DICOM JSON ({type(exc).__name__})") from None
 
     @contextmanager
     def _errors(self, what: str, missing: str | None = None):
         """Map ``requests`` failures to typed errors: ``what`` is the request in words, ``missing`` what a 404
         means (None: a plain refusal)."""
         import requests
-        from pydicom.errors import InvalidDicomError
+        from pydicom.errors import BytesLengthException, InvalidDicomError
+        from retrying import RetryError  # dicomweb-client's retries of 429, 503 and 504
 
         label = self.server.label
         try:
@@ -194,7 +178,7 @@ class DicomWebArchive:
             if code == 404:
                 raise ArchiveRefusedError(label, f"{what} failed (HTTP 404: is the url the DICOMweb root, e.g. "
                                                  "http://host:8042/dicom-web?)") from None
-            reason = exc.response.reason if exc.response is not None else ""
+            reason = printable(exc.response.reason or "")[:80] if exc.response is not None else ""
             raise ArchiveRefusedError(label, f"{what} failed (HTTP {code} {reason})".replace(" )", ")")) from None
         except requests.exceptions.JSONDecodeError:
             raise ArchiveRefusedError(label, f"{what}: the answer is not DICOM JSON (is the url the DICOMweb "
@@ -204,8 +188,15 @@ class DicomWebArchive:
         except InvalidDicomError:
             raise ArchiveRefusedError(label, f"{what}: the server sent an instance that is not a DICOM Part 10 file "
                                              "(no file meta information)") from None
-        except ValueError as exc:  # dicomweb-client's checks of what the server sent
-            raise ArchiveRefusedError(label, f"{what}: unexpected answer ({exc})") from None
+        except RetryError as exc:
+            code = getattr(getattr(exc.last_attempt, "value", None), "status_code", "?")
+            raise ArchiveRefusedError(label, f"{what} failed (HTTP {code}, asked twice)") from None
+        except ReplyShapeError as exc:
+            raise ArchiveRefusedError(label, f"{what}: {exc}") from None
+        except (ValueError, TypeError, KeyError, AttributeError, IndexError, RecursionError, OverflowError, EOFError,
+                struct.error, BytesLengthException, NotImplementedError) as exc:  # what pydicom makes of its answer
+            text = str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__
+            raise ArchiveRefusedError(label, f"{what}: unexpected answer ({printable(text)})") from None
 
     def echo(self) -> float:
         """Seconds a one-study search took (DICOMweb has no echo of its own)."""
@@ -224,37 +215,44 @@ class DicomWebArchive:
             if loose:
                 wanted = {key: query.filters()[key] for key in loose}
                 found = [ds for ds in self._search("studies", {**params, **loose}) if matches(ds, wanted)]
-        return [Study.from_dataset(ds) for ds in found[: query.limit or None]]
+            return [Study.from_dataset(ds) for ds in found[: query.limit or None]]
 
     def find_series(self, study_uid: str) -> list[Series]:
         with self._errors("the series search", f"has no study {study_uid}"):
             found = self._search(f"studies/{study_uid}/series", {"includefield": list(SERIES_KEYS)})
-        return [Series.from_dataset(ds, study_uid) for ds in found]
+            return [Series.from_dataset(ds, study_uid) for ds in found]
 
     def list_instances(self, study_uid: str, series_uid: str) -> list[str]:
         with self._errors("the instance search", f"has no series {series_uid} in study {study_uid}"):
             found = self._search(f"studies/{study_uid}/series/{series_uid}/instances",
                                  {"includefield": "SOPInstanceUID"})
-        return [str(ds.SOPInstanceUID) for ds in found if "SOPInstanceUID" in ds]
+            return [str(ds.SOPInstanceUID) for ds in found if "SOPInstanceUID" in ds]
 
     def fetch(self, study_uid: str, series_uid: str, sop_uids: list[str], sink: Callable, stop: Callable[[], bool]):
         """WADO-RS each instance of ``sop_uids`` in turn into ``sink(dataset)``; returns early when ``stop()``."""
         for uid in sop_uids:
             if stop():
                 return
-            with self._errors("the retrieve", f"has no instance {uid} (deleted since it was listed?)"):
+            with self._errors("the retrieve", f"has no instance {uid} (deleted since it was listed?)"), \
+                    warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
+                warnings.simplefilter("ignore")
                 ds = self.client.retrieve_instance(study_uid, series_uid, uid)
-            sink(ds)
+                sent = str(ds.get("SOPInstanceUID", ""))
+                if sent != uid:
+                    raise ArchiveRefusedError(self.server.label, f"sent instance {printable(sent[:64]) or '(none)'} "
+                                                                 f"when asked for {uid}")
+                sink(ds)
 
     def store(self, datasets: Iterable) -> int:
         """STOW-RS ``datasets``; the number stored. A refused instance is an error naming its SOP Instance UID."""
         datasets = list(datasets)
         with self._errors("the store"):
             answer = self.client.store_instances(datasets)
-        failed = answer.get("FailedSOPSequence", []) if answer is not None else []
+            failed = list(answer.get("FailedSOPSequence", [])) if answer is not None else []
+            if failed:
+                uid = printable(str(failed[0].get("ReferencedSOPInstanceUID", "?")))
+                reason = printable(str(failed[0].get("FailureReason", "?")))
         if failed:
-            uid = failed[0].get("ReferencedSOPInstanceUID", "?")
-            reason = failed[0].get("FailureReason", "?")
             raise ArchiveRefusedError(self.server.label, f"refused {len(failed)} of {len(datasets)} instance(s) "
                                                          f"(first: {uid}, failure reason {reason})")
         return len(datasets)

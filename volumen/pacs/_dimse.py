@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterable
 
 from ..errors import ArchiveError, ArchiveNotFoundError, ArchiveRefusedError, ArchiveUnreachableError
@@ -117,9 +118,18 @@ class DimseArchive:
             return (exc.strerror or type(exc).__name__).lower()
 
     def _run(self, what: str, responses) -> list:
-        """The identifiers of pending responses; a failure status or a lost connection is an error."""
+        """The identifiers of pending responses; a failure status, a lost connection, more matches than
+        ``max_answer_mb`` holds at 1 KiB each, or responses past ``deadline`` are errors."""
         out = []
+        end = time.monotonic() + self.server.deadline
+        most = int(self.server.max_answer_mb * 1024)
         for status, identifier in responses:
+            if time.monotonic() > end:
+                raise ArchiveUnreachableError(self.server.label, f"did not finish the {what} within "
+                                                                 f"{self.server.deadline:g} s (deadline, servers.toml)")
+            if len(out) > most:
+                raise ArchiveRefusedError(self.server.label, f"sent more than {most} matches to the {what} "
+                                                             "(max_answer_mb in servers.toml, 1 KiB a match)")
             code = getattr(status, "Status", None)
             if code is None:
                 raise ArchiveUnreachableError(self.server.label, f"the connection broke during the {what}")
@@ -141,7 +151,9 @@ class DimseArchive:
 
         assoc = self._associate([FIND])
         try:
-            return self._run("C-FIND", assoc.send_c_find(_identifier(level, keys, filters), FIND))
+            with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
+                warnings.simplefilter("ignore")
+                return self._run("C-FIND", assoc.send_c_find(_identifier(level, keys, filters), FIND))
         finally:
             assoc.release()
 
@@ -159,13 +171,23 @@ class DimseArchive:
             raise ArchiveRefusedError(self.server.label, "C-ECHO failed")
         return time.perf_counter() - t0
 
+    def _records(self, what: str, make: Callable, found: list) -> list:
+        """``make(ds)`` of each identifier; an identifier whose values do not read is one error naming the search."""
+        try:
+            with warnings.catch_warnings():  # pydicom's warnings about odd values quote the values
+                warnings.simplefilter("ignore")
+                return [make(ds) for ds in found]
+        except (ValueError, TypeError, KeyError, AttributeError, IndexError, OverflowError) as exc:
+            raise ArchiveRefusedError(self.server.label, f"the {what}: unexpected answer "
+                                                         f"({type(exc).__name__})") from None
+
     def find_studies(self, query: Query) -> list[Study]:
-        found = [Study.from_dataset(ds) for ds in self._find("STUDY", STUDY_KEYS, query.filters())]
+        found = self._records("study search", Study.from_dataset, self._find("STUDY", STUDY_KEYS, query.filters()))
         return found[: query.limit] if query.limit else found
 
     def find_series(self, study_uid: str) -> list[Series]:
         found = self._find("SERIES", SERIES_KEYS, {"StudyInstanceUID": study_uid})
-        return [Series.from_dataset(ds, study_uid) for ds in found]
+        return self._records("series search", lambda ds: Series.from_dataset(ds, study_uid), found)
 
     def list_instances(self, study_uid: str, series_uid: str) -> list[str]:
         found = self._find("IMAGE", ("SOPInstanceUID", "SOPClassUID"), {"StudyInstanceUID": study_uid,

@@ -18,7 +18,7 @@ IDENTIFYING_KEYS = ("PatientName", "PatientID", "PatientBirthDate", "AccessionNu
                     "ReferringPhysicianName", "00100010", "00100020", "00100030", "00080050", "00081030",
                     "00080090")
 _VALUE = re.compile(r"(\b(?:" + "|".join(IDENTIFYING_KEYS) + r")=)[^&\s\"']*")
-_LOGGERS = ("urllib3.connectionpool", "dicomweb_client", "dicomweb_client.web")
+_LOGGERS = ("urllib3.connectionpool", "urllib3.connection", "dicomweb_client", "dicomweb_client.web")
 
 
 class RedactFilter(logging.Filter):

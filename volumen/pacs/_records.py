@@ -14,7 +14,8 @@ from dataclasses import asdict, dataclass
 
 from ..errors import ArchiveConfigError
 
-__all__ = ["Query", "Study", "Series", "Studies", "check_uid", "STUDY_KEYS", "SERIES_KEYS", "STUDY_COLUMNS"]
+__all__ = ["Query", "Study", "Series", "Studies", "check_uid", "printable", "STUDY_KEYS", "SERIES_KEYS",
+           "STUDY_COLUMNS"]
 
 _DATE = re.compile(r"^(\d{8})?(-(\d{8})?)?$")
 _UID = re.compile(r"^[0-9]+(\.[0-9]+)*$")
@@ -24,6 +25,21 @@ STUDY_KEYS = ("StudyInstanceUID", "StudyDate", "StudyDescription", "PatientName"
               "ModalitiesInStudy", "NumberOfStudyRelatedSeries", "NumberOfStudyRelatedInstances")
 SERIES_KEYS = ("StudyInstanceUID", "SeriesInstanceUID", "SeriesNumber", "Modality", "SeriesDescription",
                "NumberOfSeriesRelatedInstances")
+
+
+def _escape(char: str) -> str:
+    code = ord(char)
+    return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}"
+
+
+def printable(text) -> str:
+    """``text`` safe to print on a terminal: control characters (line ends, tabs, escapes, C1 controls) and
+    invisible format characters (bidirectional overrides, zero-width marks, line separators) written as
+    ``\\xNN`` / ``\\uNNNN``, so a server's field can neither move the cursor nor forge a row."""
+    text = str(text)
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() or c == " " else _escape(c) for c in text)
 
 
 def check_uid(uid: str, what: str = "UID") -> str:
@@ -136,8 +152,9 @@ class Studies(list):
 
     def rows(self) -> list[list[str]]:
         """One row of :data:`STUDY_COLUMNS` per study."""
-        return [[s.date or "-", "/".join(s.modalities) or "-", "?" if s.n_series is None else str(s.n_series),
-                 s.patient_name or "-", s.patient_id or "-", s.accession or "-", s.description or "-", s.uid]
+        return [[printable(v) for v in (s.date or "-", "/".join(s.modalities) or "-",
+                                        "?" if s.n_series is None else str(s.n_series), s.patient_name or "-",
+                                        s.patient_id or "-", s.accession or "-", s.description or "-", s.uid)]
                 for s in self]
 
     def _repr_html_(self) -> str:

@@ -22,12 +22,40 @@ import numpy as np
 from volumen.core import Camera, Scene
 from volumen.errors import DeviceLimitError
 
-__all__ = ["web_frame", "encode", "decode", "FRAME_ARRAYS", "MAGIC"]
+__all__ = ["web_frame", "encode", "decode", "FrameBudgetError", "FRAME_ARRAYS", "MAGIC"]
 
 MAGIC = b"VOLW"
 #: the frame's arrays the page uploads as textures (``FrameTextures.FIELDS`` without the volume's own)
 FRAME_ARRAYS = ("lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
 _DTYPES = {"float32": np.float32, "uint8": np.uint8, "float16": np.float16, "int32": np.int32}
+
+
+class FrameBudgetError(DeviceLimitError):
+    """A frame that would need more memory than the server gives one frame (the server answers 413)."""
+
+
+def _budgeted(budget_bytes: float):
+    """``raycast``'s light-volume builder that first sums the illumination volumes the frame's lights would
+    need (``plan_lattice``, 4 bytes a node) and raises :class:`FrameBudgetError` past ``budget_bytes``,
+    before allocating any."""
+    from volumen.render.raycast._lightvol import light_volumes, plan_lattice
+    from volumen.render.raycast._params import LV_NK, LV_NU, LV_NV
+
+    def build(prep, keys, positions_index, box_lo, box_hi, *rest):
+        scale, method = rest[-2], rest[-1]
+        if method != "direct":
+            nodes = 0
+            for p in positions_index[:len(keys)]:
+                m = plan_lattice(p, box_lo, box_hi, prep.u.shape, scale)
+                nodes += 0 if m is None else int(m[LV_NK] * m[LV_NV] * m[LV_NU])
+            if 4 * nodes > budget_bytes:
+                raise FrameBudgetError(
+                    f"{len(keys)} shadowed lights need {4 * nodes / 2**20:.0f} MiB of illumination volumes; a frame "
+                    f"may use {budget_bytes / 2**20:.0f} MiB: use fewer shadowed lights or a lower "
+                    "light_volume_scale")
+        return light_volumes(prep, keys, positions_index, box_lo, box_hi, *rest)
+
+    return build
 
 
 def _check(scene: Scene) -> None:
@@ -51,16 +79,18 @@ def _plain(value):
     return value
 
 
-def web_frame(volume, scene_dict: dict, camera_dict: dict, size) -> tuple[dict, dict]:
+def web_frame(volume, scene_dict: dict, camera_dict: dict, size, budget_bytes: float = float("inf")
+              ) -> tuple[dict, dict]:
     """``(header, arrays)`` of the frame of ``scene_dict`` (its volume replaced by ``volume``) seen by
-    ``camera_dict`` in a picture of ``size = (width, height)``.
+    ``camera_dict`` in a picture of ``size = (width, height)``, its illumination volumes within ``budget_bytes``.
 
     Raises
     ------
     ValueError
         For a scene or camera that does not validate (the message names the field).
     DeviceLimitError
-        For what the viewer does not draw (path tracing, more lights or clip planes than a pass takes).
+        For what the viewer does not draw (path tracing, more lights or clip planes than a pass takes);
+        :class:`FrameBudgetError` for illumination volumes past ``budget_bytes``.
     """
     from volumen.render.raster._rc_uniforms import frame_uniforms, variant
     from volumen.render.raycast import pack_frame
@@ -72,7 +102,7 @@ def web_frame(volume, scene_dict: dict, camera_dict: dict, size) -> tuple[dict, 
     scene = Scene.from_dict({**scene_dict, "volume": ""}, volume=volume)
     camera = Camera.from_dict(camera_dict)
     _check(scene)
-    f = pack_frame(scene, camera, (w, h))
+    f = pack_frame(scene, camera, (w, h), build_light_volumes=_budgeted(budget_bytes))
     arrays = {name: np.ascontiguousarray(getattr(f.arrays, name)) for name in FRAME_ARRAYS}
     arrays["lvd"] = arrays["lvd"].astype(np.float32, copy=False).ravel()
     arrays["bflag"] = tiled(arrays["bflag"])  # the octants' grids side by side, as the gl device's texture
@@ -92,7 +122,7 @@ def encode(header: dict, arrays: dict) -> bytes:
             raise ValueError(f"array {name!r} of dtype {a.dtype} cannot be sent; valid: {', '.join(_DTYPES)}")
         table[name] = {"dtype": a.dtype.name, "shape": list(a.shape), "offset": offset, "nbytes": a.nbytes}
         pad = -a.nbytes % 8
-        blobs += [a.tobytes(), b"\0" * pad]
+        blobs += [a.reshape(-1).view(np.uint8), b"\0" * pad]   # the array's own bytes: one copy, in the join
         offset += a.nbytes + pad
     text = json.dumps({**header, "arrays": table}, separators=(",", ":")).encode()
     text += b" " * (-(len(text) + 8) % 8)  # the arrays start at a multiple of 8

@@ -6,48 +6,47 @@ Privacy and access (the scan is a patient's):
   not a loopback address);
 * every request needs the access token, a random 128-bit number printed once in the URL: in the query
   (``?token=``, the URL's), an ``X-Volumen-Token`` header, or the cookie the first answer sets (``HttpOnly``,
-  ``SameSite=Strict``; the page's module imports carry it). Compared in constant time; without it every
-  route answers 403;
+  ``SameSite=Strict``; the page's module imports carry it), which holds an HMAC of the port by the token, not
+  the token. Compared in constant time; without it every route answers 403;
+* a ``Host`` that is not an IP address, ``localhost``, this machine's name or one of ``names`` (the
+  certificate's) answers 403 (DNS rebinding), and so does a POST from another site's page (``Origin``);
 * routes are a fixed table (:data:`ROUTES`, the static files of the package read into memory at start): no
   part of a request reaches the file system, and anything not in the table (``..``, encoded ``..``,
   absolute paths) answers 404;
 * nothing served or logged names the patient: the volume's geometry, modality, units and values only
   (``ServedVolume.info``), never its name, source path or DICOM fields; log lines hold the method, the
-  route, the status and the time, never the query (the token) or a path the client sent.
+  route, the status and the time, never the query (the token) or a path the client sent, and a filter on
+  every logger the server uses removes what might (``_redact``).
+
+Limits (connections, deadlines, workers, memory per frame) are :class:`~._limits.ServeLimits`, enforced by
+``_guard`` (connections) and ``_handlers`` (work and answers).
 """
 
 from __future__ import annotations
 
 import asyncio
+import hashlib
 import hmac
 import ipaddress
-import json
 import logging
 import secrets
 import socket
 import threading
 import time
-from concurrent.futures import ThreadPoolExecutor
-from importlib import resources
 
-import numpy as np
 from aiohttp import web
 
-from ._served import DEFAULT_BUDGET_MB, DEFAULT_MAX_3D, ServedVolume
+from ._guard import GuardedServer, quiet_loop_errors
+from ._handlers import MAX_BODY, ROUTES, STATIC_FILES, Handlers
+from ._limits import ServeLimits, connection_cap
+from ._redact import REDACTOR, install
+from ._requests import host_allowed, origin_allowed
+from ._served import DEFAULT_BUDGET_MB
 
 __all__ = ["ViewerServer", "new_token", "is_loopback", "ROUTES", "STATIC_FILES", "log"]
 
 log = logging.getLogger("volumen.web")
-
-#: the page's files (package data under ``volumen/web/static``), served at ``/`` and ``/static/NAME``
-STATIC_FILES = ("index.html", "style.css", "main.js", "api.js", "gl.js", "program.js", "camera.js", "linalg.js",
-                "xr.js", "ui.js", "overlay.js", "slices.js", "viewer.js", "display.js")
-_TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
-#: route -> (method, handler name of :class:`_Handlers`)
-ROUTES = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
-          "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
-          **{f"static/{name}": ("GET", "static") for name in STATIC_FILES}}
-_MAX_BODY = 1 << 20
+_COOKIE_PURPOSE = b"volumen serve cookie, port "
 
 
 def new_token() -> str:
@@ -65,117 +64,10 @@ def is_loopback(host: str) -> bool:
         return False
 
 
-def _static() -> dict[str, tuple[bytes, str]]:
-    root = resources.files(__package__).joinpath("static")
-    out = {}
-    for name in STATIC_FILES:
-        data = root.joinpath(name).read_bytes()
-        out[name] = (data, _TYPES["." + name.rsplit(".", 1)[1]])
-    return out
-
-
-class _Handlers:
-    """What each route answers, from the served scan (:class:`~volumen.web.ViewerServer` holds one)."""
-
-    def __init__(self, source, scene, camera, budget_mb: float, shift: float):
-        self.source, self.scene, self.camera, self.budget_mb, self.shift = source, scene, camera, budget_mb, shift
-        self.static = _static()
-        self._served: dict[int, ServedVolume] = {}
-        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="volumen-web")
-
-    def served(self, max_3d: int = DEFAULT_MAX_3D) -> ServedVolume:
-        """The volume as a client with ``max_3d`` (its 3-D texture size) gets it, made once per size."""
-        max_3d = int(min(max(max_3d, 16), DEFAULT_MAX_3D))
-        if max_3d not in self._served:
-            self._served[max_3d] = ServedVolume(self.source, max_3d, self.budget_mb)
-        return self._served[max_3d]
-
-    async def _work(self, fn, *args):
-        return await asyncio.get_running_loop().run_in_executor(self._pool, fn, *args)
-
-    async def index(self, request, path):
-        return self.static["index.html"]
-
-    async def static_file(self, request, path):
-        return self.static[path.removeprefix("static/")]
-
-    async def info(self, request, path):
-        served = self.served(_int(request, "max3d", DEFAULT_MAX_3D))
-        from volumen.core import PRESETS, fitted_preset
-        from volumen.core._tonemap import shader_constants
-        from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
-
-        transfers = {name: fitted_preset(name, served.volume).to_dict() for name in PRESETS}
-        body = {"volume": served.info(), "scene": self.scene_dict(served), "camera": self.camera.to_dict(),
-                "presets": list(PRESETS), "transfers": transfers, "shift": self.shift,
-                "notices": list(served.notices), "display": shader_constants(),
-                "limits": {"max_lights": MAX_LIGHTS, "max_planes": MAX_PLANES, "budget_mb": self.budget_mb}}
-        return json.dumps(body).encode(), "application/json"
-
-    def scene_dict(self, served) -> dict:
-        d = self.scene.to_dict()
-        d["volume"] = ""  # never the source's path
-        return d
-
-    async def shaders(self, request, path):
-        from volumen.render.raster._shaders import STAGES, stage_parts
-
-        body = {name: {stage: list(stage_parts(name, stage, "es300")) for stage in STAGES}
-                for name in ("raycast", "display")}
-        return json.dumps(body).encode(), "application/json"
-
-    async def volume(self, request, path):
-        from ._frames import encode
-
-        served = self.served(_int(request, "max3d", DEFAULT_MAX_3D))
-        texels, vol_map, exact = await self._work(lambda: served.encoded)
-        header = {"shape": list(texels.shape), "vol_map": list(vol_map), "exact": exact,
-                  "notices": list(served.notices)}
-        return encode(header, {"vol": texels}), "application/octet-stream"
-
-    async def frame(self, request, path):
-        from ._frames import encode, web_frame
-
-        body = await request.read()   # past client_max_size (1 MiB): 413
-        try:
-            req = json.loads(body)
-            served = self.served(int(req.get("max3d", DEFAULT_MAX_3D)))
-            header, arrays = await self._work(web_frame, served.volume, req["scene"], req["camera"], req["size"])
-        except (ValueError, KeyError, TypeError) as exc:
-            raise web.HTTPBadRequest(text=_one_line(exc)) from None
-        header["seq"] = req.get("seq", 0)
-        return encode(header, arrays), "application/octet-stream"
-
-    async def slice(self, request, path):
-        from ._slices import slice_png
-
-        served = self.served(_int(request, "max3d", DEFAULT_MAX_3D))
-        q = request.query
-        try:
-            png, m, crossing = await self._work(slice_png, served.volume, q.get("plane", ""),
-                                                tuple(float(q.get(a, "nan")) for a in "xyz"),
-                                                float(q.get("level", "nan")), float(q.get("width", "nan")))
-        except ValueError as exc:
-            raise web.HTTPBadRequest(text=_one_line(exc)) from None
-        return png, "image/png", {"X-Slice-Map": json.dumps(np.round(m, 6).tolist()),
-                                  "X-Slice-Cross": json.dumps(crossing)}
-
-    def close(self):
-        self._pool.shutdown(wait=False, cancel_futures=True)
-
-
-def _int(request, name: str, default: int) -> int:
-    try:
-        return int(request.query.get(name, default))
-    except ValueError:
-        raise web.HTTPBadRequest(text=f"{name} must be an integer") from None
-
-
-def _one_line(exc: Exception) -> str:
-    from volumen.errors import VolumenError
-
-    text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-    return text if isinstance(exc, (ValueError, VolumenError)) else f"bad request: {type(exc).__name__} {text}"
+def _machine_names() -> set[str]:
+    """This machine's name (the URL's for ``--host 0.0.0.0``; no DNS look-up at start)."""
+    name = socket.gethostname()
+    return {name} if name else set()
 
 
 class ViewerServer:
@@ -199,15 +91,29 @@ class ViewerServer:
         Where the page's preset shift starts (data units; the scene's transfer function is already shifted).
     ssl_context : ssl.SSLContext or None
         Serve HTTPS (WebXR needs a secure origin on any host but ``localhost``).
+    limits : ServeLimits or None
+        Connections, deadlines, workers, memory per frame (None: ``ServeLimits.from_env()``).
+    names : iterable of str
+        Host names the page may be asked by besides IP addresses, ``localhost`` and this machine's names (the
+        certificate's names).
     """
 
     def __init__(self, volume, scene, camera, *, host: str = "127.0.0.1", port: int = 0,
-                 budget_mb: float = DEFAULT_BUDGET_MB, token: str | None = None, ssl_context=None, shift: float = 0.0):
+                 budget_mb: float = DEFAULT_BUDGET_MB, token: str | None = None, ssl_context=None, shift: float = 0.0,
+                 limits: ServeLimits | None = None, names=()):
         self.host, self.token, self.ssl_context = host, token or new_token(), ssl_context
-        self.handlers = _Handlers(volume, scene, camera, budget_mb, shift)
-        self.sock = socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET)
+        self.limits = limits or ServeLimits.from_env()
+        self.handlers = Handlers(volume, scene, camera, budget_mb, shift, self.limits)
+        self.names = {*_machine_names(), *names}
+        if not is_loopback(host) and host not in ("0.0.0.0", "::"):
+            self.names.add(host)
+        self.sock = socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET,
+                                         backlog=128)
         self.port = self.sock.getsockname()[1]
-        self._loop = self._runner = self._thread = None
+        self.cookie_value = hmac.new(self.token.encode(), _COOKIE_PURPOSE + str(self.port).encode(),
+                                     hashlib.sha256).hexdigest()
+        self._secrets = (self.token, self.cookie_value, *_identity(volume))
+        self._loop = self._server = self._thread = None
         self._stopped = threading.Event()
 
     @property
@@ -226,72 +132,114 @@ class ViewerServer:
         """The server's origin without the token (tests ask it things without the token)."""
         return self.url.split("/?", 1)[0]
 
+    @property
+    def cookie(self) -> str:
+        """The cookie's name (it carries the port; its value, an HMAC of the port by the token, is no use
+        elsewhere)."""
+        return f"volumen-token-{self.port}"
+
+    @property
+    def open_connections(self) -> int:
+        """Connections open now (0 before :meth:`start`)."""
+        return self._server.open_connections if self._server is not None else 0
+
     def _authorized(self, request) -> tuple[bool, bool]:
-        """``(authorized, by the query)``: the token from the query, the header or the cookie, constant time."""
-        expected = self.token.encode()
-        for given, by_query in ((request.query.get("token"), True),
-                                (request.headers.get("X-Volumen-Token"), False),
-                                (request.cookies.get(self.cookie), False)):
-            if given is not None and hmac.compare_digest(given.encode("utf-8", "replace"), expected):
+        """``(authorized, by the query)``: the token from the query or the header, or the cookie's value,
+        compared in constant time."""
+        for given, expected, by_query in ((request.query.get("token"), self.token, True),
+                                          (request.headers.get("X-Volumen-Token"), self.token, False),
+                                          (request.cookies.get(self.cookie), self.cookie_value, False)):
+            if given is not None and hmac.compare_digest(given.encode("utf-8", "replace"), expected.encode()):
                 return True, by_query
         return False, False
 
-    @property
-    def cookie(self) -> str:
-        return f"volumen-token-{self.port}"
+    def _refusal(self, request) -> web.Response | None:
+        """403 for a foreign ``Host``, a foreign ``Origin`` on a POST, or no token; 404 and 405 for what is not
+        a route; None when the request may be served."""
+        host = request.headers.get("Host")
+        if not host_allowed(host, self.names):
+            return web.Response(status=403, text="403: forbidden (this viewer does not answer to that host name)")
+        scheme = "https" if self.ssl_context else "http"
+        if request.method not in ("GET", "HEAD") and not origin_allowed(request.headers.get("Origin"), host, scheme):
+            return web.Response(status=403, text="403: forbidden (a request from another site)")
+        if not self._authorized(request)[0]:
+            return web.Response(status=403, text="403: forbidden (this viewer needs the token of its URL)")
+        entry = ROUTES.get(request.path.removeprefix("/"))
+        if entry is None:
+            return web.Response(status=404, text="404: not found")
+        if request.method != entry[0]:
+            return web.Response(status=405, text=f"405: {request.path.removeprefix('/') or '/'} takes {entry[0]}")
+        return None
 
-    async def _handle(self, request: web.Request) -> web.StreamResponse:
+    async def _handle(self, request: web.BaseRequest) -> web.StreamResponse:
         t0 = time.perf_counter()
-        route, status = "?", 500
-        try:
-            ok, by_query = self._authorized(request)
-            if not ok:
-                status = 403
-                return web.Response(status=403, text="403: forbidden (this viewer needs the token of its URL)")
-            path = request.path.removeprefix("/")
-            entry = ROUTES.get(path)
-            if entry is None:
-                status = 404
-                return web.Response(status=404, text="404: not found")
-            route = path or "/"
-            method, name = entry
-            if request.method != method:
-                status = 405
-                return web.Response(status=405, text=f"405: {route} takes {method}")
-            handler = self.handlers.static_file if name == "static" else getattr(self.handlers, name)
-            body, ctype, *extra = await handler(request, path)
-            headers = {"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff", **(extra[0] if extra else {})}
-            resp = web.Response(body=body, content_type=ctype, headers=headers)
-            if by_query:
-                resp.set_cookie(self.cookie, self.token, httponly=True, samesite="Strict", path="/",
-                                secure=self.ssl_context is not None)
-            status = 200
-            return resp
-        except web.HTTPException as exc:
-            status = exc.status
-            raise
-        finally:
-            log.info("%s %s %d %.1f ms", request.method, route if status not in (403, 404) else "-", status,
-                     1e3 * (time.perf_counter() - t0))
+        route, status = "-", 500
+        with self._server.busy(request.protocol):
+            try:
+                resp = self._refusal(request)
+                if resp is None:
+                    route = request.path.removeprefix("/") or "/"
+                    resp = await self._answer(request)
+                status = resp.status
+                return resp
+            except web.HTTPException as exc:
+                status = exc.status
+                return web.Response(status=exc.status, text=exc.text or f"{exc.status}: {exc.reason}")
+            except ConnectionError:   # the client went away while its answer was sent (logged as status 0)
+                status = 0
+                return web.Response(status=500)
+            except Exception as exc:  # noqa: BLE001 - one line and a 500, never a traceback
+                log.error("internal error in %s: %s", route, type(exc).__name__)
+                return web.Response(status=500, text="500: internal error")
+            finally:
+                log.info("%s %s %d %.1f ms", request.method if request.method.isalpha() else "?", route, status,
+                         1e3 * (time.perf_counter() - t0))
 
-    def _app(self) -> web.Application:
-        app = web.Application(client_max_size=_MAX_BODY)
-        app.router.add_route("*", "/{tail:.*}", self._handle)
-        return app
+    async def _answer(self, request) -> web.StreamResponse:
+        """The route's answer, sent before returning (a large one counts as being sent until it is)."""
+        route = request.path.removeprefix("/")
+        _, ok_by_query = self._authorized(request)
+        with self.handlers.sending(route):
+            body, ctype, *extra = await getattr(self.handlers, ROUTES[route][1])(request)
+            headers = {"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff",
+                       **(extra[0] if extra else {})}
+            resp = web.StreamResponse(headers=headers)
+            resp.content_type, resp.content_length = ctype, len(body)
+            if ok_by_query:
+                resp.set_cookie(self.cookie, self.cookie_value, httponly=True, samesite="Strict", path="/",
+                                secure=self.ssl_context is not None)
+            await resp.prepare(request)
+            await resp.write(body)
+            await resp.write_eof()
+            return resp
+
+    def _make_server(self, loop) -> GuardedServer:
+        lim = self.limits
+        return GuardedServer(self._handle, cap=connection_cap(lim), header_timeout=lim.header_timeout, loop=loop,
+                             keepalive_timeout=lim.keepalive_timeout, access_log=None, max_line_size=8190,
+                             max_field_size=8190, max_headers=64, handler_cancellation=True,
+                             request_factory=lambda *a: web.BaseRequest(*a, loop, client_max_size=MAX_BODY))
 
     async def _serve(self, ready: threading.Event | None = None) -> None:
-        self._runner = web.AppRunner(self._app(), access_log=None, handle_signals=False)
-        await self._runner.setup()
-        await web.SockSite(self._runner, self.sock, ssl_context=self.ssl_context).start()
+        install()
+        REDACTOR.add(*self._secrets)
         self._loop = asyncio.get_running_loop()
+        quiet_loop_errors(self._loop)
+        self._server = self._make_server(self._loop)
+        listener = await self._loop.create_server(self._server, sock=self.sock, ssl=self.ssl_context, backlog=128,
+                                                  ssl_handshake_timeout=self.limits.header_timeout
+                                                  if self.ssl_context else None)
         self._stop = asyncio.Event()
         if ready is not None:
             ready.set()
         try:
             await self._stop.wait()
         finally:
-            await self._runner.cleanup()
+            listener.close()
+            self._server.pre_shutdown()
+            await self._server.shutdown(2.0)
             self.handlers.close()
+            REDACTOR.remove(*self._secrets)
             self._stopped.set()
 
     def run(self) -> None:
@@ -325,3 +273,15 @@ class ViewerServer:
 
     def __exit__(self, *exc):
         self.stop()
+
+
+def _identity(volume) -> tuple[str, ...]:
+    """What in the volume names the patient or the source (redacted from the logs): its name, its source path
+    and that path's folder and file names."""
+    from pathlib import PurePath
+
+    found = [str(getattr(volume, "name", "") or "")]
+    source = (getattr(volume, "meta", None) or {}).get("source")
+    if source:
+        found += [str(source), *PurePath(str(source)).parts[-2:]]
+    return tuple(s for s in found if len(s) >= 3 and s not in ("/", "volume"))

@@ -131,8 +131,10 @@ def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
     assert not missing, "\n".join(missing)
 
 
-#: the pools that are not compiled passes: the one OpenGL thread, the web server's render thread
-_OTHER_POOLS = ("volumen/render/raster/_context.py", "volumen/web/_server.py")
+#: the pools that are not compiled passes: the one OpenGL thread, the web server's render thread and its bounded
+#: pool of request work, the network fuzzer's clients
+_OTHER_POOLS = ("volumen/render/raster/_context.py", "volumen/web/_server.py", "volumen/web/_handlers.py",
+                "volumen/web/fuzz/_campaign.py")
 
 
 def test_every_compiled_pass_runs_on_the_one_thread_driver():

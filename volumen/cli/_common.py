@@ -4,6 +4,7 @@ asking for an archive password, a progress bar."""
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 
@@ -40,6 +41,17 @@ def add_load_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--byte-order", choices=["little", "big"], help="raw files: byte order")
 
 
+def finite_float(text: str) -> float:
+    """An argument's number, refused (one line, the option named by argparse) unless finite."""
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"{text!r} is not a finite number")
+    return value
+
+
+finite_float.__name__ = "finite number"  # argparse's words: "invalid finite number value: 'nan'"
+
+
 def _floats(text: str | None, n: int, what: str):
     if text is None:
         return None
@@ -48,7 +60,7 @@ def _floats(text: str | None, n: int, what: str):
         vals = [float(t) for t in parts]
     except ValueError:
         raise ValueError(f"{what} must be {n} comma-separated numbers, got {text!r}") from None
-    if len(vals) != n:
+    if len(vals) != n or not all(math.isfinite(v) for v in vals):
         raise ValueError(f"{what} must be {n} comma-separated numbers, got {text!r}")
     return vals
 

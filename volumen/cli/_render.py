@@ -14,7 +14,7 @@ import sys
 import time
 from pathlib import Path
 
-from ._common import SHIFT_HELP, _floats, add_load_options, load_from_args, parse_point
+from ._common import SHIFT_HELP, _floats, add_load_options, finite_float, load_from_args, parse_point
 from ._labels_opts import add_label_render_options, label_layer_from_args
 from ._technique import add_technique_options, technique_from_args
 
@@ -42,10 +42,10 @@ def register(sub):
     g = p.add_argument_group("look")
     g.add_argument("--preset", choices=PRESETS, help="transfer function preset")
     g.add_argument("--tf", help="transfer function JSON file (TransferFunction.to_json)")
-    g.add_argument("--shift", type=float, help=SHIFT_HELP)
+    g.add_argument("--shift", type=finite_float, help=SHIFT_HELP)
     g.add_argument("--mode", choices=MODES, help="composite (default; a single slice or two frames "
                    "with no --tf, --preset or --labels: mip), mip, minip, average, isosurface")
-    g.add_argument("--iso", type=float, help="isosurface threshold in data units (default 300 HU for CT)")
+    g.add_argument("--iso", type=finite_float, help="isosurface threshold in data units (default 300 HU for CT)")
     g.add_argument("--iso-color", help="isosurface colour R,G,B in 0..1")
     g.add_argument("--shading", choices=SHADINGS, help=f"{', '.join(SHADINGS)} (default headlight, none for a colour "
                    "slab: an ultrasound frame drawn as its image; the lit models use --light)")
@@ -196,6 +196,9 @@ def build(args, base: dict | None, volume):
                         shading=replace(scene.shading, mode=shaded))
     if args.shift:  # as the browser page's shift: the inner control points move along the values
         scene = replace(scene, transfer=scene.transfer.shifted(args.shift))
+        if scene.mode != "composite":
+            print(f"volumen render: warning: --shift moves the transfer function, which --mode {scene.mode} does "
+                  "not use", file=sys.stderr)
     if args.iso is not None or args.iso_color or (not base and scene.mode == "isosurface"):
         iso = scene.isosurface
         value = args.iso if args.iso is not None else (iso.value if base else default_iso(volume))

@@ -42,8 +42,9 @@ class Window:
     width: float
 
     def __post_init__(self):
-        if not self.width > 0:
-            raise ValueError(f"window width must be positive, got {self.width}")
+        if not (np.isfinite(self.level) and np.isfinite(self.width) and self.width > 0):
+            raise ValueError(f"a window needs a finite level and a finite positive width, got level {self.level}, "
+                             f"width {self.width}")
 
     @property
     def range(self) -> tuple[float, float]:

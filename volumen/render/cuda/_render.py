@@ -23,11 +23,11 @@ def render_cuda(scene, camera, size: tuple[int, int]):
     Raises :class:`~._device.CudaUnavailableError` where no device is usable.
     ``stats["uploads"]`` names the arrays sent to the device for this frame.
     """
+    device = require_cuda()  # before the kernels are imported: without numba-cuda that import fails untyped
     from numba import cuda
 
     from . import _kernels
 
-    device = require_cuda()
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
         return CudaPathTracer(scene, camera, size).step(scene.shading.pathtrace.samples)
     t_start = time.perf_counter()

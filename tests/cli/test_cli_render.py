@@ -117,6 +117,17 @@ def test_technique_flags_are_checked(tmp_path, capsys):
     assert "technique 'mesh' runs on gl (or auto), not 'cpu'" in capsys.readouterr().err
 
 
+def test_the_mesh_technique_draws_the_isosurface_it_names(tmp_path, capsys):
+    """The mesh technique draws an isosurface: a scene of the default mode becomes one at the volume's default
+    level (300 HU in a CT), said on the output line; another mode asked for is refused in one line."""
+    out = str(tmp_path / "m.png")
+    assert main(["render", "phantom:head?size=32", "-o", out, "--size", "16x16", "--technique", "mesh"]) == 0
+    assert "isosurface at 300 (the mesh technique's)" in capsys.readouterr().out
+    assert main(["render", "phantom:head?size=32", "-o", out, "--size", "16x16", "--technique", "mesh", "--mode",
+                 "composite"]) == 1
+    assert "--technique mesh draws an isosurface, not --mode composite" in capsys.readouterr().err
+
+
 def test_unreadable_inputs_and_outputs_name_the_file(tmp_path, capsys):
     assert main(["render", "phantom:sphere", "-o", str(tmp_path / "x.png"), "--tf", str(tmp_path / "no.json")]) == 1
     assert "no.json" in capsys.readouterr().err

@@ -288,6 +288,21 @@ def _kind(volume) -> str:
     return "CT" if is_ct(volume) else (volume.modality or "a scan of unknown modality")
 
 
+def _for_technique(scene, technique, args, volume):
+    """The scene as ``technique`` draws it: the mesh technique draws an isosurface, so a scene of the default
+    mode becomes one (at ``--iso``, else the volume's default level) and a mode asked for otherwise is refused."""
+    if technique.name != "mesh" or scene.mode == "isosurface":
+        return scene
+    if args.mode:
+        raise ValueError(f"--technique mesh draws an isosurface, not --mode {args.mode}: use --mode isosurface")
+    from dataclasses import replace
+
+    from volumen.core import Isosurface, default_iso
+
+    value = args.iso if args.iso is not None else default_iso(volume)
+    return replace(scene, mode="isosurface", isosurface=Isosurface(value=value, color=scene.isosurface.color))
+
+
 def _progressive(scene, device, technique) -> bool:
     """Whether the picture is path traced progressively (pathtrace shading, composite, ray casting on cpu / cuda)."""
     return (scene.shading.mode == "pathtrace" and scene.mode == "composite" and technique.name == "raycast"
@@ -370,6 +385,7 @@ def run(args):
         print(f"warning: shading {scene.shading.mode!r} without --light: only the ambient term lights the picture "
               "(add --light 'pos=X,Y,Z dir=...', use --environment studio or --shading headlight)", file=sys.stderr)
     device, technique = technique_from_args(args, base)
+    scene = _for_technique(scene, technique, args, volume)
     out_dir = Path(args.out).resolve().parent
     if not out_dir.is_dir():
         raise ValueError(f"{args.out}: folder {out_dir} does not exist")
@@ -389,7 +405,8 @@ def run(args):
     look = f", preset {scene.transfer.name}{moved}{chosen}" if scene.transfer.name and scene.mode == "composite" else ""
     spp = f", {image.stats['spp']} samples/pixel{' denoised' if image.stats.get('denoised') else ''}" \
         if "spp" in image.stats else ""
-    why = " (chosen for a slab)" if not (args.mode or base) and scene.mode != "composite" else ""
+    why = "" if args.mode or base or scene.mode == "composite" else \
+        f" at {scene.isosurface.value:g} (the mesh technique's)" if technique.name == "mesh" else " (chosen for a slab)"
     flat = " (chosen for a colour slab)" if not (args.shading or args.light or base) and scene.shading.mode == "none" \
         else ""
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {scene.mode}{why}, shading {scene.shading.mode}{flat}{look}{spp}, "

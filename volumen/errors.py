@@ -208,7 +208,9 @@ def choice_message(what: str, value, valid) -> str:
     """One line: ``what`` ``value`` is not one of the ``valid`` values, with the closest one when a value is close
     (``preset 'ct-vessel' is not one of ct-bone, ct-vessels, ...; did you mean 'ct-vessels'?``)."""
     names = [str(v) for v in valid]
-    close = difflib.get_close_matches(str(value), names, n=1, cutoff=0.6)
+    text = str(value).lower()
+    starts = [n for n in names if text and n.lower().startswith(text)]  # a name cut short: 'soft' -> soft-tissue
+    close = starts if len(starts) == 1 else difflib.get_close_matches(text, names, n=1, cutoff=0.6)
     hint = f"; did you mean {close[0]!r}?" if close else ""
     return f"{what} {value!r} is not one of {', '.join(names)}{hint}"
 

@@ -64,6 +64,7 @@ def _fails_in_one_line(argv, work, capsys, *needles):
     (["info", "ct.nrrd", "--nonfinite", "zeros"], ["did you mean 'zero'?"]),
     (["convert", "ct.nrrd", "c.nii", "--zarr-format", "4"], ["--zarr-format 4 is not one of 2, 3"]),
     (["slices", "ct.nrrd", "-o", "shots", "--window", "brian"], ["window 'brian'", "did you mean 'brain'?"]),
+    (["slices", "ct.nrrd", "-o", "shots", "--window", "soft"], ["did you mean 'soft-tissue'?"]),  # cut short
     (["slices", "ct.nrrd", "-o", "shots", "--window", "40"], ["LEVEL,WIDTH"]),
     (["cpr", "ct.nrrd", "--path", "path.json", "-o", "c.png", "--kind", "straighten"],
      ["did you mean 'straightened'?"]),

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import re
 from pathlib import Path
 
 import numpy as np
@@ -127,8 +128,9 @@ def test_the_cpr_fills_its_figure_and_its_window_shows_the_vessel(tmp_path):
     with contextlib.redirect_stdout(io.StringIO()) as said:
         assert main(["cpr", "phantom:torso", "--path", str(path), "-o", str(out)]) == 0
     fig = np.asarray(Image.open(out).convert("L"), dtype=np.float64) / 255.0
-    cols, rows = (int(v) for v in said.getvalue().split(" CPR ")[1].split(" px of ")[0].split("x"))
-    pixel = float(said.getvalue().split(" px of ")[1].split(" mm")[0])
+    found = re.search(r" CPR of (\d+)x(\d+) samples ([\d.]+) mm apart", said.getvalue())
+    cols, rows, pixel = int(found[1]), int(found[2]), float(found[3])
+    assert said.getvalue().startswith(f"{out}: {fig.shape[1]}x{fig.shape[0]} px, ")  # the size written
     k = max(1, round(CPR_HEIGHT / rows))
     panel = fig[:rows * k, :cols * k]
     away = np.abs(np.arange(cols * k) / k - (cols - 1) / 2 - 0.5 / k) * pixel / float(np.median(tube.radius))

@@ -84,6 +84,7 @@ def run(args):
                      height=args.height)
     out.parent.mkdir(parents=True, exist_ok=True)
     PILImage.fromarray(fig).save(out)
-    print(f"{out}: {args.kind} CPR {cpr.values.shape[1]}x{cpr.values.shape[0]} px of {cpr.pixel:.2f} mm along "
-          f"{cl.length:.1f} mm, {width:.1f} mm across; cross-sections at {', '.join(f'{s:.1f}' for s in marks)} mm")
+    print(f"{out}: {fig.shape[1]}x{fig.shape[0]} px, a {args.kind} CPR of {cpr.values.shape[1]}x{cpr.values.shape[0]} "
+          f"samples {cpr.pixel:.1f} mm apart along {cl.length:.1f} mm, {width:.1f} mm across; cross-sections at "
+          f"{', '.join(f'{s:.1f}' for s in marks)} mm")
     return 0

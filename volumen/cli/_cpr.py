@@ -34,8 +34,8 @@ def register(sub):
                    "lumen radius, the lumen a quarter of it; 40 along a keyframe path)")
     p.add_argument("--sections", help="arc lengths S1,S2,... (mm) of the cross-sections to mark and show "
                                       "(default: four evenly spread)")
-    p.add_argument("--window", help=f"{WINDOW_HELP} (default: the lumen and the tissue round it a quarter and three "
-                   "quarters up the ramp, a vascular window)")
+    p.add_argument("--window", help=f"{WINDOW_HELP} (default: the darker of the lumen and the tissue round "
+                   "it a quarter and the brighter three quarters up the ramp, a vascular window)")
     p.add_argument("--height", type=int, default=600, help="approximate picture height in pixels (default 600)")
     add_load_options(p)
     return p

@@ -41,7 +41,8 @@ def window_grey(values: np.ndarray, window: tuple[float, float] | None = None) -
 def vessel_window(cpr: CPR, radius: float) -> tuple[float, float] | None:
     """``(lo, hi)``: the window that shows the lumen against the tissue round it, as a vascular window does: the
     lumen's median value (the centerline's column) and the tissue's (:data:`WALL_RADII` median radii ``radius``
-    (mm) from it, both sides) a quarter and three quarters up the ramp (:data:`WINDOW_MARGIN`), within the CPR's
+    (mm) from it, both sides), the darker a quarter and the brighter three quarters up the ramp
+    (:data:`WINDOW_MARGIN`), within the CPR's
     1st percentile and maximum (air stays black beside an air lumen, a contrast lumen is not cut). None where
     the path has no radius or the two are not told apart.
 

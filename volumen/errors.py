@@ -97,12 +97,10 @@ class MultipleSeriesError(SeriesError):
 
     def __init__(self, path, series: list[tuple[str, str, int]]):
         self.series = list(series)
-        lines = "\n".join(f"  {uid}  {desc or '(no description)'}  {n} slices" for uid, desc, n in self.series)
-        super().__init__(
-            path,
-            f"holds {len(self.series)} DICOM series; choose one with series=UID "
-            f"(or --series UID):\n{lines}",
-        )
+        listed = "; ".join(f"{uid} {desc or '(no description)'}, {n} slice{'' if n == 1 else 's'}"
+                           for uid, desc, n in self.series)
+        super().__init__(path, f"holds {len(self.series)} DICOM series ({listed}); choose one with --series UID "
+                               "(series=UID in Python)")
 
 
 class MissingDependencyError(VolumeReadError):

@@ -1,5 +1,5 @@
-"""Numbers a command takes are finite: ``nan`` or ``inf`` in a window, a shift or a point is one line and exit 1,
-nothing written, instead of a black picture with exit 0."""
+"""Numbers a command takes are finite (and sizes not negative): ``nan`` or ``inf`` in a window, a shift or a point
+is one line and exit 1, nothing written, instead of a black picture with exit 0."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ from volumen.cli import main
                                   ["slices", "phantom:head?size=16", "-o", "{out}", "--window", "40,inf"],
                                   ["render", "phantom:head?size=16", "-o", "{out}/x.png", "--shift", "nan"],
                                   ["render", "phantom:head?size=16", "-o", "{out}/x.png", "--iso", "inf"],
-                                  ["slices", "phantom:head?size=16", "-o", "{out}", "--at", "0,nan,0"]])
+                                  ["slices", "phantom:head?size=16", "-o", "{out}", "--at", "0,nan,0"],
+                                  ["slices", "phantom:head?size=16", "-o", "{out}", "--size", "-5"]])
 def test_a_number_that_is_not_finite_is_refused_in_one_line(argv, tmp_path, capsys):
     out = tmp_path / "out"
     try:

@@ -52,6 +52,17 @@ def finite_float(text: str) -> float:
 finite_float.__name__ = "finite number"  # argparse's words: "invalid finite number value: 'nan'"
 
 
+def count(text: str) -> int:
+    """An argument's whole number, refused (one line) where negative."""
+    value = int(text)
+    if value < 0:
+        raise ValueError(f"{text!r} is negative")
+    return value
+
+
+count.__name__ = "whole number of 0 or more"  # argparse's words: "invalid whole number of 0 or more value: '-5'"
+
+
 def _floats(text: str | None, n: int, what: str):
     if text is None:
         return None

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._common import WINDOW_HELP, _floats, add_load_options, load_from_args, parse_window
+from ._common import WINDOW_HELP, _floats, add_load_options, count, load_from_args, parse_window
 
 #: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
 OUTPUTS = ("out",)
@@ -36,7 +36,7 @@ def register(sub):
                                       "(default: four evenly spread)")
     p.add_argument("--window", help=f"{WINDOW_HELP} (default: the darker of the lumen and the tissue round "
                    "it a quarter and the brighter three quarters up the ramp, a vascular window)")
-    p.add_argument("--height", type=int, default=600, help="approximate picture height in pixels (default 600)")
+    p.add_argument("--height", type=count, default=600, help="approximate picture height in pixels (default 600)")
     add_load_options(p)
     return p
 

@@ -125,7 +125,7 @@ def run(args):
         f"origin:       {', '.join(mm_text(v) for v in facts['origin_ras_mm'])} mm (RAS)",
         f"modality:     {facts['modality']}",
         f"values:       {range_text(*facts['value_range'], facts['units']).replace('..', ' .. ')} "
-        f"{facts['units']} ({facts['dtype']})",
+        f"{facts['units'] + ' ' if facts['units'] else ''}({facts['dtype']})",
     ]
     if facts["colour"]:
         lines.append(f"colour:       {facts['colour']} (channel last: data is z, y, x, 3)")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._common import WINDOW_HELP, add_load_options, load_from_args, parse_point, parse_window
+from ._common import WINDOW_HELP, add_load_options, count, load_from_args, parse_point, parse_window
 from ._labels_opts import add_label_options, labels_from_args, shown_values
 
 #: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
@@ -20,7 +20,7 @@ def register(sub):
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("-o", "--out", required=True, help="output folder (created if missing)")
     p.add_argument("--window", help=f"{WINDOW_HELP} (default: soft-tissue for a CT, else the display range)")
-    p.add_argument("--size", type=int, default=PANEL_SIZE,
+    p.add_argument("--size", type=count, default=PANEL_SIZE,
                    help=f"pixels along the longest side of the largest plane; the others keep its mm per pixel "
                         f"(default {PANEL_SIZE}; a larger scan is not shrunk; 0: one pixel per voxel)")
     p.add_argument("--at", help="world point X,Y,Z in RAS mm the planes pass through (default: centre)")

@@ -168,20 +168,23 @@ def _certificate(folder: Path) -> None:
                         "-out", str(folder / "cert.pem")], check=True, capture_output=True)
 
 
-def _serve_once(server) -> None:
-    """Instead of serving until Ctrl-C: start, answer one request for info.json with the token, stop."""
+def _info_answered(scheme: str, port: int, token: str) -> bool:
+    """Whether the viewer server on ``port`` answers a request for info.json with ``token`` with the volume."""
     import json
     import ssl
     import urllib.request
 
+    ctx = ssl._create_unverified_context() if scheme == "https" else None  # the test's self-signed certificate
+    req = urllib.request.Request(f"{scheme}://127.0.0.1:{port}/info.json", headers={"X-Volumen-Token": token})
+    with urllib.request.urlopen(req, timeout=120, context=ctx) as r:
+        return r.status == 200 and "volume" in json.loads(r.read())
+
+
+def _serve_once(server) -> None:
+    """Instead of serving until Ctrl-C: start, answer one request for info.json with the token, stop."""
     server.start()
     try:
-        scheme = "https" if server.ssl_context else "http"
-        ctx = ssl._create_unverified_context() if server.ssl_context else None  # the test's self-signed cert
-        req = urllib.request.Request(f"{scheme}://127.0.0.1:{server.port}/info.json",
-                                     headers={"X-Volumen-Token": server.token})
-        with urllib.request.urlopen(req, timeout=120, context=ctx) as r:
-            assert r.status == 200 and "volume" in json.loads(r.read())
+        assert _info_answered("https" if server.ssl_context else "http", server.port, server.token)
     finally:
         server.stop()
 
@@ -247,11 +250,8 @@ def _uses_archive(argv: list[str]) -> bool:
 def _serve_in(argv: list[str], workdir: Path, env: dict) -> tuple[int, str]:
     """``volumen serve`` in the README's venv: started, asked for info.json with the token from the address it
     prints, stopped."""
-    import json
-    import ssl
     import subprocess
     import urllib.parse
-    import urllib.request
 
     argv = argv if "--no-browser" in argv else [*argv, "--no-browser"]
     proc = subprocess.Popen([str(VENV_PYTHON), "-m", "volumen", *argv], cwd=workdir, env=env, text=True,
@@ -259,12 +259,7 @@ def _serve_in(argv: list[str], workdir: Path, env: dict) -> tuple[int, str]:
     ok, why = False, "no answer"
     try:
         url = urllib.parse.urlsplit(proc.stdout.readline().strip())
-        token = urllib.parse.parse_qs(url.query).get("token", [""])[0]
-        ctx = ssl._create_unverified_context() if url.scheme == "https" else None  # the test's self-signed cert
-        req = urllib.request.Request(f"{url.scheme}://127.0.0.1:{url.port}/info.json",
-                                     headers={"X-Volumen-Token": token})
-        with urllib.request.urlopen(req, timeout=120, context=ctx) as r:
-            ok = r.status == 200 and "volume" in json.loads(r.read())
+        ok = _info_answered(url.scheme, url.port, urllib.parse.parse_qs(url.query).get("token", [""])[0])
     except (OSError, ValueError) as exc:
         ok, why = False, f"{type(exc).__name__}: {exc}"
     finally:

@@ -134,7 +134,10 @@ class EndoscopyPanel(QWidget):
         def done(cl):
             import numpy as np
 
-            self.status.setText(f"{m.estimate.describe()}. Centerline: {cl.length:.0f} mm, {len(cl.points)} points.")
+            from volumen.core import values_of
+
+            said = m.estimate.describe(**values_of(self.state.volume))
+            self.status.setText(f"{said}. Centerline: {cl.length:.1f} mm, {len(cl.points)} points.")
             self.state.set_mask(self.state.volume.with_data(m.mask.astype(np.uint8)))  # the slices' overlay
             self._publish()
 

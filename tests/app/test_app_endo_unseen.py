@@ -27,9 +27,12 @@ def test_panel_uses_the_command_lines_estimate_and_draws_the_lumens_wall(make_wi
     _compute(panel, qtbot, marks["start"], marks["end"])
     m = panel.model
     cli = lumen_wall(vol, marks["start"], marks["end"])
-    print(m.estimate.describe())
+    from volumen.core import values_of
+
+    said = m.estimate.describe(**values_of(vol))  # the command line's line, in the scan's units' precision
+    print(said)
     assert m.estimate == cli.estimate and np.array_equal(m.mask, cli.mask)
-    assert m.estimate.describe() in panel.status.text()
+    assert said in panel.status.text()
     overlay = np.asarray(win.state.mask.data, bool)
     assert 2 * np.sum(overlay & truth) / (overlay.sum() + truth.sum()) >= 0.9  # the lumen shown, Dice
     panel.play()

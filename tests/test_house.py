@@ -126,7 +126,7 @@ def test_every_cached_kernel_is_keyed_on_the_sources_it_is_compiled_from():
             if used not in key or not set(stamped_with(used)) <= key:
                 missing.append(f"{info.name} uses {used.name}, not in its stamp")
     print(f"{len(checked)} modules with cached kernels: {', '.join(checked)}")
-    assert {"volumen.render.raycast._march", "volumen.surface._mc_kernel", "volumen.endoscopy._collision"} <= set(
+    assert {"volumen.render.raycast._march", "volumen.surface._mc_kernel", "volumen.endoscopy.path._collision"} <= set(
         checked)
     assert not missing, "\n".join(missing)
 

@@ -30,7 +30,7 @@ def test_arch_beside_the_lungs(unseen):
     estimate made round the point itself puts the wall between the aortic wall (45 HU) and the contrast (330)."""
     from skimage.filters import threshold_otsu
 
-    from volumen.endoscopy._polarity import _ball
+    from volumen.endoscopy.lumen._point_estimate import _ball
 
     vol = unseen("arch")
     truth, marks = vol.meta["truth"]["aorta"].mask, vol.meta["truth"]["landmarks"]

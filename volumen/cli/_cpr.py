@@ -44,7 +44,7 @@ def register(sub):
 def load_centerline(path):
     """The Centerline in a flight, centerline or keyframe-path JSON file; ValueError naming the file otherwise."""
     from volumen.endoscopy import Centerline, KeyframePath
-    from volumen.endoscopy._centerline import resample_polyline
+    from volumen.endoscopy.path._centerline import resample_polyline
 
     try:
         d = json.loads(Path(path).read_text())

@@ -13,6 +13,6 @@ from pathlib import Path
 from ..jit import stamp_sources
 from ..render.raycast import SOURCES
 
-stamp_sources(sorted(Path(__file__).resolve().parent.glob("*.py")), also=SOURCES)
+stamp_sources(sorted(Path(__file__).resolve().parent.rglob("*.py")), also=SOURCES)
 #: True once this package's sources are stamped
 stamped = True

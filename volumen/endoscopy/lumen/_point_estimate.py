@@ -42,7 +42,7 @@ from typing import Literal
 
 import numpy as np
 
-from ..core import value_text, values_of
+from ...core import value_text, values_of
 
 __all__ = ["LumenEstimate", "estimate_lumen", "probe_lumen", "LUMEN_KINDS", "lumen_class"]
 
@@ -101,7 +101,7 @@ class LumenEstimate:
 
     def wall_field(self, volume):
         """The :class:`WallField` at the threshold, the lumen on its side."""
-        from ._wall import WallField
+        from ..wall._field import WallField
 
         return WallField.from_threshold(volume, self.threshold, self.lumen_side)
 
@@ -112,7 +112,7 @@ class LumenEstimate:
         Opacity ramps over ``0.15 * spread`` either side of the threshold; the wall's
         colour goes from dark red at the threshold to pale pink deeper in the wall.
         """
-        from ..core import TransferFunction
+        from ...core import TransferFunction
 
         t, w = self.threshold, max(0.15 * self.spread, 1e-3)
         sign = self.sign  # direction from the lumen into the wall

@@ -24,9 +24,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..jit import run_parts
-from ..render.optics import phong_terms
-from ._march import NO_HIT, Wall, first_hit, wall_gradient
+from ...jit import run_parts
+from ...render.optics import phong_terms
+from ..wall._first_hit import NO_HIT, Wall, first_hit, wall_gradient
 
 __all__ = ["Unfolded", "WallLook", "unfold"]
 
@@ -121,7 +121,7 @@ class Unfolded:
 
     def to_uint8(self) -> np.ndarray:
         """(M, N, 3) uint8 picture (linear values times 255, through :meth:`volumen.core.Image.to_uint8`)."""
-        from ..core import Image
+        from ...core import Image
 
         m, n, _ = self.rgb.shape
         rgba = np.concatenate([self.rgb, np.ones((m, n, 1), np.float32)], axis=2).astype(np.float32)
@@ -159,7 +159,7 @@ def unfold(wall, centerline, *, angles: int = 360, step: float | None = None, ma
     -------
     Unfolded
     """
-    from ._centerline import Centerline
+    from ..path._centerline import Centerline
 
     if angles < 4:
         raise ValueError(f"angles must be >= 4, got {angles}")

@@ -148,7 +148,7 @@ class Pose:
             Near plane just ahead of the eye (keep it below the collision margin).
         far : float or None, mm
         """
-        from ..core import Camera
+        from ...core import Camera
 
         if not 1.0 <= fov <= 170.0:
             raise ValueError(f"fov must be within [1, 170] degrees (endoscopes: 30..140), got {fov}")

@@ -30,8 +30,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ._march import NO_HIT, Wall, fibonacci_directions, first_hit, probe, wall_gradient
-from ._wall import WallField
+from ..wall._field import WallField
+from ..wall._first_hit import NO_HIT, Wall, fibonacci_directions, first_hit, probe, wall_gradient
 
 __all__ = ["Collider", "MoveResult"]
 

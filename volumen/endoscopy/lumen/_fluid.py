@@ -36,7 +36,7 @@ LEVEL_VOXELS = 9
 def _bright_class(values: np.ndarray, wall: float, threshold: float) -> float | None:
     from skimage.filters import threshold_otsu
 
-    from ._polarity import SEPARATION
+    from ._point_estimate import SEPARATION
 
     if values.size < LEVEL_VOXELS or np.ptp(values) <= 0:
         return None
@@ -94,7 +94,7 @@ def add_tagged_fluid(volume, mask: np.ndarray, est):
     added, and the fluid's value ``F`` (data units); ``(mask, None)`` when there is none."""
     from scipy import ndimage
 
-    from ..segment import region_grow
+    from ...segment import region_grow
     from ._grow import _bbox
 
     if est.kind != "air" or not mask.any():

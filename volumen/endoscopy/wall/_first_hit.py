@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 # The renderer's sampling and crossing refinement, imported (not copied) as docs/design.md section 4 asks.
-from ..render.raycast import G_BOX, iso_refine, sample_value, to_index
+from ...render.raycast import G_BOX, iso_refine, sample_value, to_index
 
 __all__ = ["NO_HIT", "Wall", "first_hit", "wall_gradient", "probe", "fibonacci_directions"]
 

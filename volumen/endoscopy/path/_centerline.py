@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._lumen import as_lumen, nearest_voxel
+from ..lumen._find import as_lumen, nearest_voxel
 
 __all__ = ["Centerline", "compute_centerline", "resample_polyline"]
 

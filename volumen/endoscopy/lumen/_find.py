@@ -27,9 +27,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..core import mm_text, range_text, values_of
-from ..errors import LumenError
-from ._polarity import LumenEstimate, probe_lumen
+from ...core import mm_text, range_text, values_of
+from ...errors import LumenError
+from ._point_estimate import LumenEstimate, probe_lumen
 
 __all__ = ["lumen_mask", "as_lumen", "find_lumen", "lumen_voxel", "AIR_RANGE", "CONTRAST_RANGE", "nearest_voxel",
            "FLAGS"]
@@ -85,7 +85,7 @@ def lumen_mask(volume, seed, value_range: tuple[float, float] = AIR_RANGE, *, ma
     ValueError
         When no in-range voxel lies within ``max_seed_distance`` of the seed.
     """
-    from ..segment import region_grow
+    from ...segment import region_grow
 
     lo, hi = (float(v) for v in value_range)
     if not hi >= lo:
@@ -184,7 +184,7 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
         A point outside the scan or in no lumen, the end in a lumen not connected to the start's, or a
         leak that cannot be contained (the message names it and the flags to try).
     """
-    from ..segment import cut_bridges
+    from ...segment import cut_bridges
     from ._fluid import add_tagged_fluid
     from ._grow import continues, grow
 

@@ -23,7 +23,7 @@ def _clearance(volume, lumen: np.ndarray):
     """A function: world points (n, 3) -> distance (mm) to the nearest voxel outside ``lumen``."""
     from scipy import ndimage
 
-    from ._grow import _bbox
+    from ..lumen._grow import _bbox
 
     box = _bbox(lumen, 1)
     dist = ndimage.distance_transform_edt(lumen[box], sampling=tuple(float(s) for s in volume.spacing))

@@ -101,7 +101,7 @@ def _band(volume, mask: np.ndarray, est) -> np.ndarray:
 
 def _region(volume, seed, est, threshold: float) -> np.ndarray:
     """The 6-connected region from voxel ``seed`` of the values on the lumen's side of ``threshold``."""
-    from ..segment import region_grow
+    from ...segment import region_grow
 
     lo, hi = est.value_range
     rng = (lo, threshold) if est.sign > 0 else (threshold, hi)

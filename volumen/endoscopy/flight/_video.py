@@ -44,7 +44,7 @@ class VideoWriter:
         if suffix == ".mp4":
             import imageio.v2 as iio
 
-            from ..errors import require
+            from ...errors import require
 
             require("imageio_ffmpeg", "writing MP4")
             self._writer = iio.get_writer(str(self.path), format="FFMPEG", mode="I", fps=self.fps, codec="libx264",

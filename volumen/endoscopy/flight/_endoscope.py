@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..core import Display, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
+from ...core import Display, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 
 __all__ = ["Endoscope", "FrameLog", "ENDOSCOPY_PRESETS", "endoscopy_transfer"]
 
@@ -41,7 +41,7 @@ ENDOSCOPY_PRESETS = {
 def endoscopy_transfer(name: str, volume=None) -> TransferFunction:
     """A transfer function by name: one of :data:`ENDOSCOPY_PRESETS` or of ``volumen.core.PRESETS`` (fitted to
     ``volume``: ``core.fitted_preset``; a data-relative one needs it)."""
-    from ..core import PRESETS, fitted_preset
+    from ...core import PRESETS, fitted_preset
 
     if name in ENDOSCOPY_PRESETS:
         color, opacity = ENDOSCOPY_PRESETS[name]
@@ -157,7 +157,7 @@ class Endoscope:
     def __post_init__(self):
         if self.mode not in ("isosurface", "composite"):
             raise ValueError(f"mode must be 'isosurface' or 'composite', got {self.mode!r}")
-        from ..core import INTERPOLATIONS, SHADINGS
+        from ...core import INTERPOLATIONS, SHADINGS
 
         if self.interpolation not in INTERPOLATIONS:
             raise ValueError(f"interpolation must be one of {', '.join(map(repr, INTERPOLATIONS))}; "
@@ -224,7 +224,7 @@ class Endoscope:
 
     def render(self, pose, size: tuple[int, int] = (256, 256)):
         """One frame: :class:`~volumen.core.Image` of ``size = (width, height)`` seen from ``pose``."""
-        from ..render import render
+        from ...render import render
 
         img = render(self.scene(pose), self.camera(pose), size)
         if self.falloff > 0 and self.shading != "none":

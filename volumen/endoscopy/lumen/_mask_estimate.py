@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._lumen_wall import LumenWall, signed_distance
-from ._polarity import LUMEN_KINDS, SEPARATION, LumenEstimate
+from ._drawn_wall import LumenWall, signed_distance
+from ._point_estimate import LUMEN_KINDS, SEPARATION, LumenEstimate
 
 __all__ = ["estimate_from_mask"]
 

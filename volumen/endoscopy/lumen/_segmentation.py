@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import LumenError
-from ..io import MASK_SUFFIXES as _SUFFIXES
-from ..io import load, resample_labels
+from ...errors import LumenError
+from ...io import MASK_SUFFIXES as _SUFFIXES
+from ...io import load, resample_labels
 
 __all__ = ["load_lumen_mask", "resample_mask", "check_points_in_mask"]
 
@@ -96,7 +96,7 @@ def check_points_in_mask(volume, mask: np.ndarray, points: dict, file) -> None:
     in one connected part of it; otherwise a :class:`LumenError` naming the point and ``file``."""
     from scipy import ndimage
 
-    from ._lumen import _fmt, lumen_voxel, nearest_voxel
+    from ._find import _fmt, lumen_voxel, nearest_voxel
 
     labels, _ = ndimage.label(mask)
     parts = {}

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..jit import run_parts
-from ._march import first_hit
+from ...jit import run_parts
+from ..wall._first_hit import first_hit
 
 __all__ = ["FlightScore", "score_flight", "dice", "keyframes_inside", "look_down_ratio", "wall_offsets",
            "LOOK_DOWN", "pixel_rays"]
@@ -91,9 +91,9 @@ class _Boundary:
     """A lumen mask's boundary: its wall field (for first hits) and signed distance's gradient (for normals)."""
 
     def __init__(self, volume, mask: np.ndarray):
-        from ._grow import _bbox
-        from ._lumen_wall import signed_distance
-        from ._wall import WallField
+        from ..lumen._drawn_wall import signed_distance
+        from ..lumen._grow import _bbox
+        from ..wall._field import WallField
 
         self.volume = volume
         self.wall = WallField.from_mask(volume, mask)
@@ -112,7 +112,7 @@ class _Boundary:
         return g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-12)
 
     def offsets(self, image, camera) -> np.ndarray:
-        from ._march import NO_HIT, Wall
+        from ..wall._first_hit import NO_HIT, Wall
 
         w = self.wall
         dirs = pixel_rays(camera, image.depth.shape[::-1]).reshape(-1, 3)

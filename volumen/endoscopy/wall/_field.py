@@ -48,8 +48,8 @@ class WallField:
     @property
     def geometry(self) -> np.ndarray:
         """Packed float64 geometry for the kernels (world -> index affine and index box)."""
-        from ..core import Clipping
-        from ..render.raycast import pack_geometry
+        from ...core import Clipping
+        from ...render.raycast import pack_geometry
 
         g = self.__dict__.get("_geo")
         if g is None:

@@ -120,7 +120,7 @@ def cast_rays(volume, zyx, lumen: float, tolerance: float, reach: float) -> RayP
     -------
     RayProbe
     """
-    from ._march import fibonacci_directions
+    from ..wall._first_hit import fibonacci_directions
 
     dirs = fibonacci_directions(RAYS)
     prof, voxels, step = _profiles(volume, zyx, reach, dirs)

@@ -19,10 +19,10 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._centerline import Centerline
-from ._flythrough import Endoscope
-from ._keyframes import KeyframePath
-from ._lumen_wall import LumenWall
+from ..lumen._drawn_wall import LumenWall
+from ..path._centerline import Centerline
+from ..path._keyframes import KeyframePath
+from ._endoscope import Endoscope
 
 __all__ = ["Flight"]
 

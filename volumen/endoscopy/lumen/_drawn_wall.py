@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._polarity import LumenEstimate
+from ._point_estimate import LumenEstimate
 
 __all__ = ["LumenWall", "signed_distance"]
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import LumenError
+from ...errors import LumenError
 
 __all__ = ["lumen_wall", "checked_centerline", "make_flight", "DETOUR", "WIDENING"]
 
@@ -47,9 +47,9 @@ def lumen_wall(volume, start, end=None, *, kind: str = "auto", value_range=None,
     LumenError
         As :func:`~volumen.endoscopy.find_lumen` does (points, no lumen, leaks).
     """
-    from ._lumen import find_lumen
-    from ._lumen_wall import LumenWall
-    from ._mask_estimate import estimate_from_mask
+    from ..lumen._drawn_wall import LumenWall
+    from ..lumen._find import find_lumen
+    from ..lumen._mask_estimate import estimate_from_mask
 
     if mask is None:
         lumen, est = find_lumen(volume, start, end, kind=kind, value_range=value_range, threshold=threshold)
@@ -72,8 +72,8 @@ def _end_radius(cl, at_start: bool, reach: float = 5.0) -> float:
 def checked_centerline(volume, lumen, start, end):
     """The centerline of ``lumen`` (bool mask) from ``start`` to ``end`` (world mm), refused as a leak by a
     :class:`LumenError` naming where when it detours through a widening (see the module docstring)."""
-    from ._centerline import compute_centerline
-    from ._lumen import FLAGS, _fmt
+    from ..lumen._find import FLAGS, _fmt
+    from ..path._centerline import compute_centerline
 
     cl = compute_centerline(volume, lumen, start, end)
     straight = float(np.linalg.norm(cl.points[-1] - cl.points[0]))
@@ -93,10 +93,10 @@ def make_flight(volume, wall, centerline, *, every: float = 10.0, speed: float =
     (isosurface at the estimate's threshold, its transfer function for composite mode, the flashlight's
     ``falloff`` three times the centerline's median radius), ``endoscope`` overriding its settings
     (``mode``, ``shading``, ``fov``...)."""
-    from ._aim import aim_keyframes
-    from ._flight import Flight
-    from ._flythrough import Endoscope
-    from ._keyframes import KeyframePath
+    from ..path._aim import aim_keyframes
+    from ..path._keyframes import KeyframePath
+    from ._endoscope import Endoscope
+    from ._saved import Flight
 
     path = aim_keyframes(KeyframePath.from_centerline(centerline, every=every, speed=speed), centerline, volume,
                          wall.mask)

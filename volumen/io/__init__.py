@@ -3,7 +3,7 @@
 Libraries used: pydicom (DICOM), nibabel (NIfTI), pynrrd (NRRD headers), SimpleITK
 (MetaImage writing); MetaImage, NRRD data, .npy/.npz containers and VTK legacy
 structured points are parsed here, every header value checked first (``_limits``).
-``python -m volumen.io.fuzz`` fuzzes every reader (``make fuzz``).
+The readers' fuzzer lives outside the package (``tools/fuzz/io``, ``make fuzz``).
 """
 
 from ._api import READ_FORMATS, WRITE_FORMATS, detect_format, load, save

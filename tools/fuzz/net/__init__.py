@@ -2,8 +2,8 @@
 (:mod:`._mutate_http`) and mutated DICOMweb answers from a hostile archive against the archive client
 (:mod:`._mutate_replies`), counted per surface as ok / 4xx / 5xx / hang / crash / over budget (:mod:`._campaign`).
 
-``python -m volumen.web.fuzz`` runs a campaign (``make fuzz-net``); ``tests/web/test_net_fuzz.py`` a slice.
-Like the readers' fuzzer (:mod:`volumen.io.fuzz`), mutant ``k`` of seed ``s`` is decided by ``(s, k)`` alone.
+``python -m tools.fuzz.net`` runs a campaign (``make fuzz-net``); ``tests/web/test_net_fuzz.py`` a slice.
+Like the readers' fuzzer (:mod:`tools.fuzz.io`), mutant ``k`` of seed ``s`` is decided by ``(s, k)`` alone.
 """
 
 from ._archive import HostileArchive, Reply, dataset_json, endless

@@ -118,7 +118,7 @@ class _Worker:
         env = dict(os.environ, VOLUMEN_FUZZ_MEMORY=str(self.memory), PYTHONFAULTHANDLER="")
         root = str(Path(__file__).resolve().parents[3])
         env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
-        self.proc = subprocess.Popen([sys.executable, "-m", "volumen.io.fuzz._worker"], stdin=subprocess.PIPE,
+        self.proc = subprocess.Popen([sys.executable, "-m", "tools.fuzz.io._worker"], stdin=subprocess.PIPE,
                                      stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, cwd=self.folder.parent,
                                      text=True, bufsize=1)
 

@@ -1,4 +1,4 @@
-"""``python -m volumen.io.fuzz [--mutants N] [--seed S]``: run a campaign and print its table.
+"""``python -m tools.fuzz.io [--mutants N] [--seed S]``: run a campaign and print its table.
 
 Exit status 1 when any mutant ended untyped, hung, ran out of memory, crashed the
 worker or opened a file outside its folder; each such finding is listed with the
@@ -17,7 +17,7 @@ from ._seeds import FAMILIES
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m volumen.io.fuzz", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m tools.fuzz.io", description=__doc__.splitlines()[0])
     ap.add_argument("--mutants", type=int, default=12000, help="number of mutants (default 12000)")
     ap.add_argument("--seed", type=int, default=1, help="campaign seed (default 1)")
     ap.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")

@@ -4,8 +4,7 @@ Looked for, in order: the folder named by the environment variable ``VOLUMEN_SHA
 ``shared/data`` beside the repository (``<repo>/../shared/data``); ``shared/data`` beside the
 folder holding the repository (``<repo>/../../shared/data``, where checkouts are worktrees in one
 folder). No path of a particular machine is written here (``tests/test_house.py`` checks the
-whole repository). It lives on the ``io`` floor so the fuzzer's seeds can use it;
-:mod:`volumen.data` re-exports it as the public name (docs/design.md section 1).
+whole repository). :mod:`volumen.data` exports it; the fuzzers' seeds (``tools/fuzz/io``) use it from there.
 """
 
 from __future__ import annotations
@@ -17,7 +16,7 @@ __all__ = ["shared_data", "shared_data_candidates", "ENV"]
 
 #: the environment variable naming the shared data folder
 ENV = "VOLUMEN_SHARED_DATA"
-_REPO = Path(__file__).resolve().parents[2]  # volumen/io/_shared_data.py -> the repository (or site-packages)
+_REPO = Path(__file__).resolve().parents[2]  # volumen/data/_shared_data.py -> the repository (or site-packages)
 
 
 def shared_data_candidates() -> list[Path]:

@@ -1,4 +1,4 @@
-"""A seeded mutation fuzzer over every volume reader (``python -m volumen.io.fuzz``).
+"""A seeded mutation fuzzer over every volume reader (``python -m tools.fuzz.io``).
 
 Seeds (:mod:`._seeds`) are real files found on the machine and files volumen's writers
 produce; mutations (:mod:`._mutate`, :mod:`._fields`) flip bits, overwrite and cut

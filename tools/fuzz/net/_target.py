@@ -1,6 +1,6 @@
 """The viewer server the request fuzzer attacks, in a process of its own (so a crash or its memory is seen).
 
-``python -m volumen.web.fuzz._target TOKEN`` serves a small head phantom whose name and source path hold a
+``python -m tools.fuzz.net._target TOKEN`` serves a small head phantom whose name and source path hold a
 patient's identity (:data:`IDENTITY`: what no log line may show), with the limits of :data:`LIMITS`; it
 prints its port on stdout and logs every logger at DEBUG on stderr (the campaign searches it for the token,
 the identity and tracebacks).

@@ -103,8 +103,10 @@ class _Target:
     def start(self) -> None:
         log = self.folder / f"server-{len(self.logs)}.log"
         self.logs.append(log)
-        self.proc = subprocess.Popen([sys.executable, "-m", "volumen.web.fuzz._target", self.token],
-                                     stdout=subprocess.PIPE, stderr=log.open("wb"), text=True)
+        root = str(Path(__file__).resolve().parents[3])  # the repository: the target is tools.fuzz.net._target
+        env = dict(os.environ, PYTHONPATH=root + os.pathsep + os.environ.get("PYTHONPATH", ""))
+        self.proc = subprocess.Popen([sys.executable, "-m", "tools.fuzz.net._target", self.token],
+                                     stdout=subprocess.PIPE, stderr=log.open("wb"), text=True, env=env)
         self.port = int(self.proc.stdout.readline())
         self.cookie_value = hmac.new(self.token.encode(), b"volumen serve cookie, port " + str(self.port).encode(),
                                      hashlib.sha256).hexdigest()

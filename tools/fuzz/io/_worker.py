@@ -62,7 +62,7 @@ def _chain(exc: BaseException):
 
 def classify(exc: BaseException) -> tuple[str, str]:
     """The outcome of an exception raised by ``volumen.load`` and a one-line detail."""
-    from ...errors import UnexpectedReadError, VolumeReadError
+    from volumen.errors import UnexpectedReadError, VolumeReadError
 
     detail = f"{type(exc).__name__}: {exc}".splitlines()[0][:300] if str(exc) else type(exc).__name__
     if any(isinstance(e, MemoryError) for e in _chain(exc)):
@@ -77,7 +77,7 @@ def classify(exc: BaseException) -> tuple[str, str]:
 
 def _run(task: dict, roots: tuple[str, ...]) -> dict:
     global _opened
-    from .._api import load
+    from volumen.io import load
 
     _opened = []
     try:

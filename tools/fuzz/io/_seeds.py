@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._shared_data import shared_data
+from volumen.data import shared_data
 
 __all__ = ["Seed", "FAMILIES", "build_seeds"]
 
@@ -39,7 +39,7 @@ class Seed:
 
 
 def _volume():
-    from ...core import Volume
+    from volumen.core import Volume
 
     data = (np.arange(5 * 6 * 7).reshape(5, 6, 7) * 37 % 1000 - 300).astype(np.int16)
     c, s = np.cos(0.3), np.sin(0.3)
@@ -49,7 +49,7 @@ def _volume():
 
 def _written() -> list[Seed]:
     """The small volume through every writer (read back from a temporary folder)."""
-    from .._api import save
+    from volumen.io import save
 
     vol = _volume()
     plan = [("nifti", "v.nii", {}), ("nifti", "v.nii.gz", {}), ("nifti", "v.hdr", {}),

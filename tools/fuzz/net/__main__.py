@@ -1,4 +1,4 @@
-"""``python -m volumen.web.fuzz [--requests N] [--replies N] [--dimse N] [--seed S]``: a network fuzz campaign.
+"""``python -m tools.fuzz.net [--requests N] [--replies N] [--dimse N] [--seed S]``: a network fuzz campaign.
 
 Prints a table per surface (the viewer's server, the archive client) and exits 1 when any request or reply
 ended badly (a 5xx, a hang, a crash, memory over the budget, the token or the patient in a log, a control
@@ -15,7 +15,7 @@ from ._campaign import run_dimse_replies, run_replies, run_requests
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m volumen.web.fuzz", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m tools.fuzz.net", description=__doc__.splitlines()[0])
     ap.add_argument("--requests", type=int, default=20000, help="mutated requests to the server (default 20000)")
     ap.add_argument("--replies", type=int, default=5000, help="mutated DICOMweb answers (default 5000)")
     ap.add_argument("--dimse", type=int, default=500, help="mutated C-FIND responses (default 500)")

@@ -194,7 +194,7 @@ def test_open_bounded_never_asks_for_more_than_the_file_holds(tmp_path):
     import pydicom
     from pydicom.data import get_testdata_file
 
-    from volumen.io._limits import open_bounded
+    from volumen.io._header_limits import open_bounded
 
     path = tmp_path / "f.bin"
     path.write_bytes(b"0123456789")

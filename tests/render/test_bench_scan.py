@@ -22,7 +22,7 @@ from volumen.bench import _lighting
 from volumen.bench._datasets import SCAN_SIZES, read_scan, scan_at, scan_datasets
 from volumen.bench._mesh import _scan_cases, bench_mesh
 from volumen.bench._render import bench_render
-from volumen.bench._vtk import vtk_available
+from volumen.bench._vtk_peer import vtk_available
 from volumen.cli import main
 from volumen.core import canonical
 from volumen.io import load
@@ -83,7 +83,7 @@ def test_an_oblique_scan_is_laid_on_an_axis_aligned_grid_the_vtk_peer_takes(tmp_
     np.testing.assert_array_equal(vol.data, canonical(load(folder)).data)
     if vtk_available():
         from volumen.bench._render import _scene
-        from volumen.bench._vtk import VtkScene
+        from volumen.bench._vtk_peer import VtkScene
         from volumen.core import Camera
 
         VtkScene(_scene(vol, "composite", "headlight", "ct-bone", 0.0, 1.0), Camera.orbit(vol), (8, 8))

@@ -39,7 +39,7 @@ import numpy as np
 from ..core import adaptive_on
 from ._datasets import CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
 from ._table import WARMUP_FRAMES, Table, resolve_device
-from ._vtk import VtkScene, vtk_available
+from ._vtk_peer import VtkScene, vtk_available
 
 __all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "load_dataset", "peak_memory"]
 

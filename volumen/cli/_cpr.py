@@ -18,7 +18,7 @@ import numpy as np
 
 from ._common import WINDOW_HELP, _floats, add_load_options, count, load_from_args, parse_window
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 
 

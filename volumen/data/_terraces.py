@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Grid
+from ._canvas import VoxelGrid
 
 __all__ = ["terraces"]
 
@@ -32,7 +32,7 @@ def terraces(size=None, *, level=300, step=100, sigma=1.5, seed=1, spacing=1.0) 
     field = gaussian_filter(np.random.default_rng(seed).normal(size=n), sigma, mode="wrap")
     data = (int(level) + int(step) * np.round(2.0 * field / field.std())).astype(np.int16)
     h = np.broadcast_to(np.asarray(spacing, dtype=float), (3,))  # (dz, dy, dx)
-    grid = Grid.centred(np.array(n[::-1]) * h[::-1], n, (0.0, 0.0, 0.0))
+    grid = VoxelGrid.centred(np.array(n[::-1]) * h[::-1], n, (0.0, 0.0, 0.0))
     truth = {"kind": "terraces", "level": float(level), "at_level": float(np.mean(data == level))}
     return Volume(data, spacing=grid.spacing, affine=grid.affine, modality="CT", units="HU", name="terraces",
                   meta={"truth": truth})

@@ -8,11 +8,11 @@ series and a rerun resumes), :func:`load` reads ``dicomweb://SERVER/STUDY/SERIES
 """
 
 from ._api import REF_SCHEMES, connect, echo, find, load, make_ref, parse_ref, retrieve, send, series
-from ._cache import SeriesCache
 from ._config import PROTOCOLS, Server, cache_dir, config_dir, load_servers, resolve_server, servers_file
 from ._credentials import unlock
 from ._derived import make_capture, make_seg, source_images
 from ._records import STUDY_COLUMNS, Query, Series, Studies, Study, printable
+from ._series_cache import SeriesCache
 from ._thumbnail import thumbnail
 
 __all__ = ["find", "series", "retrieve", "load", "send", "echo", "connect", "parse_ref", "make_ref", "thumbnail",

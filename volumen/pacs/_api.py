@@ -19,10 +19,10 @@ from ..errors import (
     MultipleSeriesError,
     RetrieveCancelled,
 )
-from ._cache import SeriesCache
 from ._config import Server, resolve_server
 from ._credentials import Prompt
 from ._records import Query, Series, Studies, check_uid
+from ._series_cache import SeriesCache
 
 __all__ = ["echo", "find", "series", "retrieve", "load", "send", "parse_ref", "make_ref", "connect", "REF_SCHEMES"]
 

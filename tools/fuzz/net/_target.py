@@ -30,7 +30,7 @@ def _volume():
 def main(argv=None) -> int:
     from volumen.core import Camera, Scene
     from volumen.web import ViewerServer
-    from volumen.web._limits import ServeLimits
+    from volumen.web._serve_limits import ServeLimits
 
     token = (argv or sys.argv[1:])[0]
     logging.basicConfig(level=logging.DEBUG, stream=sys.stderr, format="%(name)s %(levelname)s %(message)s")

@@ -3,7 +3,7 @@ idle -- the reduced-viewport idea (``volumen.render.render_reduced``) extended t
 
 :func:`render_view` is what the desktop application's 3-D view and the notebook widget call for every frame:
 a volume in memory goes to ``render_reduced`` as before; a chunked (OME-Zarr) volume is drawn out of core
-(``volumen.render.bricked``) at the rendered viewport, from the level :func:`~._outofcore.pick_level`
+(``volumen.render.bricked``) at the rendered viewport, from the level :func:`~._pyramid_levels.pick_level`
 chooses for it (about one voxel per pixel) while ``interacting``, and from the volume's own level when idle.
 The volume's own level is drawn from the volume itself, the coarser ones are opened once and kept (the last
 :data:`KEPT`): their chunk caches, with what the bricks derived, stay warm from frame to frame while only the
@@ -17,7 +17,7 @@ from collections import OrderedDict
 from ..core import Image, is_chunked
 from ..io import open_levels
 from ..render import reduced_size, render_reduced, upscale
-from ._outofcore import open_volume, pick_level, render_bricked
+from ._pyramid_levels import open_volume, pick_level, render_bricked
 
 __all__ = ["render_view", "VIEW_MEMORY", "KEPT"]
 

@@ -2,7 +2,7 @@
 
 A :class:`FrameJob` is everything that decides the 3D view's picture (the
 scene, the camera, the size, the technique, brightness, stereo, a mesh); the
-render worker turns it into :class:`Frame` objects with :func:`render_frame`
+render worker turns it into :class:`ViewPicture` objects with :func:`render_frame`
 (at a reduced viewport while the user drags -- and, for a chunked OME-Zarr
 volume, from a coarse pyramid level) or :func:`progressive_frames`
 (the full picture; path tracing refines step by step). The same function
@@ -22,7 +22,7 @@ from ..core import Camera, Image, Scene, is_chunked
 from ..render import Technique, resolve_device
 from ._stereo import Stereo, combine, eye_cameras, eye_size
 
-__all__ = ["FrameJob", "Frame", "render_frame", "progressive_frames", "to_rgb", "composite_mesh", "on_gl_thread",
+__all__ = ["FrameJob", "ViewPicture", "render_frame", "progressive_frames", "to_rgb", "composite_mesh", "on_gl_thread",
            "raycast_device", "needs_gl"]
 
 
@@ -63,7 +63,7 @@ class FrameJob:
 
 
 @dataclass
-class Frame:
+class ViewPicture:
     """A finished picture: ``rgb`` uint8 ``(H, W, 3)``, row 0 at the top.
 
     ``final`` is False for reduced-viewport frames and intermediate path-tracing
@@ -150,8 +150,8 @@ def on_gl_thread(fn, *args, **kw):
     return run(fn, *args, **kw)
 
 
-def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) -> Frame:
-    """Render ``job`` (each stereo eye) at ``fraction`` of its size, upscaled, combined: one :class:`Frame`.
+def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) -> ViewPicture:
+    """Render ``job`` (each stereo eye) at ``fraction`` of its size, upscaled, combined: one :class:`ViewPicture`.
 
     OpenGL techniques run on the OpenGL thread (:func:`on_gl_thread`).
     """
@@ -167,7 +167,7 @@ def render_frame(job: FrameJob, fraction: float = 1.0, *, final: bool = True) ->
         stats = img.stats
         pics.append(to_rgb(img, job.brightness, job.background))
     rgb = combine(pics, job.stereo, job.size)
-    return Frame(rgb=rgb, token=job.token, final=final, seconds=time.perf_counter() - t, fraction=fraction,
+    return ViewPicture(rgb=rgb, token=job.token, final=final, seconds=time.perf_counter() - t, fraction=fraction,
                  camera=job.camera, stats=stats)
 
 
@@ -179,8 +179,8 @@ def _progressive(job: FrameJob) -> bool:
 
 
 def progressive_frames(job: FrameJob, *, batch: int = 4,
-                       cancelled: Callable[[], bool] = lambda: False) -> Iterator[Frame]:
-    """The full-size picture of ``job``; for path tracing, one :class:`Frame` per ``batch`` samples per pixel.
+                       cancelled: Callable[[], bool] = lambda: False) -> Iterator[ViewPicture]:
+    """The full-size picture of ``job``; for path tracing, one :class:`ViewPicture` per ``batch`` samples per pixel.
 
     Path tracing (shading ``pathtrace``, composite mode, ray casting, mono)
     accumulates up to ``scene.shading.pathtrace.samples`` samples per pixel, yielding
@@ -199,7 +199,7 @@ def progressive_frames(job: FrameJob, *, batch: int = 4,
         n = min(batch, total - tracer.spp)
         img = tracer.step(n)
         done = tracer.spp >= total
-        yield Frame(rgb=to_rgb(img, job.brightness, job.background), token=job.token, final=done,
+        yield ViewPicture(rgb=to_rgb(img, job.brightness, job.background), token=job.token, final=done,
                     seconds=time.perf_counter() - t, spp=tracer.spp, camera=job.camera, stats=img.stats)
         if not done and cancelled():
             return

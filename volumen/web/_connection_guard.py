@@ -3,7 +3,7 @@
 aiohttp closes a connection that waits for a request longer than ``keepalive_timeout`` and accepts connections
 until the process runs out of file descriptors. :class:`GuardedServer` (aiohttp's low-level ``web.Server``) adds:
 
-* **a cap**: a connection past :func:`~._limits.connection_cap` closes the oldest connection that is not
+* **a cap**: a connection past :func:`~._serve_limits.connection_cap` closes the oldest connection that is not
   inside a request (idle, or still sending its headers), else itself: idle clients cannot lock out one
   that asks something;
 * **a header deadline** of its own, whatever the keep-alive allows: from its opening, and from the first byte

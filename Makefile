@@ -171,7 +171,7 @@ fuzz-net: $(STAMP)
 	$(PY) -m tools.fuzz.net $(FUZZ_NET_ARGS)
 
 # The 2048x2048x1024 int16 synthetic volume (8 GiB of disk, written to a temporary folder and deleted)
-# drawn out of core in a fresh process; prints its peak RSS, the cache, the bound and the time (issue 16).
+# drawn out of core in a fresh process; prints its peak RSS, the cache, the bound and the time.
 huge: $(STAMP)
 	$(VENV)/bin/volumen bench scale --huge
 

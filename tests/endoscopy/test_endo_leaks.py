@@ -1,4 +1,4 @@
-"""Issue 23: each phantom reproduces its failure class, and the lumen found from the points holds against it; a leak
+"""Each phantom reproduces its failure class, and the lumen found from the points holds against it; a leak
 that cannot be contained is refused with one line naming it and the flags to try, and nothing is written."""
 
 from __future__ import annotations

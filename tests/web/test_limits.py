@@ -16,8 +16,8 @@ import sys
 import time
 
 import pytest
-from web_helpers import reference_scenes, start_server
 
+from tests.web.web_helpers import reference_scenes, start_server
 from volumen.web._serve_limits import ServeLimits, cache_size
 
 

@@ -17,9 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))  # the DICOM writer of the reader's tests
-from dicom_factory import PATIENT, write_series
-
+from tests.io.dicom_factory import PATIENT, write_series
 from volumen.web._server import ROUTES
 
 TRAVERSALS = ["/../etc/passwd", "/static/../../etc/passwd", "/static/%2e%2e/%2e%2e/etc/passwd",
@@ -215,8 +213,7 @@ def test_the_page_is_the_files_of_its_folder(monkeypatch, tmp_path):
     its content type), while a file beside the folder, one in a folder inside it and one of another type are 404."""
     import shutil
 
-    from web_helpers import start_server
-
+    from tests.web.web_helpers import start_server
     from volumen.data import phantom
     from volumen.web import _handlers
 

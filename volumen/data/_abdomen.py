@@ -1,6 +1,6 @@
 """The abdomen CT: a whole-abdomen scan in the portal-venous phase, as a benchmark sees one.
 
-Built for speed measurements that must hold on scans like the ones people look at (issue 27): soft
+Built for speed measurements that must hold on scans like the ones people look at: soft
 tissue fills most of the picture, so almost every ray crosses centimetres of fat, muscle and organs
 at a low but non-zero opacity in the translucent presets. Head end toward +z, front toward +y, the
 patient's right toward +x, lying supine on the scanner's table; a square-ish field of view of 400 x

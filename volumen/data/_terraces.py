@@ -3,7 +3,7 @@
 A CT stores whole HU; meshed at a whole level, every sample equal to the level is a grid point the level
 passes through. Where its neighbours are on both sides of the level, marching cubes' crossings on its edges all
 fall on that point; a file format that joins corners by position (STL) then has collapsed triangles and, where
-inside voxels pinch the point from two sides, edges of four triangles (issue 26: the VMTK aorta rounded to int16
+inside voxels pinch the point from two sides, edges of four triangles (the VMTK aorta rounded to int16
 at 300 HU had 18,804 and 50 of them). A real scan has such samples wherever the level crosses it slowly; this
 phantom has them everywhere: a smooth random field (white noise through a Gaussian of ``sigma`` voxels, scaled
 to unit standard deviation), ``level + step * round(2 * field)`` HU, about a fifth of the samples exactly at

@@ -1,6 +1,6 @@
 """The chest CT: a whole-thorax scan with contrast in the vessels, as a benchmark sees one.
 
-The second of the whole-region scans built for speed measurements (issue 27; the first is ``_abdomen``):
+The second of the whole-region scans built for speed measurements (the first is ``_abdomen``):
 here most rays cross the chest wall's fat and muscle, ribs and a great deal of air-filled lung whose
 vessels branch down to a few millimetres. Head end toward +z, front toward +y, the patient's right
 toward +x, supine on the table; field of view 400 x 331 x 367 mm from the shoulders to the upper

@@ -135,12 +135,9 @@ def tube_field(grid: VoxelGrid, path, reach: float) -> TubeField | None:
 @cache
 def _compiled_kernel():
     """The kernel compiled by Numba (imported here, so ``import volumen.data`` stays light); cached in the
-    machine's kernel cache under this file's contents (``volumen.jit.stamp_sources``)."""
-    from numba import njit
+    machine's kernel cache under this file's contents (its group in ``volumen.jit.GROUPS``)."""
+    from ..jit import njit
 
-    from ..jit import stamp_sources
-
-    stamp_sources([__file__])
     return njit(cache=True)(_tube_kernel)
 
 

@@ -24,9 +24,6 @@
 Numba kernels compile (or load from Numba's cache) on first use, not at import.
 """
 
-from ._stamp import stamped as stamped  # first: our kernels inline the ray caster's sampling, cached on its sources
-
-# isort: split
 from .flight._endoscope import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
 from .flight._from_points import checked_centerline, lumen_wall, make_flight
 from .flight._saved import Flight

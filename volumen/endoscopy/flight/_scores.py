@@ -22,9 +22,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 from ..wall._first_hit import first_hit
 
 __all__ = ["FlightScore", "score_flight", "dice", "keyframes_inside", "look_down_ratio", "wall_offsets",

@@ -23,7 +23,8 @@ before it, when it adds
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from ...jit import njit
 
 
 class Flood(NamedTuple):

@@ -28,8 +28,8 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ...jit import njit
 from ..wall._field import WallField
 from ..wall._first_hit import NO_HIT, Wall, fibonacci_directions, first_hit, probe, wall_gradient
 

@@ -22,9 +22,8 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 from ...render.optics import phong_terms
 from ..wall._first_hit import NO_HIT, Wall, first_hit, wall_gradient
 

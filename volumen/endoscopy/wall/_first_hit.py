@@ -20,7 +20,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from ...jit import njit
 
 # The renderer's sampling and crossing refinement, imported (not copied) as docs/design.md section 4 asks.
 from ...render.raycast import G_BOX, iso_refine, sample_value, to_index

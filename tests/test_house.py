@@ -413,3 +413,40 @@ def test_test_helpers_are_imported_by_their_package_name():
              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if edits.search(line)]
     assert not found, "\n".join(found)
 
+
+#: the folders a path in the design document is read from: the repository's, the package's, the renderers'
+_DESIGN_BASES = ("", "volumen", "volumen/render", "docs")
+
+
+def design_paths_missing(text: str) -> list[str]:
+    """The file paths ``text`` names in backticks (``render/raycast/_march.py``, ``jit/_locate``,
+    ``endoscopy/flight/_scores.score_flight``) that start at a folder of the repository and are not there.
+    Placeholders (``io/_FORMAT.py``), globs, URLs, environment variables and folders outside the repository
+    are not paths of it."""
+    missing = []
+    for token in re.findall(r"`([^`\s]+/[^`\s]*)`", text):
+        if re.search(r"[*<>$~]|://|\.\.\.|^[.@/]|[A-Z]{3,}", token):
+            continue
+        head, _, last = token.rpartition("/")
+        first = token.split("/")[0]
+        if not any((ROOT / base / first).exists() for base in _DESIGN_BASES):
+            continue  # not a folder of the repository (shared/data beside it, a package's own names)
+        name = last if re.search(r"\.(py|md|glsl|js|mjs|toml|json|npz|css|html)$", last) else \
+            re.split(r"[.(:]", last)[0]
+        if not any((ROOT / base / head / cand).exists() for base in _DESIGN_BASES
+                   for cand in (name, name + ".py")):
+            missing.append(token)
+    return missing
+
+
+def test_every_file_path_the_design_names_exists():
+    """``docs/design.md`` is a map: each file or folder it names is in the repository, and it has the flow diagram
+    and the how-to section for each extension point."""
+    assert design_paths_missing("`render/raycast/_march.py` `jit/_locate` `io/_FORMAT.py` `shared/data`") == []
+    assert design_paths_missing("`render/raycast/_gone.py` `endoscopy/lumen/_gone.run`") == [
+        "render/raycast/_gone.py", "endoscopy/lumen/_gone.run"]
+    design = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    assert not design_paths_missing(design), design_paths_missing(design)
+    how_to = design[design.index("## 11. How to add"):]
+    assert all(f"- **A {what}.**" in how_to for what in ("reader", "mode", "shading model", "technique", "front end"))
+    assert "io.load" in design and "core.Image" in design and "render.render(" in design  # the flow diagram

@@ -188,12 +188,10 @@ def test_ruff_is_clean():
 #: module names that are one role in every package that has them, and why
 SAME_ROLE_MODULES = {
     "__init__": "a package",
-    "__main__": "what `python -m PACKAGE` runs",
     "_api": "a package's public entry functions (load/save, render, the archive's find/series)",
     "_bench": "a package's benchmark, run by `volumen bench` (web: the page's frame rate, surface: marching cubes)",
     "_screenshot": "a front end saving its own view as PNG (the application's window, the page in Chromium)",
     "_slices": "the three slice views: computed in core, shown by each front end (web, notebook, cli)",
-    "_sources": "the sources a package's cached kernels are keyed on (the ray caster's, marching cubes')",
     "_mesh": "a triangle mesh: the Mesh type (surface) and its drawing on OpenGL (render/raster)",
     "_lightvol": "the light volume on each device: the CPU kernels (render/raycast) and CUDA's (render/cuda)",
     "_composite": "the over operator: along a ray (render/raycast) and of bricks' partial pictures (render/bricked)",

@@ -1,0 +1,38 @@
+"""Measurements in world millimetres: points, distances, angles, regions with statistics, structure volumes.
+
+The model is independent of any viewer: the app, the browser page, the headset and a notebook make the same
+objects, save them in a session (:mod:`._files`) and exchange them as a DICOM Comprehensive 3D SR (:mod:`._sr_write`,
+:mod:`._sr_read`). Notebook use::
+
+    from volumen import measure
+    measure.distance((0, 0, 0), (30, 40, 0))                  # 50.0 mm, shown as a table
+    measure.roi_stats(ct, measure.slice_plane(ct, "axial", 40), measure.Ellipse((0, 0), (10, 6)))
+    measure.label_volumes(labels)                             # ml per structure
+"""
+
+from __future__ import annotations
+
+from ._geometry import SHAPES, Ellipse, Plane, Polygon, Rectangle, slice_plane
+from ._labels import label_volumes
+from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, Region, Scan, from_dict
+from ._regions import region_voxels, roi_stats
+
+__all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "slice_plane", "Scan", "Point", "Distance",
+           "Angle", "Region", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle", "point",
+           "roi_stats", "region_voxels", "label_volumes"]
+
+
+def distance(p, q, volume=None, label: str = "") -> Distance:
+    """The ruler from ``p`` to ``q`` (world RAS+ mm); ``volume`` names the scan it was measured on."""
+    return Distance(p, q, scan=Scan.of(volume), label=label)
+
+
+def angle(first, vertex, second, volume=None, label: str = "") -> Angle:
+    """The angle at ``vertex`` between the rays to ``first`` and ``second`` (world RAS+ mm), in degrees."""
+    return Angle(first, vertex, second, scan=Scan.of(volume), label=label)
+
+
+def point(position, volume=None, label: str = "") -> Point:
+    """A point (world RAS+ mm) on ``volume``'s scan."""
+    return Point(position, scan=Scan.of(volume), label=label)
+

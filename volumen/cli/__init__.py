@@ -26,6 +26,7 @@ COMMANDS = {
     "view": "_view",
     "serve": "_serve",
     "pacs": "_pacs",
+    "measure": "_measure",
     "batch": "_batch",
     "bench": "_bench",
     "demo": "_demo",

@@ -12,6 +12,7 @@ objects, save them in a session (:mod:`._files`) and exchange them as a DICOM Co
 
 from __future__ import annotations
 
+from ._files import SESSION_KEY, check_scan, load_measurements, save_measurements, session_measurements
 from ._geometry import SHAPES, Ellipse, Plane, Polygon, Rectangle, slice_plane
 from ._labels import label_volumes
 from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, Region, Scan, from_dict
@@ -19,7 +20,8 @@ from ._regions import region_voxels, roi_stats
 
 __all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "slice_plane", "Scan", "Point", "Distance",
            "Angle", "Region", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle", "point",
-           "roi_stats", "region_voxels", "label_volumes"]
+           "roi_stats", "region_voxels", "label_volumes", "load_measurements", "save_measurements",
+           "session_measurements", "check_scan", "SESSION_KEY", "make_sr"]
 
 
 def distance(p, q, volume=None, label: str = "") -> Distance:
@@ -36,3 +38,9 @@ def point(position, volume=None, label: str = "") -> Point:
     """A point (world RAS+ mm) on ``volume``'s scan."""
     return Point(position, scan=Scan.of(volume), label=label)
 
+
+def make_sr(items, volume, **options):
+    """A DICOM Comprehensive 3D SR of ``items`` made on ``volume``; see :func:`._sr_write.make_sr`."""
+    from ._sr_write import make_sr as _make_sr
+
+    return _make_sr(items, volume, **options)

@@ -1,0 +1,53 @@
+"""The Measure menu: choose the slice views' tool (none, ruler, rectangle, ellipse) and export the measurements as
+CSV, JSON or a DICOM SR (``volumen.measure``), as ``volumen measure export`` writes them."""
+
+from __future__ import annotations
+
+from PySide6.QtGui import QActionGroup
+from PySide6.QtWidgets import QFileDialog
+
+from ._slice_measures import TOOLS
+
+__all__ = ["build_measure_menu", "set_tool", "export"]
+
+
+def set_tool(window, tool: str | None) -> None:
+    """Give every slice view of ``window`` the measurement ``tool`` (None: a left drag moves the crosshair)."""
+    for view in window.slices.values():
+        view.measure_tool.set_tool(tool)
+
+
+def export(window, path) -> None:
+    """Write the window's measurements to ``path``: a DICOM SR for ``.dcm``, else CSV or JSON by the suffix."""
+    from ..measure import make_sr, save_measurements
+
+    items = window.state.measurements
+    if str(path).lower().endswith(".dcm"):
+        make_sr(items, window.state.volume).save_as(path, enforce_file_format=True)
+    else:
+        save_measurements(items, path)
+
+
+def _export_dialog(window) -> None:
+    path, _ = QFileDialog.getSaveFileName(window, "Export the measurements", "measurements.csv",
+                                          "CSV (*.csv);;JSON (*.json);;DICOM SR (*.dcm)")
+    if not path:
+        return
+    try:
+        export(window, path)
+    except Exception as exc:  # noqa: BLE001 - reported, never a crash (a scan not read from DICOM, a full disk)
+        window.report_error("Cannot export the measurements", str(exc))
+
+
+def build_measure_menu(window) -> None:
+    """Add the Measure menu to ``window``'s menu bar."""
+    menu = window.menuBar().addMenu("&Measure")
+    group = QActionGroup(menu)
+    for tool in (None, *TOOLS):
+        action = menu.addAction(tool.capitalize() if tool else "Crosshair (no tool)")
+        action.setCheckable(True)
+        action.setChecked(tool is None)
+        action.triggered.connect(lambda _=False, t=tool: set_tool(window, t))
+        group.addAction(action)
+    menu.addSeparator()
+    menu.addAction("Export measurements...", lambda: _export_dialog(window))

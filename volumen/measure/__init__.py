@@ -13,12 +13,12 @@ objects, save them in a session (:mod:`._files`) and exchange them as a DICOM Co
 from __future__ import annotations
 
 from ._files import SESSION_KEY, check_scan, load_measurements, save_measurements, session_measurements
-from ._geometry import SHAPES, Ellipse, Plane, Polygon, Rectangle, slice_plane
+from ._geometry import SHAPES, Ellipse, Plane, Polygon, Rectangle, shape_from_dict, slice_plane
 from ._labels import label_volumes
 from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, Region, Scan, from_dict
 from ._regions import region_voxels, roi_stats
 
-__all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "slice_plane", "Scan", "Point", "Distance",
+__all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "shape_from_dict", "slice_plane", "Scan", "Point", "Distance",
            "Angle", "Region", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle", "point",
            "roi_stats", "region_voxels", "label_volumes", "load_measurements", "save_measurements",
            "session_measurements", "check_scan", "SESSION_KEY", "make_sr"]

@@ -45,10 +45,12 @@ def region_voxels(volume, plane: Plane, shape) -> tuple[tuple[slice, slice, slic
     box = _index_box(volume, plane, shape)
     if box is None:
         return None
-    k, j, i = np.meshgrid(*(np.arange(b.start, b.stop) for b in box), indexing="ij")
-    centres = volume.index_to_world(np.stack([i, j, k], axis=-1))
-    st, dist = plane.to_plane(centres)
-    mask = (np.abs(dist) <= _half_width(volume, plane) * (1 + 1e-9)) & shape.contains(st)
+    h = _half_width(volume, plane) * (1 + 1e-9)
+    j, i = np.meshgrid(np.arange(box[1].start, box[1].stop), np.arange(box[2].start, box[2].stop), indexing="ij")
+    mask = np.zeros(tuple(b.stop - b.start for b in box), bool)
+    for n, k in enumerate(range(box[0].start, box[0].stop)):  # a slice at a time: an oblique plane's box is large
+        st, dist = plane.to_plane(volume.index_to_world(np.stack([i, j, np.full_like(i, k)], axis=-1)))
+        mask[n] = (np.abs(dist) <= h) & shape.contains(st)
     return (box, mask) if mask.any() else None
 
 

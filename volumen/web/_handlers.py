@@ -31,7 +31,8 @@ __all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY", "static_folder", "s
 _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
 #: route -> (method, handler name of :class:`Handlers`), besides the page's files
 _ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
-            "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice")}
+            "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
+            "region.json": ("POST", "region")}
 
 
 def static_folder():
@@ -203,10 +204,11 @@ class Handlers:
                 self._messages[size] = message
         return message
 
-    async def frame(self, request):
+    async def body(self, request) -> bytes:
+        """A POST's body, within ``limits.body_timeout`` and :data:`MAX_BODY` (408, 413, 400 otherwise)."""
         try:
             async with asyncio.timeout(self.limits.body_timeout):
-                body = await request.read()   # past MAX_BODY: 413
+                return await request.read()   # past MAX_BODY: 413
         except TimeoutError:
             raise web.HTTPRequestTimeout(text=f"408: the body did not arrive within {self.limits.body_timeout:g} s"
                                          ) from None
@@ -214,6 +216,17 @@ class Handlers:
             raise
         except Exception as exc:  # noqa: BLE001 - a payload aiohttp cannot read: bad gzip, broken chunks
             raise web.HTTPBadRequest(text=f"the body could not be read ({type(exc).__name__})") from None
+
+    async def region(self, request):
+        """A region's statistics over the scan's own voxels (not the served, maybe coarser, copy):
+        ``{"plane": {"origin", "u", "v"}, "shape": {...}}`` (``volumen.measure``) -> numbers and units only."""
+        from ._measure import region_answer
+
+        body = await self.body(request)
+        return await self.work(region_answer, self.source, body), "application/json"
+
+    async def frame(self, request):
+        body = await self.body(request)
         try:
             req = frame_request(body)
         except BadRequest as exc:

@@ -93,3 +93,31 @@ def test_measurements_stay_with_the_session_and_another_scans_are_refused(make_w
     assert not again.load_session(tmp_path / "other.json", volume=win.state.volume)
     assert "another-scan.nii.gz" in again.last_error[1] and "\n" not in again.last_error[1]
     assert again.state.measurements == win.state.measurements  # nothing lost
+
+
+def test_a_3d_ruler_between_two_clicks_on_the_picture(make_window, qtbot):
+    """Two clicks in the 3-D view pick the first visible surface under each (checked against the depth of the
+    CPU's whole unjittered picture at those pixels, within a voxel) and draw the ruler over the rendering with its
+    length."""
+    from dataclasses import replace
+
+    from volumen.measure._pick import pixel_ray
+    from volumen.render import render
+
+    win = make_window()
+    set_tool(win, "ruler3d")
+    v = win.view3d
+    clicks = [(62, 70), (101, 84)]
+    for x, y in clicks:
+        qtbot.mouseClick(v, Qt.LeftButton, pos=QPoint(x, y))
+    (ruler,) = win.state.measurements
+    st, size = win.state, v.view_size
+    whole = render(st.scene.with_(sampling=replace(st.scene.sampling, jitter=False)), st.camera, size, device="cpu")
+    voxel = max(st.volume.spacing)
+    for (x, y), end in zip(clicks, (ruler.start, ruler.end), strict=True):
+        origin, direction = pixel_ray(st.camera, size, x + 0.5, y + 0.5)  # the whole picture's pixel centre
+        seen = origin + whole.depth[y, x] * direction
+        assert np.linalg.norm(np.subtract(end, seen)) < voxel, (x, y)
+    v.repaint()
+    assert [c for c, _ in v.ruler3d.captions] == [f"{ruler.mm:.1f} mm"]
+    assert ruler.mm > 10

@@ -11,10 +11,16 @@ from ._slice_measures import TOOLS
 __all__ = ["build_measure_menu", "set_tool", "export"]
 
 
+#: the tools of the Measure menu: the slice views' and the 3-D view's ruler
+MENU_TOOLS = (*TOOLS, "ruler3d")
+
+
 def set_tool(window, tool: str | None) -> None:
-    """Give every slice view of ``window`` the measurement ``tool`` (None: a left drag moves the crosshair)."""
+    """Give ``window`` the measurement ``tool``: one of the slice views' (a left drag there places it), ``ruler3d``
+    (two clicks on the 3-D picture), or None (a left drag moves the crosshair and orbits)."""
     for view in window.slices.values():
-        view.measure_tool.set_tool(tool)
+        view.measure_tool.set_tool(tool if tool in TOOLS else None)
+    window.view3d.ruler3d.set_active(tool == "ruler3d")
 
 
 def export(window, path) -> None:
@@ -43,8 +49,9 @@ def build_measure_menu(window) -> None:
     """Add the Measure menu to ``window``'s menu bar."""
     menu = window.menuBar().addMenu("&Measure")
     group = QActionGroup(menu)
-    for tool in (None, *TOOLS):
-        action = menu.addAction(tool.capitalize() if tool else "Crosshair (no tool)")
+    names = {None: "Crosshair (no tool)", "ruler3d": "Ruler in 3-D (two clicks on the picture)"}
+    for tool in (None, *MENU_TOOLS):
+        action = menu.addAction(names.get(tool, (tool or "").capitalize()))
         action.setCheckable(True)
         action.setChecked(tool is None)
         action.triggered.connect(lambda _=False, t=tool: set_tool(window, t))

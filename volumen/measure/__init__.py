@@ -18,10 +18,10 @@ from ._labels import label_volumes
 from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, Region, Scan, from_dict
 from ._regions import region_voxels, roi_stats
 
-__all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "shape_from_dict", "slice_plane", "Scan", "Point", "Distance",
-           "Angle", "Region", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle", "point",
-           "roi_stats", "region_voxels", "label_volumes", "load_measurements", "save_measurements",
-           "session_measurements", "check_scan", "SESSION_KEY", "make_sr"]
+__all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "shape_from_dict", "slice_plane", "Scan", "Point",
+           "Distance", "Angle", "Region", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle",
+           "point", "roi_stats", "region_voxels", "label_volumes", "load_measurements", "save_measurements",
+           "session_measurements", "check_scan", "SESSION_KEY", "make_sr", "pick"]
 
 
 def distance(p, q, volume=None, label: str = "") -> Distance:
@@ -44,3 +44,11 @@ def make_sr(items, volume, **options):
     from ._sr_write import make_sr as _make_sr
 
     return _make_sr(items, volume, **options)
+
+
+def pick(scene, camera, size, x, y, device: str = "cpu"):
+    """The world point of the first visible surface under the picture's point ``(x, y)``; see
+    :func:`._pick.pick`."""
+    from ._pick import pick as _pick
+
+    return _pick(scene, camera, size, x, y, device=device)

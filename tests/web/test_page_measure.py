@@ -15,7 +15,7 @@ from volumen import measure
 @pytest.fixture(scope="module")
 def browser(chromium):
     # the server's first info.json and shaders.json import these from two threads at once; imported here first
-    import volumen.render.raster._rc_uniforms  # noqa: F401
+    import volumen.render.raster._rc_uniforms
     import volumen.render.raster._shaders  # noqa: F401
     from volumen.web import Chromium
 
@@ -32,8 +32,8 @@ def _view(browser, plane: str) -> dict:
     return browser.evaluate(f"""(() => {{
       const v = volumen.measures.slices.views.{plane}, b = v.img.getBoundingClientRect();
       const s = Math.min(b.width / v.img.naturalWidth, b.height / v.img.naturalHeight);
-      return {{left: b.left + (b.width - s * v.img.naturalWidth) / 2, top: b.top + (b.height - s * v.img.naturalHeight) / 2,
-               s, map: v.map, cross: v.cross}}; }})()""")
+      return {{left: b.left + (b.width - s * v.img.naturalWidth) / 2,
+               top: b.top + (b.height - s * v.img.naturalHeight) / 2, s, map: v.map, cross: v.cross}}; }})()""")
 
 
 def _captions(browser, plane: str) -> list[str]:
@@ -106,3 +106,35 @@ def test_a_region_shows_the_statistics_of_the_scans_voxels(browser, head_server)
     assert region.voxels == truth.voxels > 20
     assert region.mean == pytest.approx(truth.mean, rel=0.005) and region.sd == pytest.approx(truth.sd, rel=0.005)
     assert _captions(browser, "axial")[0].startswith(f"mean {round(truth.mean)} ")
+
+
+def test_a_3d_ruler_picks_the_points_the_cpu_picks(browser, head_server):
+    """Two clicks on the page's 3-D picture with the 3-D ruler on: each end is the CPU's pick
+    (``volumen.measure.pick``, on the served volume) of the clicked pixel for the page's scene and camera, within
+    a voxel; the ruler is drawn over the picture with its length, and on the slice views that cut it."""
+    from volumen.core import Camera, Scene
+
+    browser.open(head_server.url)
+    browser.evaluate("volumen.shown()")
+    browser.evaluate("document.querySelector('#view3d button.ruler3d').click()")
+    box = browser.evaluate("(() => { const c = document.getElementById('gl'), b = c.getBoundingClientRect(); "
+                           "return [b.left, b.top, b.width, b.height, c.width, c.height]; })()")
+    left, top, width, height, w, h = box
+    clicks = [(0.42, 0.45), (0.6, 0.55)]
+    for fx, fy in clicks:
+        browser.mouse("pressed", left + fx * width, top + fy * height)
+        browser.mouse("released", left + fx * width, top + fy * height)
+        browser.evaluate("volumen.ruler3d.picking")
+    (d,) = browser.evaluate("volumen.measurements()")["measurements"]
+    state = browser.evaluate("({scene: volumen.viewer.scene, camera: volumen.viewer.camera})")
+    served = head_server.handlers.served().volume
+    scene = Scene.from_dict({**state["scene"], "volume": ""}, volume=served)
+    camera = Camera.from_dict(state["camera"])
+    for (fx, fy), end in zip(clicks, (d["start"], d["end"]), strict=True):
+        x, y = np.floor(fx * width * w / width) + 0.5, np.floor(fy * height * h / height) + 0.5
+        cpu = measure.pick(scene, camera, (w, h), x, y)
+        assert np.linalg.norm(np.subtract(end, cpu)) < max(served.spacing), (fx, fy)
+    ruler = measure.from_dict(d)
+    assert ruler.mm > 10
+    drawn = browser.evaluate("[...document.querySelectorAll('#view3d .ruler3d-layer text')].map((t) => t.textContent)")
+    assert drawn == [f"{ruler.mm:.1f} mm"]

@@ -58,6 +58,9 @@ def _route_paths(info=None):
             c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
             body = json.dumps({"plane": {"origin": c, "u": [1, 0, 0], "v": [0, 1, 0]},
                                "shape": {"kind": "ellipse", "center": [0, 0], "radii": [10, 10]}}).encode()
+        if route == "pick.json":  # the centre of a 16 x 16 picture
+            frame = {"scene": (info or {}).get("scene", {}), "camera": (info or {}).get("camera", {}), "size": [16, 16]}
+            body = json.dumps({"frame": frame, "x": 8.5, "y": 8.5}).encode()
         out.append((method, path, body))
     return out
 

@@ -32,7 +32,7 @@ _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
 #: route -> (method, handler name of :class:`Handlers`), besides the page's files
 _ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
             "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
-            "region.json": ("POST", "region")}
+            "region.json": ("POST", "region"), "pick.json": ("POST", "pick")}
 
 
 def static_folder():
@@ -224,6 +224,18 @@ class Handlers:
 
         body = await self.body(request)
         return await self.work(region_answer, self.source, body), "application/json"
+
+    async def pick(self, request):
+        """The first visible surface under a point of the 3-D picture, in the served volume (the page's)."""
+        from ._measure import pick_answer
+
+        body = await self.body(request)
+        try:
+            max3d = int(json.loads(body)["frame"].get("max3d", DEFAULT_MAX_3D))
+        except (ValueError, KeyError, TypeError, AttributeError):
+            max3d = DEFAULT_MAX_3D  # pick_answer says what is wrong with the body
+        served = self.served(max(1, min(max3d, DEFAULT_MAX_3D)))
+        return await self.work(pick_answer, served.volume, body), "application/json"
 
     async def frame(self, request):
         body = await self.body(request)

@@ -9,6 +9,7 @@ import { createContext, limits, Textures } from './gl.js';
 import { drawOverlay, lightLength, pickLight } from './overlay.js';
 import { RaycastProgram } from './program.js';
 import { SliceMeasures } from './measure.js';
+import { PictureRuler } from './ruler3d.js';
 import { SliceViews } from './slices.js';
 import { Panel, shifted } from './ui.js';
 import { Viewer } from './viewer.js';
@@ -63,6 +64,7 @@ async function boot() {
   const slices = new SliceViews(element('slices', HTMLElement), { info, max3d,
     onCrosshair: () => viewer.redraw() });
   const measures = new SliceMeasures(slices);
+  const ruler3d = new PictureRuler(viewer, measures, /** @type {HTMLElement} */ (canvas.parentElement));
   const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });
   for (const n of [...info.notices, ...volumeHeader.notices]) panel.notice(n);
 
@@ -110,7 +112,7 @@ async function boot() {
    * @property {{width: number, height: number, rgba: string, float: boolean}} [linear]
    */
   const volumen = {
-    viewer, xr, info, limits: lim, shifted, measures,
+    viewer, xr, info, limits: lim, shifted, measures, ruler3d,
     // the slice views' rulers and regions as volumen.measure's JSON (`volumen measure export` reads it)
     measurements() { return { version: 1, measurements: measures.toDicts() }; },
     // fix the picture's size (pixels) and show `scene` / `camera` (JSON); resolves once it is drawn

@@ -78,6 +78,8 @@ export class SliceMeasures {
     /** @type {{index: number, handle: number, plane: string} | null} */
     this.drag = null;
     this.seq = 0;
+    /** @type {(() => void)[]} called after the measurements are drawn (the 3-D picture's rulers follow) */
+    this.drawn = [];
     /** @type {Record<string, SVGSVGElement>} by plane */
     this.layers = {};
     const bar = this.bar = document.createElement('div');
@@ -230,6 +232,7 @@ export class SliceMeasures {
         if (part) this.drawOne(svg, m, part);
       }
     }
+    this.drawn.forEach((fn) => fn());
   }
 
   /** @param {SVGSVGElement} svg @param {Measurement} m @param {{whole: boolean, xy: number[][]}} part */

@@ -10,6 +10,7 @@ import { drawOverlay, lightLength, pickLight } from './overlay.js';
 import { RaycastProgram } from './program.js';
 import { SliceMeasures } from './measure.js';
 import { PictureRuler } from './ruler3d.js';
+import { XRRuler } from './xrruler.js';
 import { SliceViews } from './slices.js';
 import { Panel, shifted } from './ui.js';
 import { Viewer } from './viewer.js';
@@ -65,6 +66,7 @@ async function boot() {
     onCrosshair: () => viewer.redraw() });
   const measures = new SliceMeasures(slices);
   const ruler3d = new PictureRuler(viewer, measures, /** @type {HTMLElement} */ (canvas.parentElement));
+  const xrRuler = new XRRuler(xr, ruler3d);
   const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });
   for (const n of [...info.notices, ...volumeHeader.notices]) panel.notice(n);
 
@@ -112,7 +114,7 @@ async function boot() {
    * @property {{width: number, height: number, rgba: string, float: boolean}} [linear]
    */
   const volumen = {
-    viewer, xr, info, limits: lim, shifted, measures, ruler3d,
+    viewer, xr, info, limits: lim, shifted, measures, ruler3d, xrRuler,
     // the slice views' rulers and regions as volumen.measure's JSON (`volumen measure export` reads it)
     measurements() { return { version: 1, measurements: measures.toDicts() }; },
     // fix the picture's size (pixels) and show `scene` / `camera` (JSON); resolves once it is drawn

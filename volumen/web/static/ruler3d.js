@@ -5,6 +5,7 @@
 
 import { postJSON } from './api.js';
 import { project } from './camera.js';
+import { add } from './linalg.js';
 import { caption } from './measure.js';
 
 /** @import { SliceMeasures } from './measure.js' */
@@ -59,10 +60,25 @@ export class PictureRuler {
   }
 
   /** @param {number} x @param {number} y picture pixels */
-  async pick(x, y) {
+  pick(x, y) {
     const v = this.viewer, canvas = v.gl.canvas;
-    const { point } = await postJSON('pick.json', { frame: { scene: v.scene, camera: v.camera,
-      size: [canvas.width, canvas.height], max3d: v.max3d }, x, y });
+    return this.ask({ scene: v.scene, camera: v.camera, size: [canvas.width, canvas.height], max3d: v.max3d }, x, y);
+  }
+
+  // the first visible surface along a ray (volume mm): a controller's in the headset (xrruler.js)
+  /** @param {Vec3} position @param {Vec3} direction */
+  pickRay(position, direction) {
+    const v = this.viewer;
+    const up = Math.abs(direction[2]) < 0.9 ? [0, 0, 1] : [0, 1, 0];
+    const camera = { ...v.camera, position, target: add(position, direction), up, projection: 'perspective' };
+    this.picking = this.ask({ scene: v.scene, camera, size: [1, 1], max3d: v.max3d }, 0.5, 0.5);
+    return this.picking;
+  }
+
+  // pick.json's point for `frame` at (x, y): the ruler's first end, or its second (the ruler is made)
+  /** @param {object} frame @param {number} x @param {number} y */
+  async ask(frame, x, y) {
+    const { point } = await postJSON('pick.json', { frame, x, y });
     if (!point) return;
     if (!this.pending) { this.pending = point; this.draw(); return; }
     this.measures.items.push({ kind: 'distance', points: [this.pending, point], plane: null, shape: '',

@@ -64,7 +64,7 @@ def test_a_rectangle_shows_its_statistics_over_the_scans_voxels(make_window, qtb
     ax = win.slices["axial"]
     set_tool(win, "rectangle")
     cx, cy = np.rint(ax.world_to_widget(win.state.crosshair)).astype(int)
-    _drag(qtbot, ax, (int(cx) - 20, int(cy) - 15), (int(cx) + 20, int(cy) + 15))
+    _drag(qtbot, ax, (int(cx) + 20, int(cy) + 15), (int(cx) - 20, int(cy) - 15))  # up and left: the box still spans
     (region,) = win.state.measurements
     k = _mm_per_px(ax)
     assert region.area_mm2 == pytest.approx(40 * 30 * k * k, rel=1e-6)

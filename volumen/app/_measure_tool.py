@@ -16,7 +16,7 @@ from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QColor, QPen, QPolygonF
 
 from ..errors import OutsideVolumeError
-from ._slice_measures import TOOLS, caption, handles, make, slice_part, view_plane, with_handle
+from ._slice_measures import TOOLS, caption, drag_to, grab, handles, slice_part, view_plane
 
 __all__ = ["MeasureTool", "GRAB"]
 
@@ -41,7 +41,7 @@ class MeasureTool:
         self.view = view
         self.tool: str | None = None
         self.captions: list[tuple[str, tuple[float, float]]] = []
-        self._drag: list | None = None  # [measurement index or None (not placed yet), handle, how to make it]
+        self._drag: list | None = None  # [measurement index (None: not placed yet), how to remake it (drag_to)]
 
     def set_tool(self, tool: str | None) -> None:
         if tool is not None and tool not in TOOLS:
@@ -73,12 +73,13 @@ class MeasureTool:
         if button != Qt.LeftButton:
             return False
         if grabbed is not None:
-            self._drag = [*grabbed, None]
+            index, handle = grabbed
+            self._drag = [index, grab(self._state().measurements[index], handle)]
             return True
         if self.tool is None:
             return False
         start = self.view.world_at(x, y)
-        self._drag = [None, 1, (self.tool, start, view_plane(self.view.geometry_, self.view.index))]
+        self._drag = [None, (self.tool, start, view_plane(self.view.geometry_, self.view.index), "", 1)]
         if self.tool == "ruler":
             self.move(x, y)
         return True
@@ -88,13 +89,9 @@ class MeasureTool:
         if self._drag is None:
             return False
         st, w = self._state(), self.view.world_at(x, y)
-        index, handle, new = self._drag
+        index, recipe = self._drag
         try:
-            if index is None:
-                tool, start, plane = new
-                m = make(tool, start, w, st.volume, plane)
-            else:
-                m = with_handle(st.measurements[index], handle, w, st.volume)
+            m = drag_to(recipe, w, st.volume)
         except OutsideVolumeError:  # a region that holds no voxel yet (or any more): kept as it was
             return True
         self._drag[0] = st.put_measurement(index, m)
@@ -138,11 +135,13 @@ class MeasureTool:
                 p.drawLine(QPointF(x - 4, y + 4), QPointF(x + 4, y - 4))
         else:
             p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in xy]))
-        self._caption(p, m, xy)
+        if m.kind == "distance":  # a region's value is drawn where it lies whole, not beside every chord
+            self._caption(p, m, xy)
 
     def _caption(self, p, m, xy: np.ndarray) -> None:
         text = caption(m)
         x, y = float(xy[:, 0].max()) + 6, float(xy[:, 1].min()) - 4
+        x = max(0.0, min(x, self.view.width() - p.fontMetrics().horizontalAdvance(text) - 2))  # kept in the view
         while any(abs(y - cy) < 13 and abs(x - cx) < 120 for _, (cx, cy) in self.captions):
             y += 14  # below a caption already drawn there (two measurements cut at one place)
         p.setPen(Qt.black)

@@ -15,7 +15,7 @@ import numpy as np
 from ..core import mm_text, value_text
 from ..measure import Distance, Ellipse, Plane, Rectangle, Scan, roi_stats
 
-__all__ = ["TOOLS", "view_plane", "make", "handles", "with_handle", "slice_part", "caption"]
+__all__ = ["TOOLS", "view_plane", "make", "handles", "grab", "drag_to", "slice_part", "caption"]
 
 #: the measurement tools of a slice view
 TOOLS = ("ruler", "rectangle", "ellipse")
@@ -56,14 +56,21 @@ def handles(m) -> np.ndarray:
     return m.plane.to_world(np.array([lo, hi]))
 
 
-def with_handle(m, which: int, world, volume):
-    """``m`` with handle ``which`` (0 or 1) moved to ``world``."""
-    ends = handles(m)
-    ends[which] = world
+def grab(m, which: int) -> tuple:
+    """What a drag of handle ``which`` (0 or 1) of ``m`` remakes: ``(tool, the other handle, which stays put,
+    plane, label, which)`` (:func:`drag_to`)."""
     tool = "ruler" if m.kind == "distance" else m.shape.kind
+    return tool, handles(m)[1 - which], getattr(m, "plane", None), m.label, which
+
+
+def drag_to(recipe: tuple, world, volume):
+    """The measurement of a drag (:func:`grab`'s recipe, or a new one's ``(tool, start, plane, "", 1)``) with the
+    dragged handle at ``world`` (a region's kept on its plane)."""
+    tool, fixed, plane, label, which = recipe
     if tool != "ruler":
-        ends[which] = m.plane.to_world(m.plane.to_plane(world)[0])  # kept on the region's plane
-    return make(tool, ends[0], ends[1], volume, getattr(m, "plane", None), m.label)
+        world = plane.to_world(plane.to_plane(world)[0])
+    a, b = (world, fixed) if which == 0 else (fixed, world)
+    return make(tool, a, b, volume, plane, label)
 
 
 def outline(m) -> np.ndarray:

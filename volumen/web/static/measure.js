@@ -247,10 +247,17 @@ export class SliceMeasures {
     const pts = xy.map(([x, y]) => `${x},${y}`).join(' ');
     if (whole || m.kind !== 'distance') el('polyline', { points: pts, class: whole ? 'whole' : 'cut' });
     if (!whole) for (const [x, y] of xy) el('path', { d: `M${x - 4},${y - 4}l8,8m0,-8l-8,8`, class: 'cut' });
-    const right = Math.max(...xy.map((p) => p[0])) + 6, y = Math.min(...xy.map((p) => p[1])) - 4;
-    const flip = right > svg.clientWidth - 150;   // near the right edge: the value goes on the left
-    const x = flip ? Math.min(...xy.map((p) => p[0])) - 6 : right;
-    el('text', { x, y, 'text-anchor': flip ? 'end' : 'start' }).textContent = caption(m);
+    if (!whole && m.kind !== 'distance') return;   // a region's value is drawn where it lies whole, not by a chord
+    const x = Math.max(...xy.map((p) => p[0])) + 6;
+    let y = Math.min(...xy.map((p) => p[1])) - 4;
+    /** @type {number[][]} */
+    const taken = [];
+    svg.querySelectorAll('text').forEach((t) => taken.push([Number(t.getAttribute('x')), Number(t.getAttribute('y'))]));
+    while (taken.some(([tx, ty]) => Math.abs(ty - y) < 13 && Math.abs(tx - x) < 160)) y += 14;   // under one there
+    const text = /** @type {SVGTextElement} */ (el('text', { x, y }));
+    text.textContent = caption(m);
+    const wide = text.getComputedTextLength();   // kept inside the view
+    if (x + wide > svg.clientWidth) text.setAttribute('x', String(Math.max(0, svg.clientWidth - wide - 2)));
   }
 
   // the measurements as volumen.measure's JSON (Measurements.to_dicts)

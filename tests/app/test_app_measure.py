@@ -121,3 +121,26 @@ def test_a_3d_ruler_between_two_clicks_on_the_picture(make_window, qtbot):
     v.repaint()
     assert [c for c, _ in v.ruler3d.captions] == [f"{ruler.mm:.1f} mm"]
     assert ruler.mm > 10
+
+
+def test_measurements_exported_and_imported_again(make_window, qtbot, tmp_path):
+    """Export writes the measurements (JSON here: the phantom is no DICOM series for an SR) and import adds them
+    back; a file of another scan's measurements is refused in one line and nothing is lost."""
+    from volumen.app._measure_menu import export, import_measurements
+    from volumen.errors import MeasurementError
+
+    win = make_window()
+    ax = win.slices["axial"]
+    set_tool(win, "ruler")
+    cx, cy = np.rint(ax.world_to_widget(win.state.crosshair)).astype(int)
+    _drag(qtbot, ax, (int(cx) - 30, int(cy)), (int(cx) + 25, int(cy) + 10))
+    made = list(win.state.measurements)
+    export(win, tmp_path / "m.json")
+    win.state.set_measurements([])
+    assert import_measurements(win, tmp_path / "m.json") == 1 and list(win.state.measurements) == made
+    other = measure.Measurements([measure.Distance((0, 0, 0), (1, 0, 0), scan=measure.Scan(source="other.nii"))])
+    measure.save_measurements(other, tmp_path / "other.json")
+    with pytest.raises(MeasurementError) as err:
+        import_measurements(win, tmp_path / "other.json")
+    assert "other.nii" in str(err.value) and "\n" not in str(err.value)
+    assert list(win.state.measurements) == made

@@ -50,3 +50,30 @@ def test_pixel_ray_is_camera_project_backwards():
     origin, direction = pixel_ray(cam, (200, 100), 37.0, 81.0)
     colrow, depth = cam.project(origin + 123.0 * direction, (200, 100))
     assert np.allclose(colrow, (37.0, 81.0)) and depth == pytest.approx(123.0)
+
+
+def test_cpu_and_gl_pick_the_same_point():
+    """The head phantom's CT look seen by its default camera: OpenGL's picks are the CPU's within a voxel (the
+    page picks through the CPU on the server: tests/web/test_page_measure.py)."""
+    from volumen.core import default_camera
+    from volumen.data import phantom
+    from volumen.render import default_look
+    from volumen.render.raster import RasterUnavailable, get_context, on_gl_thread
+
+    try:
+        on_gl_thread(get_context)  # OpenGL objects live on the library's one OpenGL thread
+    except RasterUnavailable as exc:  # as the raster tests do (tests/render/raster/conftest.py)
+        print(f"gl pick not compared: {exc}")
+        pytest.skip(str(exc))
+    vol = phantom("head", size=64)
+    mode, tf, _ = default_look(vol)
+    scene, cam = Scene(volume=vol, transfer=tf, mode=mode), default_camera(vol)
+    picked = 0
+    for x, y in [(62.5, 70.5), (101.5, 84.5), (80.5, 80.5), (70.5, 40.5), (95.5, 120.5)]:
+        cpu = pick(scene, cam, (160, 160), x, y, device="cpu")
+        gl = pick(scene, cam, (160, 160), x, y, device="gl")
+        assert (cpu is None) == (gl is None), (x, y)
+        if cpu is not None:
+            picked += 1
+            assert np.linalg.norm(cpu - gl) < max(vol.spacing), (x, y)
+    assert picked >= 4

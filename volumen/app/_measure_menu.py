@@ -1,5 +1,6 @@
-"""The Measure menu: choose the slice views' tool (none, ruler, rectangle, ellipse) and export the measurements as
-CSV, JSON or a DICOM SR (``volumen.measure``), as ``volumen measure export`` writes them."""
+"""The Measure menu: choose the tool (none; ruler, rectangle, ellipse on the slice views; the 3-D view's ruler),
+import measurements (a DICOM SR, a session or a measurements JSON: ``volumen.load_measurements``) and export them
+as CSV, JSON or a DICOM SR, as ``volumen measure export`` writes them."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from PySide6.QtWidgets import QFileDialog
 
 from ._slice_measures import TOOLS
 
-__all__ = ["build_measure_menu", "set_tool", "export"]
+__all__ = ["build_measure_menu", "set_tool", "export", "import_measurements"]
 
 
 #: the tools of the Measure menu: the slice views' and the 3-D view's ruler
@@ -34,6 +35,33 @@ def export(window, path) -> None:
         save_measurements(items, path)
 
 
+def import_measurements(window, path) -> int:
+    """Add the measurements of ``path`` (an SR, a session or a measurements JSON) to ``window``'s; returns how many.
+
+    Raises
+    ------
+    volumen.errors.MeasurementError
+        Measurements of another scan, an SR of another study (nothing is added).
+    """
+    from ..measure import load_measurements
+
+    found = load_measurements(path, volume=window.state.volume)
+    window.state.set_measurements([*window.state.measurements, *found])
+    return len(found)
+
+
+def _import_dialog(window) -> None:
+    path, _ = QFileDialog.getOpenFileName(window, "Import measurements", "", "DICOM SR or JSON (*.dcm *.json)")
+    if not path:
+        return
+    try:
+        n = import_measurements(window, path)
+    except Exception as exc:  # noqa: BLE001 - reported, the measurements already there stay
+        window.report_error("Cannot import the measurements", str(exc))
+        return
+    window.statusBar().showMessage(f"{n} measurement(s) imported", 5000)
+
+
 def _export_dialog(window) -> None:
     path, _ = QFileDialog.getSaveFileName(window, "Export the measurements", "measurements.csv",
                                           "CSV (*.csv);;JSON (*.json);;DICOM SR (*.dcm)")
@@ -57,4 +85,5 @@ def build_measure_menu(window) -> None:
         action.triggered.connect(lambda _=False, t=tool: set_tool(window, t))
         group.addAction(action)
     menu.addSeparator()
+    menu.addAction("Import measurements...", lambda: _import_dialog(window))
     menu.addAction("Export measurements...", lambda: _export_dialog(window))

@@ -4,6 +4,7 @@ the scan's voxels' (``volumen.measure.roi_stats``), and the page's measurements 
 
 from __future__ import annotations
 
+import json
 import time
 
 import numpy as np
@@ -105,6 +106,17 @@ def test_a_region_shows_the_statistics_of_the_scans_voxels(browser, head_server)
     truth = measure.roi_stats(head_server.handlers.source, region.plane, region.shape)
     assert region.voxels == truth.voxels > 20
     assert region.mean == pytest.approx(truth.mean, rel=0.005) and region.sd == pytest.approx(truth.sd, rel=0.005)
+    assert _captions(browser, "axial")[0].startswith(f"mean {round(truth.mean)} ")
+
+    state = browser.evaluate("volumen.measurements()")  # the page's state survives a reload
+    browser.open(head_server.url)
+    browser.evaluate("volumen.shown()")
+    assert browser.evaluate(f"volumen.loadMeasurements({json.dumps(state)})") == 1
+    (back,) = browser.evaluate("volumen.measurements()")["measurements"]
+    (was,) = state["measurements"]
+    assert {k: v for k, v in back.items() if k != "shape"} == {k: v for k, v in was.items() if k != "shape"}
+    assert np.allclose(back["shape"]["center"] + back["shape"]["radii"], was["shape"]["center"] + was["shape"]["radii"],
+                       rtol=0, atol=1e-9)  # through world points and back: the last bits of a mm
     assert _captions(browser, "axial")[0].startswith(f"mean {round(truth.mean)} ")
 
 

@@ -117,6 +117,9 @@ async function boot() {
     viewer, xr, info, limits: lim, shifted, measures, ruler3d, xrRuler,
     // the slice views' rulers and regions as volumen.measure's JSON (`volumen measure export` reads it)
     measurements() { return { version: 1, measurements: measures.toDicts() }; },
+    // put back what `measurements()` gave (the page's state): how many were added
+    /** @param {{measurements: Record<string, any>[]}} state */
+    loadMeasurements(state) { return measures.fromDicts(state.measurements); },
     // fix the picture's size (pixels) and show `scene` / `camera` (JSON); resolves once it is drawn
     /** @param {{scene?: Scene, camera?: Camera, size?: number[]}} view */
     async show({ scene, camera, size: wh }) {

@@ -260,6 +260,31 @@ export class SliceMeasures {
     if (x + wide > svg.clientWidth) text.setAttribute('x', String(Math.max(0, svg.clientWidth - wide - 2)));
   }
 
+  // add volumen.measure's JSON (Measurements.to_dicts: rulers and rectangle or ellipse regions; what else it
+  // holds is left out), as `toDicts` writes it; returns how many were added
+  /** @param {Record<string, any>[]} dicts */
+  fromDicts(dicts) {
+    let n = 0;
+    for (const d of dicts) {
+      if (d.kind === 'distance') {
+        this.items.push({ kind: 'distance', points: [d.start, d.end], plane: null, shape: '', stats: null,
+          label: d.label ?? '' });
+      } else if (d.kind === 'region' && ['rectangle', 'ellipse'].includes(d.shape.kind)) {
+        const s = d.shape, p = d.plane;
+        const lo = s.lo ?? [s.center[0] - s.radii[0], s.center[1] - s.radii[1]];
+        const hi = s.hi ?? [s.center[0] + s.radii[0], s.center[1] + s.radii[1]];
+        /** @type {(st: number[]) => Vec3} */
+        const at = (st) => add(p.origin, add(scale(p.u, st[0]), scale(p.v, st[1])));
+        const { mean, sd, min, max, median, area_mm2, voxels, units } = d;
+        this.items.push({ kind: 'region', points: [at(lo), at(hi)], plane: p, shape: s.kind, label: d.label ?? '',
+          stats: { mean, sd, min, max, median, area_mm2, voxels, units } });
+      } else continue;
+      n++;
+    }
+    this.draw();
+    return n;
+  }
+
   // the measurements as volumen.measure's JSON (Measurements.to_dicts)
   toDicts() {
     return this.items.map((m) => {

@@ -98,6 +98,9 @@ def test_sr_reads_back_with_every_measurement_unit_and_reference(ct, tmp_path):
     assert {("Length", "mm"), ("Angle", "deg"), ("Mean", "[hnsf'U]"), ("Standard Deviation", "[hnsf'U]"),
             ("Area", "mm2"), ("Count", "{voxels}")} <= units
     assert {g.roi.frame_of_reference_uid for g in planar} == {sources[0].FrameOfReferenceUID}
+    for g in planar[3:6]:  # the regions on axial slice 3: every number references that slice's image
+        refs = {r.referenced_sop_instance_uid for m in g.get_measurements() for r in m.referenced_images}
+        assert refs == {sources[3].SOPInstanceUID}
     volume_units = {str(m.unit.value) for m in report.get_image_measurement_groups()[0].get_measurements()}
     assert volume_units == {"ml", "{voxels}"}
 

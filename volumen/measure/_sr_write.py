@@ -5,8 +5,9 @@ Each point, ruler, angle and region is a planar ROI group (TID 1410) whose regio
 LPS+ mm in the scan's frame of reference): a point a POINT, a ruler a two-point POLYLINE with its Length (mm), an
 angle a three-point POLYLINE with its Angle (deg), a region a POLYGON (closed) or an ELLIPSE (the ends of its axes)
 with its Mean, Standard Deviation, Minimum, Maximum, Median (the scan's units: HU as UCUM ``[hnsf'U]``), Area
-(mm2) and voxel Count. A structure's volume is a measurement group without a region (TID 1501), Volume in ml. The
-kind and label of each travel in its tracking identifier (:mod:`._sr_codes`).
+(mm2) and voxel Count; each number references the images of the slices the measurement lies in. A structure's
+volume is a measurement group without a region (TID 1501), Volume in ml. The kind and label of each travel in its
+tracking identifier (:mod:`._sr_codes`).
 """
 
 from __future__ import annotations
@@ -30,8 +31,17 @@ def _version() -> str:
         return "unknown"
 
 
-def _number(hd, field: str, value: float, units: str):
-    return hd.sr.Measurement(name=name_code(field), value=float(value), unit=unit_code(units))
+def _number(hd, field: str, value: float, units: str, images=None):
+    return hd.sr.Measurement(name=name_code(field), value=float(value), unit=unit_code(units),
+                             referenced_images=images or None)
+
+
+def _images(hd, m, volume, sources) -> list:
+    """The scan's images a measurement was made on: those of the slices its points lie in (``sources`` sorted
+    like the volume's slices)."""
+    k = np.rint(volume.world_to_index(np.asarray(m.points, float))[:, 2]).astype(int)
+    return [hd.sr.SourceImageForMeasurement.from_source_image(sources[i])
+            for i in sorted(set(np.clip(k, 0, len(sources) - 1).tolist()))]
 
 
 def _region_3d(hd, m, frame_uid: str):
@@ -49,18 +59,18 @@ def _region_3d(hd, m, frame_uid: str):
     return hd.sr.ImageRegion3D(graphic_type=kind, graphic_data=pts, frame_of_reference_uid=frame_uid)
 
 
-def _numbers(hd, m) -> list:
+def _numbers(hd, m, images) -> list:
     if m.kind == "distance":
-        return [_number(hd, "length", m.mm, "mm")]
+        return [_number(hd, "length", m.mm, "mm", images)]
     if m.kind == "angle":
-        return [_number(hd, "angle", m.degrees, "deg")]
+        return [_number(hd, "angle", m.degrees, "deg", images)]
     if m.kind == "region":
-        found = [_number(hd, f, getattr(m, f), "mm2" if f == "area_mm2" else m.units) for f in STATISTICS]
-        return [*found, _number(hd, "voxels", m.voxels, "voxels")]
+        found = [_number(hd, f, getattr(m, f), "mm2" if f == "area_mm2" else m.units, images) for f in STATISTICS]
+        return [*found, _number(hd, "voxels", m.voxels, "voxels", images)]
     return []
 
 
-def _group(hd, m, number: int, frame_uid: str):
+def _group(hd, m, number: int, frame_uid: str, images: list):
     kind = {"region": f"region {getattr(m, 'shape', None) and m.shape.kind}",
             "volume": f"volume {getattr(m, 'value', '')}"}.get(m.kind, m.kind)
     tracking = hd.sr.TrackingIdentifier(uid=hd.UID(), identifier=tracking_text(kind, number, m.label))
@@ -68,7 +78,8 @@ def _group(hd, m, number: int, frame_uid: str):
         numbers = [_number(hd, "volume", m.ml, "ml"), _number(hd, "voxels", m.voxels, "voxels")]
         return hd.sr.MeasurementsAndQualitativeEvaluations(tracking_identifier=tracking, measurements=numbers)
     return hd.sr.PlanarROIMeasurementsAndQualitativeEvaluations(
-        tracking_identifier=tracking, referenced_region=_region_3d(hd, m, frame_uid), measurements=_numbers(hd, m))
+        tracking_identifier=tracking, referenced_region=_region_3d(hd, m, frame_uid),
+        measurements=_numbers(hd, m, images))
 
 
 def _sources(volume) -> list:
@@ -102,7 +113,8 @@ def make_sr(items, volume, *, description: str = "volumen measurements"):
     check_scan(items, volume)
     sources = _sources(volume)
     frame_uid = str(sources[0].FrameOfReferenceUID)
-    groups = [_group(hd, m, n, frame_uid) for n, m in enumerate(items, start=1)]
+    groups = [_group(hd, m, n, frame_uid, _images(hd, m, volume, sources) if hasattr(m, "points") else [])
+              for n, m in enumerate(items, start=1)]
     device = hd.sr.ObserverContext(
         observer_type=codes.cid270.Device,
         observer_identifying_attributes=hd.sr.DeviceObserverIdentifyingAttributes(uid=hd.UID(), name="volumen"))

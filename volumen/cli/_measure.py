@@ -14,6 +14,7 @@ __all__ = ["register", "run", "ACTIONS", "OUTPUTS"]
 #: action name -> module of this package with register(actions) and run(args)
 ACTIONS = {
     "export": "_measure_export",
+    "volumes": "_measure_volumes",
 }
 
 
@@ -26,7 +27,7 @@ OUTPUTS = tuple(sorted({o for m in _modules().values() for o in getattr(m, "OUTP
 
 
 def register(sub):
-    p = sub.add_parser("measure", help="measurements: export a session's as a DICOM SR, CSV or JSON")
+    p = sub.add_parser("measure", help="measurements: export a session's as a DICOM SR, CSV or JSON; structure volumes")
     acts = p.add_subparsers(dest="action", metavar="ACTION")
     acts.required = True
     for module in _modules().values():

@@ -4,7 +4,6 @@ its UCUM unit and its references; session JSON, JSON and CSV; ``volumen measure 
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -12,14 +11,11 @@ import pydicom
 import pytest
 
 import volumen
+from tests.io.dicom_factory import new_uid, oblique_cosines, stack_positions, write_series
 from volumen import measure
 from volumen.cli import main
 from volumen.core import LabelMap
 from volumen.errors import MeasurementError
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
-
-from dicom_factory import new_uid, oblique_cosines, stack_positions, write_series
 
 
 def _write_ct(folder, study_uid=None, seed=1):

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 from PIL import Image
-from test_xr import EYE, HEAD0, _button, _model, _set, xr_browser  # noqa: F401 - registers the headset fixture
-from web_helpers import picture, reference_scenes, scene_json
 
+from tests.web.test_xr import EYE, HEAD0, _button, _model, _set, xr_browser  # noqa: F401 - registers the headset fixture
+from tests.web.web_helpers import picture, reference_scenes, scene_json
 from volumen import measure
 from volumen.core import Camera, Scene
 

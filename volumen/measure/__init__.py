@@ -1,8 +1,8 @@
 """Measurements in world millimetres: points, distances, angles, regions with statistics, structure volumes.
 
 The model is independent of any viewer: the app, the browser page, the headset and a notebook make the same
-objects, save them in a session (:mod:`._files`) and exchange them as a DICOM Comprehensive 3D SR (:mod:`._sr_write`,
-:mod:`._sr_read`). Notebook use::
+objects, save them in a session (:mod:`._persistence`) and exchange them as a DICOM Comprehensive 3D SR
+(:mod:`._sr_write`, :mod:`._sr_read`). Notebook use::
 
     from volumen import measure
     measure.distance((0, 0, 0), (30, 40, 0))                  # 50.0 mm, shown as a table
@@ -12,14 +12,14 @@ objects, save them in a session (:mod:`._files`) and exchange them as a DICOM Co
 
 from __future__ import annotations
 
-from ._files import SESSION_KEY, check_scan, load_measurements, save_measurements, session_measurements
-from ._geometry import SHAPES, Ellipse, Plane, Polygon, Rectangle, shape_from_dict, slice_plane
-from ._labels import label_volumes
-from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, Region, Scan, from_dict
+from ._label_volumes import label_volumes
+from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, RegionStats, Scan, from_dict
+from ._persistence import SESSION_KEY, check_scan, load_measurements, save_measurements, session_measurements
+from ._plane_shapes import SHAPES, Ellipse, Plane, Polygon, Rectangle, shape_from_dict, slice_plane
 from ._regions import region_voxels, roi_stats
 
 __all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "shape_from_dict", "slice_plane", "Scan", "Point",
-           "Distance", "Angle", "Region", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle",
+           "Distance", "Angle", "RegionStats", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle",
            "point", "roi_stats", "region_voxels", "label_volumes", "load_measurements", "save_measurements",
            "session_measurements", "check_scan", "SESSION_KEY", "make_sr", "pick"]
 

@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import mm_text, value_text
-from ._geometry import Plane, shape_from_dict
+from ._plane_shapes import Plane, shape_from_dict
 from ._table import csv_text, html_table
 
-__all__ = ["Scan", "Point", "Distance", "Angle", "Region", "LabelVolume", "Measurements", "from_dict", "KINDS"]
+__all__ = ["Scan", "Point", "Distance", "Angle", "RegionStats", "LabelVolume", "Measurements", "from_dict", "KINDS"]
 
 
 @dataclass(frozen=True)
@@ -152,7 +152,7 @@ class Angle(_Shown):
 
 
 @dataclass(frozen=True)
-class Region(_Shown):
+class RegionStats(_Shown):
     """A region on a slice plane with the statistics of the scan's voxels inside it (:func:`roi_stats`).
 
     ``mean``, ``sd`` (population), ``min``, ``max``, ``median`` are in ``units`` (HU for a CT); ``area_mm2`` is the
@@ -208,7 +208,7 @@ class LabelVolume(_Shown):
                 "voxels": self.voxels, "scan": self.scan.text()}
 
 
-KINDS = {c.kind: c for c in (Point, Distance, Angle, Region, LabelVolume)}
+KINDS = {c.kind: c for c in (Point, Distance, Angle, RegionStats, LabelVolume)}
 
 
 def _to_dict(m) -> dict:

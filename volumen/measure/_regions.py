@@ -13,8 +13,8 @@ import numpy as np
 
 from ..core import hu_offset, is_chunked
 from ..errors import OutsideVolumeError
-from ._geometry import Plane
-from ._model import Region, Scan
+from ._model import RegionStats, Scan
+from ._plane_shapes import Plane
 
 __all__ = ["roi_stats", "region_voxels"]
 
@@ -63,7 +63,7 @@ def _outside(volume, plane: Plane, shape) -> OutsideVolumeError:
         f"(its voxel centres span ({', '.join(f'{c:.1f}' for c in lo)})..({', '.join(f'{c:.1f}' for c in hi)}) mm)")
 
 
-def roi_stats(volume, plane: Plane, shape, label: str = "") -> Region:
+def roi_stats(volume, plane: Plane, shape, label: str = "") -> RegionStats:
     """The statistics of ``volume``'s voxels in ``shape`` on ``plane``.
 
     Parameters
@@ -77,7 +77,7 @@ def roi_stats(volume, plane: Plane, shape, label: str = "") -> Region:
 
     Returns
     -------
-    Region
+    RegionStats
         mean, SD (population), min, max, median in the scan's units, the shape's area in mm², the voxel count.
 
     Raises
@@ -98,6 +98,6 @@ def roi_stats(volume, plane: Plane, shape, label: str = "") -> Region:
     if offset is not None:
         values = values - offset
         units = "HU"
-    return Region(plane=plane, shape=shape, mean=float(values.mean()), sd=float(values.std()),
+    return RegionStats(plane=plane, shape=shape, mean=float(values.mean()), sd=float(values.std()),
                   min=float(values.min()), max=float(values.max()), median=float(np.median(values)),
                   area_mm2=shape.area, voxels=int(values.size), units=units, scan=Scan.of(volume), label=label)

@@ -13,7 +13,7 @@ __all__ = ["LPS", "STATISTICS", "tracking_text", "parse_tracking", "name_code", 
 
 LPS = np.array([-1.0, -1.0, 1.0])
 
-#: a region's numbers: Region field -> (SNOMED CT code, meaning); the units are the scan's (area and count apart)
+#: a region's numbers: RegionStats field -> (SNOMED CT code, meaning); the units are the scan's (area and count apart)
 STATISTICS = {
     "mean": ("373098007", "Mean"), "sd": ("386136009", "Standard Deviation"), "min": ("255605001", "Minimum"),
     "max": ("56851009", "Maximum"), "median": ("373099004", "Median"), "area_mm2": ("42798000", "Area"),

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MeasurementError
-from ._geometry import Ellipse, Plane, Polygon, Rectangle
-from ._model import Angle, Distance, LabelVolume, Measurements, Point, Region, Scan
+from ._model import Angle, Distance, LabelVolume, Measurements, Point, RegionStats, Scan
+from ._plane_shapes import Ellipse, Plane, Polygon, Rectangle
 from ._sr_codes import LPS, field_of, parse_tracking, unit_of
 
 __all__ = ["read_sr", "SRFacts"]
@@ -39,7 +39,7 @@ def _numbers(group) -> dict:
     return found
 
 
-def _region(points: np.ndarray, graphic: str, words: list[str], numbers: dict, scan: Scan, label: str) -> Region:
+def _region(points: np.ndarray, graphic: str, words: list[str], numbers: dict, scan: Scan, label: str) -> RegionStats:
     if graphic == "ELLIPSE":
         centre = points.mean(axis=0)
         a, b = np.linalg.norm(points[1] - points[0]) / 2, np.linalg.norm(points[3] - points[2]) / 2
@@ -54,7 +54,7 @@ def _region(points: np.ndarray, graphic: str, words: list[str], numbers: dict, s
         shape = Rectangle(tuple(st[0]), tuple(st[2])) if is_rect else Polygon(tuple(map(tuple, st)))
     units = numbers.get("mean", (0.0, ""))[1]
     stats = {f: numbers.get(f, (float("nan"), ""))[0] for f in ("mean", "sd", "min", "max", "median", "area_mm2")}
-    return Region(plane=plane, shape=shape, voxels=int(numbers.get("voxels", (0, ""))[0]), units=units, scan=scan,
+    return RegionStats(plane=plane, shape=shape, voxels=int(numbers.get("voxels", (0, ""))[0]), units=units, scan=scan,
                   label=label, **stats)
 
 

@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import LabelError, MeasurementError
-from ._files import check_scan
 from ._model import Measurements
+from ._persistence import check_scan
 from ._sr_codes import LPS, STATISTICS, name_code, tracking_text, unit_code
 
 __all__ = ["make_sr"]

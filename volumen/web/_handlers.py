@@ -220,14 +220,14 @@ class Handlers:
     async def region(self, request):
         """A region's statistics over the scan's own voxels (not the served, maybe coarser, copy):
         ``{"plane": {"origin", "u", "v"}, "shape": {...}}`` (``volumen.measure``) -> numbers and units only."""
-        from ._measure import region_answer
+        from ._measure_routes import region_answer
 
         body = await self.body(request)
         return await self.work(region_answer, self.source, body), "application/json"
 
     async def pick(self, request):
         """The first visible surface under a point of the 3-D picture, in the served volume (the page's)."""
-        from ._measure import pick_answer
+        from ._measure_routes import pick_answer
 
         body = await self.body(request)
         try:

@@ -5,8 +5,8 @@ its depth threshold (``Image.depth``, docs/design.md section 2), with the scene'
 ray is cast alone: a one-pixel picture from the same eye along the clicked point's ray (perspective), or from the
 point of the image plane under it (orthographic), on the device asked (the CPU by default), without the scene's
 jitter: a jittered ray's depth moves by up to a step, and where it grazes a thin or faint structure it can pass
-through or stop there (on the head phantom's cheek 20 mm apart between neighbouring pixels), so a picked point
-would not repeat; unjittered, a pick is the picture's unjittered depth at that pixel. Every front end
+through or stop there (a pixel grazing the head phantom's cheek: 504 mm in the whole picture, 525 mm cast alone),
+so a picked point would not repeat; unjittered, a pick is the picture's unjittered depth at that pixel. Every front end
 picks through here, the browser page through the server (``region.json``'s neighbour ``pick.json``), so a point
 picked in one viewer is the point picked in another.
 """

@@ -15,9 +15,6 @@ from volumen import measure
 
 @pytest.fixture(scope="module")
 def browser(chromium):
-    # the server's first info.json and shaders.json import these from two threads at once; imported here first
-    import volumen.render.raster._rc_uniforms
-    import volumen.render.raster._shaders  # noqa: F401
     from volumen.web import Chromium
 
     with Chromium((900, 700)) as b:

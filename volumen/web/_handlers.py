@@ -21,9 +21,18 @@ from importlib import resources
 import numpy as np
 from aiohttp import web
 
+from volumen.core import PRESETS, fitted_preset
+from volumen.core._tonemap import shader_constants
+from volumen.errors import VolumenError
+from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
+from volumen.render.raster._shaders import STAGES, stage_parts
+
+from ._frames import FrameBudgetError, encode, web_frame
+from ._measure_routes import pick_answer, region_answer
 from ._requests import BadRequest, frame_request
 from ._serve_limits import ServeLimits, cache_size
 from ._served import DEFAULT_MAX_3D, ServedVolume
+from ._slices import slice_png
 
 __all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY", "static_folder", "static_files", "routes"]
 
@@ -163,10 +172,6 @@ class Handlers:
         return body, "application/json"
 
     def _info(self, max_3d: int) -> bytes:
-        from volumen.core import PRESETS, fitted_preset
-        from volumen.core._tonemap import shader_constants
-        from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
-
         served = self.served(max_3d)
         transfers = {name: fitted_preset(name, served.volume).to_dict() for name in PRESETS}
         scene = self.scene.to_dict()
@@ -179,8 +184,6 @@ class Handlers:
         return json.dumps(body).encode()
 
     async def shaders(self, request):
-        from volumen.render.raster._shaders import STAGES, stage_parts
-
         body = {name: {stage: list(stage_parts(name, stage, "es300")) for stage in STAGES}
                 for name in ("raycast", "display")}
         return json.dumps(body).encode(), "application/json"
@@ -189,8 +192,6 @@ class Handlers:
         return await self.work(self._volume, _query_int(request, "max3d", DEFAULT_MAX_3D)), "application/octet-stream"
 
     def _volume(self, max_3d: int) -> bytes:
-        from ._frames import encode
-
         served, size = self.served(max_3d), cache_size(max_3d)
         with self._served_lock:
             if size in self._messages:
@@ -220,14 +221,12 @@ class Handlers:
     async def region(self, request):
         """A region's statistics over the scan's own voxels (not the served, maybe coarser, copy):
         ``{"plane": {"origin", "u", "v"}, "shape": {...}}`` (``volumen.measure``) -> numbers and units only."""
-        from ._measure_routes import region_answer
 
         body = await self.body(request)
         return await self.work(region_answer, self.source, body), "application/json"
 
     async def pick(self, request):
         """The first visible surface under a point of the 3-D picture, in the served volume (the page's)."""
-        from ._measure_routes import pick_answer
 
         body = await self.body(request)
         try:
@@ -246,10 +245,6 @@ class Handlers:
         return await self.work(self._frame, req), "application/octet-stream"
 
     def _frame(self, req) -> bytes:
-        from volumen.errors import VolumenError
-
-        from ._frames import FrameBudgetError, encode, web_frame
-
         served = self.served(req.max3d if req.max3d is not None else DEFAULT_MAX_3D)
         try:
             header, arrays = web_frame(served.volume, req.scene, req.camera, req.size,
@@ -262,8 +257,6 @@ class Handlers:
         return encode(header, arrays)
 
     async def slice(self, request):
-        from ._slices import slice_png
-
         max_3d = _query_int(request, "max3d", DEFAULT_MAX_3D)
         plane = request.query.get("plane", "")
         world = tuple(_query_float(request, a) for a in "xyz")

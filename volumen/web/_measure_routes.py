@@ -10,6 +10,12 @@ import json
 import numpy as np
 from aiohttp import web
 
+from volumen.core import Camera, Scene
+from volumen.errors import OutsideVolumeError, VolumenError
+from volumen.measure import Plane, pick, roi_stats, shape_from_dict
+
+from ._requests import BadRequest, frame_request
+
 __all__ = ["region_answer", "pick_answer"]
 
 #: the numbers of a region the page is told
@@ -19,8 +25,6 @@ FIELDS = ("mean", "sd", "min", "max", "median", "area_mm2", "voxels", "units")
 def region_answer(volume, body: bytes) -> bytes:
     """The JSON answer for a ``region.json`` request body; 400 with one line for a bad request or a region that
     holds no voxel of the scan."""
-    from volumen.errors import OutsideVolumeError, VolumenError
-    from volumen.measure import Plane, roi_stats, shape_from_dict
 
     try:
         d = json.loads(body)
@@ -37,11 +41,6 @@ def region_answer(volume, body: bytes) -> bytes:
 def pick_answer(volume, body: bytes) -> bytes:
     """The JSON answer for a ``pick.json`` body ``{"frame": {scene, camera, size[, max3d]}, "x", "y"}`` (the frame
     as ``frame.bin`` takes it; ``x``, ``y`` in the picture's pixels): ``{"point": [x, y, z] mm or null}``."""
-    from volumen.core import Camera, Scene
-    from volumen.errors import VolumenError
-    from volumen.measure import pick
-
-    from ._requests import BadRequest, frame_request
 
     try:
         d = json.loads(body)

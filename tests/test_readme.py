@@ -43,7 +43,7 @@ VENV_PYTHON = ROOT / ".venv-readme" / "bin" / "python"
 SERIES = "1.2.840.99.1"
 STUDY = "1.2.840.99"
 SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "24x24"},
-         "serve": {"--window": "320x200"}}
+         "serve": {"--size": "320x200"}}
 #: README pictures that an example draws: its output -> (the picture in docs/, the rows of that picture showing it, the
 #: rows of the output they show as fractions of its height); the example is drawn PICTURE_WIDTH pixels wide at its
 #: own aspect and compared with the picture scaled to the same size
@@ -115,7 +115,7 @@ def _shrink(argv: list[str]) -> list[str]:
     if cmd == "fly" and "--size" not in out:
         out += ["--size", "24x24"]
     if cmd == "serve":
-        out += [] if "--window" in out or "--screenshot" not in out else ["--window", "320x200"]
+        out += [] if "--size" in out or "--screenshot" not in out else ["--size", "320x200"]
         out += ["--port", "0"]
     return out + EXTRA.get(cmd, [])
 

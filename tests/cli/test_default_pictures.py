@@ -154,3 +154,30 @@ def test_the_cpr_fills_its_figure_and_its_window_shows_the_vessel(tmp_path):
     print(f"cpr: {cols}x{rows} px x{k}, CPR height {height:.2f} of the figure, lumen grey {lumen:.2f}, tissue "
           f"{tissue:.2f}")
     assert height >= 0.85 and lumen - tissue >= CPR_CONTRAST_BAR
+
+
+#: the MRIs whose ``volumen slices`` montage with the default window is measured (:func:`test_the_slices_of_an_mri`)
+SLICED_MRIS = ("mr_head", "mni-brain", "ch2", "ch2bet", "inia19-t1-brain", "natbrainlab", "jhu189")
+#: bars on that montage's subject (pixels above SUBJECT_LUMINANCE): its darkest twentieth at most this grey (milky
+#: above: the skull-stripped templates' darkest tissue stood at 0.33-0.58 when the window started at the
+#: background; 0.07-0.19 from the subject's 1st percentile) ...
+SLICE_DARK_BAR = 0.2
+
+
+@pytest.mark.parametrize("name", SLICED_MRIS)
+def test_the_slices_of_an_mri_show_its_darkest_tissue_dark(name, tmp_path):
+    """``volumen slices`` with no window (``core.default_window``, as the application and the page open): the
+    subject's 5th percentile of grey at most :data:`SLICE_DARK_BAR`, its spread at least :data:`SPREAD_BAR`, at
+    most :data:`CLIP_BAR` of it white."""
+    src = _source(name)
+    if src is None:
+        print(f"{name}: skipped, {REAL[name][1]}")
+        pytest.skip(REAL[name][1])
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["slices", src, "-o", str(tmp_path), "--size", str(SIZE)]) == 0
+    grey = np.asarray(Image.open(next(tmp_path.glob("*_montage.png"))).convert("L"), dtype=np.float64) / 255.0
+    subject = grey[grey > SUBJECT_LUMINANCE]
+    p5, p95 = np.percentile(subject, [5.0, 95.0])
+    white = np.count_nonzero(subject >= 1.0) / subject.size
+    print(f"{name}: slices' subject grey p5 {p5:.2f}, p95 {p95:.2f}, white {white:.3f}")
+    assert p5 <= SLICE_DARK_BAR and p95 - p5 >= SPREAD_BAR and white <= CLIP_BAR

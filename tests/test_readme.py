@@ -56,8 +56,9 @@ SMALL = {"render": {"--size": "32x32", "--pt-samples": "2"}, "fly": {"--size": "
 PICTURE_SMALL = {"render": 64, "fly": 48, "demo": 64}
 PICTURE_SAMPLES = "4"
 #: the picture assembled from those outputs against the README's scaled to its size: the mean over its pixels of
-#: |RGB difference| / 255 (averaged over the channels), and its 95th percentile (bars: see the measured values in
-#: the test's docstring)
+#: |RGB difference| / 255 (averaged over the channels), and its 95th percentile. Measured: 0.0000 (slices, cpr,
+#: the screenshots: drawn at the README's size) to 0.0118 (the gallery, drawn 64 pixels square; its 95th percentile
+#: 0.064, the others' 0.029 at most); a panel drawn with the defaults of before (the CPR's) differed by 0.24 and 0.81
 PICTURE_MEAN_BAR, PICTURE_P95_BAR = 0.03, 0.15
 EXTRA = {"fly": ["--frames", "3", "--no-progress"], "bench": ["--quick", "--no-vtk", "--repeat", "1"],
          "demo": ["--size", "24"], "batch": ["--workers", "1", "--no-progress"],

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from web_helpers import capture, start_server
 
+from tests.web.web_helpers import capture, start_server
 from volumen.cli import build_parser
 from volumen.cli._serve import _scene_and_camera
 from volumen.core import Camera, default_camera

@@ -10,7 +10,7 @@ from ._common import WINDOW_HELP, add_load_options, count, load_from_args, parse
 from ._label_tags import place_tags
 from ._labels_opts import add_label_options, labels_from_args, shown_values
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 #: default ``--size``: a small scan's planes (a 64-voxel MRI) are enlarged to be read on a screen
 PANEL_SIZE = 512

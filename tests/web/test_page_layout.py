@@ -2,7 +2,7 @@
 views (its box meets none of the 3-D view's, the slice panels' or the side panel's), and the 3-D view frames the
 subject as ``volumen render`` does (the camera ``volumen serve`` sends is ``core.default_camera``'s, and the
 subject spans at least half of the view's shorter side, measured on the canvas as
-``tests/cli/test_default_pictures.py`` measures a PNG)."""
+``tests/cli/test_default_pictures.py`` measures a PNG); each notice of the panel is listed once."""
 
 from __future__ import annotations
 
@@ -67,3 +67,19 @@ def test_the_status_line_is_clear_of_the_views_and_the_view_frames_the_subject(b
     fill = max(np.ptp(rows) + 1, np.ptp(cols) + 1) / min(lum.shape)
     print(f"{name}: the subject spans {fill:.2f} of the 3-D view's shorter side ({lum.shape[1]} x {lum.shape[0]})")
     assert fill >= FILL_BAR
+
+
+def test_each_notice_is_listed_once(browser):
+    """A float MRI is sent as half floats, which the page notes: once, also where the volume was packed before the
+    page asked for info.json (both answers then carry the notice)."""
+    vol = phantom("mr_head", size=48, dtype="float32")
+    scene, camera = _scene_and_camera(build_parser().parse_args(["serve", "phantom:mr_head?size=48"]), vol)
+    server = start_server(vol, scene, camera)
+    try:
+        assert not server.handlers.served().encoded[2], "the MRI is sent exactly: no notice to repeat"
+        browser.open(server.url)
+        browser.evaluate("volumen.shown()")
+        notes = browser.evaluate("[...document.querySelectorAll('#panel .notices li')].map((li) => li.textContent)")
+    finally:
+        server.stop()
+    assert len(notes) == len(set(notes)) >= 1, notes

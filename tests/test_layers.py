@@ -29,3 +29,18 @@ def test_import_volumen_is_light():
             "'PySide6', 'moderngl', 'vtk', 'imageio') if m in sys.modules]; print(','.join(heavy))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "", f"import volumen loaded: {out}"
+
+
+def test_the_layer_contract_is_the_floors_of_docs_design():
+    """pyproject.toml's layers contract lists the floors of docs/design.md section 1's floor line, in its order."""
+    import re
+    import tomllib
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    layers = next(c["layers"] for c in config["tool"]["importlinter"]["contracts"] if c["type"] == "layers")
+    contract = [re.sub(r"\s+", "", layer.replace("volumen.", "")) for layer in layers]
+    design = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    line = next(ln for ln in design.splitlines() if ln.startswith("cli  >"))
+    floors = [re.sub(r"\s+", "", f) for f in line.split(">")]
+    assert contract == floors
+    assert floors.index("analysis") == floors.index("endoscopy") - 1

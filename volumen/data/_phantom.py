@@ -24,6 +24,7 @@ from ._tagged import tagged_colon
 from ._terraces import terraces
 from ._thorax import chest
 from ._torso import torso
+from ._vessel import stenosis_phantom
 from ._washout import washout
 
 __all__ = ["PHANTOMS", "phantom"]
@@ -42,6 +43,7 @@ _BUILDERS: dict[str, Callable[..., Volume]] = {
     "tagged_colon": tagged_colon,
     "washout": washout,
     "terraces": terraces,
+    "stenosis": stenosis_phantom,
 }
 
 PHANTOMS: tuple[str, ...] = tuple(_BUILDERS)
@@ -89,6 +91,11 @@ def phantom(name: str, size=None, **params) -> Volume:
             random field (``sigma`` voxels, ``seed``): a fifth of the samples exactly at the level, the
             failure class of meshes of integer CT at an integer level (default 24 voxels per axis at
             ``spacing`` 1 mm).
+        ``"stenosis"``
+            A curved contrast-filled artery (radius 5 mm) with a 50 % stenosis and a fusiform aneurysm
+            (18 mm across), contrast falling along it and layered across it, in soft tissue (default 176
+            voxels along z, 1 mm isotropic). Params: ``noise``, ``seed``, ``blur``, ``layering`` (HU).
+            ``meta["truth"]``: the ``vessel`` :class:`~volumen.data.Tube`, ``stenosis`` (%), ``max_diameter``.
     size : int or (nz, ny, nx), optional
         Voxel count along the longest axis (isotropic voxels over the phantom's field of
         view), or the three counts (the spacing then follows per axis). For the analytic

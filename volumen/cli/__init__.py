@@ -22,6 +22,7 @@ COMMANDS = {
     "render": "_render",
     "fly": "_fly",
     "cpr": "_cpr",
+    "measure": "_measure_vessel",
     "mesh": "_mesh",
     "view": "_view",
     "serve": "_serve",

@@ -18,6 +18,7 @@ from ._abdomen import abdomen
 from ._airways import airways
 from ._chest import arch
 from ._head import head
+from ._layered import layered_aorta
 from ._mr import mr_head
 from ._shapes import ellipsoid, slab, sphere
 from ._tagged import tagged_colon
@@ -44,6 +45,7 @@ _BUILDERS: dict[str, Callable[..., Volume]] = {
     "washout": washout,
     "terraces": terraces,
     "stenosis": stenosis_phantom,
+    "layered_aorta": layered_aorta,
 }
 
 PHANTOMS: tuple[str, ...] = tuple(_BUILDERS)
@@ -96,6 +98,11 @@ def phantom(name: str, size=None, **params) -> Volume:
             (18 mm across), contrast falling along it and layered across it, in soft tissue (default 176
             voxels along z, 1 mm isotropic). Params: ``noise``, ``seed``, ``blur``, ``layering`` (HU).
             ``meta["truth"]``: the ``vessel`` :class:`~volumen.data.Tube`, ``stenosis`` (%), ``max_diameter``.
+        ``"layered_aorta"``
+            A large contrast vessel (radius 13 mm) whose contrast is layered and mixed with a jet of
+            unopacified blood (100-480 HU), correlated noise (``noise`` 30-60 HU, default 40), lung ``gap`` mm
+            away, a bright neighbour touching it (default 100 voxels along z, 1.5 mm). Params: ``noise``,
+            ``seed``, ``blur``, ``layering`` (HU), ``gap`` (mm). ``meta["truth"]["landmarks"]["starts"]``: 20 starts.
     size : int or (nz, ny, nx), optional
         Voxel count along the longest axis (isotropic voxels over the phantom's field of
         view), or the three counts (the spacing then follows per axis). For the analytic

@@ -70,7 +70,7 @@ def test_fly_writes_the_report_of_its_flight(vessel, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["--start=40,40,0", "--end=-20.9,9.0,76.8"], "no lumen"),
+    (["--start=40,40,0", "--end=-20.9,9.0,76.8"], "tissue, not a lumen; pass --range LO,HI or --threshold T"),
     (["--start=1,2", "--end=-20.9,9.0,76.8"], "3 comma-separated numbers"),
     (["--start=-18.4,-13.9,-75.3", "--end=-20.9,9.0,76.8", "--label", "3"], "--label needs --lumen-mask"),
     (["--start=-18.4,-13.9,-75.3", "--end=-20.9,9.0,76.8", "--lumen", "blood"], "'blood' is not one of"),

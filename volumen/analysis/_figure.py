@@ -6,7 +6,8 @@
   (:func:`volumen.endoscopy.curved_reformation`), turned so that the distance along the path runs left to
   right under the plots' axis, through the vessel's window (:func:`volumen.endoscopy.vessel_window`);
 * below: the equivalent, minimum and maximum diameters (mm) and, on the right axis, the area (mm^2);
-  the stenosis (red) and the maximum (orange) marked by a line across both panels with their numbers,
+  the stenosis (red) and the maximum (orange) marked by a line across both panels with their numbers
+  (dashed where not flagged),
   the branch points by grey dotted lines.
 
 :func:`summary_html` is the notebook's view: the summary as a table and the plot as an inline PNG.
@@ -49,13 +50,14 @@ def _marks(axes, profile) -> None:
             ax.axvline(a, color=BRANCH_COLOR, linestyle=":", linewidth=1.0)
     for lesion, color in ((profile.stenosis, STENOSIS_COLOR), (profile.maximum, MAXIMUM_COLOR)):
         for ax in axes:
-            ax.axvline(lesion.arc, color=color, linewidth=1.2)
+            ax.axvline(lesion.arc, color=color, linewidth=1.2, linestyle="-" if lesion.flagged else "--")
 
 
 def _label(lesion) -> str:
+    flag = "" if lesion.flagged else ", not flagged"
     if lesion.kind == "stenosis":
-        return f"stenosis {lesion.percent:.0f} % ({lesion.diameter:.1f} of {lesion.reference:.1f} mm)"
-    return f"maximum {lesion.diameter:.1f} mm"
+        return f"stenosis {lesion.percent:.0f} % ({lesion.diameter:.1f} of {lesion.reference:.1f} mm{flag})"
+    return f"maximum {lesion.diameter:.1f} mm" + (" (aneurysm)" if lesion.flagged else flag)
 
 
 def profile_figure(profile, volume=None):

@@ -5,8 +5,9 @@ notebook): from a start and an end point alone (the lumen grown as ``volumen fly
 between the points), or from a lumen mask and/or a centerline already made. Then (:func:`measure`):
 
 1. the sections along the centerline (:func:`._sections.measure_sections`; a grown lumen's wall drawn at
-   each section's own half-way value, and the lumen redrawn in 3D at those values,
-   :func:`._local_wall.locally_thresholded`, for the inscribed spheres and the branch points);
+   each section's own half-way value, and a contrast lumen redrawn in 3D at those values,
+   :func:`._local_wall.locally_thresholded`, for the inscribed spheres and the branch points: an air lumen
+   is not, its thin walls would let the redrawn lumen through into the air-like lung);
 2. the branch points (:func:`._branches.branch_points`);
 3. the centerline moved onto the sections' centroids (smoothed over :data:`RECENTRE_SIGMA` mm, by at most
    half the local radius, branch stretches kept), the sections measured again there: a centerline that
@@ -162,7 +163,7 @@ def measure(volume, lumen: np.ndarray, centerline, *, refine: bool) -> Profile:
     from ._sections import measure_sections
 
     first = measure_sections(volume, lumen, centerline, refine=refine)
-    if refine:
+    if refine and first.sign > 0:
         lumen = locally_thresholded(volume, lumen, centerline.points, first.threshold, first.sign)
     counts, _ = branch_points(volume, lumen, centerline, first.inscribed_radius)
     centerline = _recentred(centerline, first, counts)

@@ -11,7 +11,8 @@ bend, or a neighbouring vessel, is not counted.
   trilinearly and cut at one half (the wall half-way between voxel centres). Grown from the data, the
   data decide at each section (``refine``): the threshold is half-way between the lumen's own value
   there (the median of the section a voxel in from its edge) and the wall's (the median of a ring
-  1.5-3 voxels outside it, other lumens left out), the full width at half maximum of the vessel's edge,
+  1.5-3 voxels outside it, other lumens left out; round an air lumen the crest of its thin wall, the 98th
+  percentile of a ring 0.5-2 voxels out), the full width at half maximum of the vessel's edge,
   so contrast that fades along the vessel, or layers across it, does not move the wall as one global
   threshold does.
 * **Area, equivalent diameter**: pixels times their area; the diameter of the disc of that area.
@@ -42,8 +43,11 @@ OUTLINE_SMOOTH = 0.5
 #: a mask is smoothed by a Gaussian of this many (smallest) voxel spacings before it is cut at one half: its
 #: staircase would otherwise widen the widest extent of a section along the diagonals
 MASK_SMOOTH = 0.7
-#: the wall's ring round the section, voxels from its edge
+#: the wall's ring round the section, voxels from its edge: its median is the wall's value round a contrast lumen
 RING = (1.5, 3.0)
+#: round an air lumen the wall is a thin crest between the air and the air-like lung: its value is this
+#: percentile of the ring this many voxels from the section's edge
+CREST, CREST_RING = 98.0, (0.5, 2.0)
 #: the section is drawn again at its half-way value this many times at most, each reaching at most
 #: :data:`REACH` voxels past the last (a grown lumen that missed a dim layer of contrast is caught up)
 REFINE_STEPS = 4
@@ -112,10 +116,11 @@ def _refined(section, others, values, sign: float, voxel: float, pixel: float):
     depth = ndimage.distance_transform_edt(section) * pixel
     away = ndimage.distance_transform_edt(~section) * pixel
     core = values[depth >= voxel]
-    ring = values[(away >= RING[0] * voxel) & (away <= RING[1] * voxel) & ~others]
+    ring, crest = RING if sign > 0 else CREST_RING, 50.0 if sign > 0 else CREST
+    ring = values[(away >= ring[0] * voxel) & (away <= ring[1] * voxel) & ~others]
     if core.size < 4 or ring.size < 4:
         return section, np.nan
-    threshold = 0.5 * (float(np.median(core)) + float(np.median(ring)))
+    threshold = 0.5 * (float(np.median(core)) + float(np.percentile(ring, crest)))
     near = away <= REACH * voxel
     grown = ndimage.binary_fill_holes(near & (sign * (values - threshold) > 0))
     return _component(grown), threshold

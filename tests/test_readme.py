@@ -1,4 +1,4 @@
-"""Every ``volumen ...`` command of the README's shell examples runs (issue 12, item 7), against the phantoms and
+"""Every ``volumen ...`` command of the README's shell examples runs, against the phantoms and
 the shared data, so an example can never go stale.
 
 The commands run one after the other in one folder (a later one may read what an earlier one wrote), through
@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import re
 import shlex
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -121,9 +120,7 @@ def _shrink(argv: list[str]) -> list[str]:
 
 
 def _scan(folder: Path) -> None:
-    sys.path.insert(0, str(ROOT / "tests" / "io"))
-    from dicom_factory import stack_positions, write_series
-
+    from tests.io.dicom_factory import stack_positions, write_series
     from volumen.data import phantom
 
     vol = phantom("torso", size=48)
@@ -227,13 +224,12 @@ def _outputs(argv: list[str]) -> list[str]:
 @pytest.fixture(scope="module")
 def readme_archive(request, workdir, tmp_path_factory):
     """(config home, archive) with ``scan/`` uploaded, or the reason Orthanc cannot run here."""
-    sys.path.insert(0, str(ROOT / "tests" / "pacs"))
-    from orthanc_server import missing_reason
+    from tests.pacs.orthanc_server import missing_reason
 
     reason = missing_reason()
     if reason:
         return reason
-    from archive_data import write_servers_toml
+    from tests.pacs.archive_data import write_servers_toml
 
     archive = request.getfixturevalue("archive")
     files = sorted((workdir / "scan").iterdir())
@@ -336,8 +332,8 @@ def test_readme_commands_run_in_order(workdir, readme_archive, monkeypatch, caps
     monkeypatch.setattr(ViewerServer, "run", _serve_once)
     monkeypatch.setattr(webbrowser, "open", lambda url: True)
     if not isinstance(readme_archive, str):
-        from archive_data import PASSWORD_ENV
-        from orthanc_server import PASSWORD
+        from tests.pacs.archive_data import PASSWORD_ENV
+        from tests.pacs.orthanc_server import PASSWORD
 
         monkeypatch.delenv("VOLUMEN_CONFIG_DIR", raising=False)
         monkeypatch.setenv("XDG_CONFIG_HOME", str(readme_archive[0]))

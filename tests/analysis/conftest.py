@@ -3,7 +3,6 @@ true lumen mask, each made once per session."""
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 
@@ -32,8 +31,3 @@ def profiles(stenosis):
     mask = stenosis.meta["truth"]["vessel"].mask
     return {"grown": profile(stenosis, lm["start"], lm["end"]),
             "mask": profile(stenosis, lm["start"], lm["end"], lumen=mask)}
-
-
-def on_truth(truth_line, points) -> np.ndarray:
-    """The arc lengths (mm) of the true centerline's points closest to ``points``."""
-    return np.array([truth_line.project(p)[0] for p in points])

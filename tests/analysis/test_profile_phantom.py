@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import on_truth
+
+from tests.analysis.analysis_helpers import on_truth
 
 SOURCES = ["grown", "mask"]
 

@@ -37,11 +37,7 @@ def aorta():
 @pytest.fixture(scope="module")
 def reference_lumen(aorta):
     """The voxels inside VMTK's lumen surface (within its box, which holds both paths)."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "endoscopy"))
-    from aorta_data import Surface
+    from tests.endoscopy.aorta_data import Surface
 
     vol = aorta[0]
     surf = Surface(shared_data("vmtk-aorta", "aorta.mha").parent)

@@ -14,6 +14,6 @@ SciPy, scikit-image and matplotlib are imported by the functions that need them.
 
 from ._lesions import Lesion
 from ._profile import Profile, measure, profile
-from ._report import REPORT_FILES, write_report
+from ._report import write_report
 
-__all__ = ["profile", "Profile", "measure", "Lesion", "write_report", "REPORT_FILES"]
+__all__ = ["profile", "Profile", "measure", "Lesion", "write_report"]

@@ -9,9 +9,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-__all__ = ["write_report", "REPORT_FILES"]
-
-REPORT_FILES = ("profile.csv", "report.json", "profile.png")
+__all__ = ["write_report"]
 
 
 def write_report(profile, folder, volume=None) -> list[Path]:
@@ -23,7 +21,7 @@ def write_report(profile, folder, volume=None) -> list[Path]:
     report = json.dumps(profile.to_dict(), indent=1, default=float)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    csv, js, pic = (folder / name for name in REPORT_FILES)
+    csv, js, pic = folder / "profile.csv", folder / "report.json", folder / "profile.png"
     profile.to_csv(csv)
     js.write_text(report, encoding="utf-8")
     pic.write_bytes(png)

@@ -33,7 +33,6 @@ from PySide6.QtWidgets import (
 from ..core import VIEWS, WINDOW_PRESETS, default_camera
 from ._clip_panel import ClipPanel
 from ._endo_panel import EndoscopyPanel
-from ._frame import FrameJob
 from ._labels_panel import LabelsPanel
 from ._light_panel import LightPanel, add_light_at_camera
 from ._recent import RecentFiles
@@ -44,6 +43,7 @@ from ._state import PICTURE_TOPICS, AppState
 from ._tasks import run_task, show_error
 from ._tf_editor import TransferFunctionEditor
 from ._view3d import View3D
+from ._view_picture import FrameJob
 from ._worker import RenderWorker
 
 __all__ = ["MainWindow"]

@@ -66,7 +66,7 @@ class View3D(QWidget):
 
     # -- frames ---------------------------------------------------------------
     def show_frame(self, frame) -> None:
-        """Display a finished :class:`~volumen.app._frame.Frame`."""
+        """Display a finished :class:`~volumen.app._view_picture.ViewPicture`."""
         self.frame = frame
         rgb = np.ascontiguousarray(frame.rgb)
         self._rgb = rgb

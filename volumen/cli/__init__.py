@@ -56,7 +56,7 @@ def build_parser():
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (also used by ``python -m volumen``)."""
     from ._common import join_negative_values
-    from ._contract import FAILED, Outputs, explain
+    from ._contract import FAILED, OutputFiles, explain
 
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else list(argv)))
@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
         from volumen.jit import announce
 
         announce()
-    outputs = Outputs(args, args._outputs)
+    outputs = OutputFiles(args, args._outputs)
     try:
         result = args._run(args)
     except KeyboardInterrupt:

@@ -24,7 +24,7 @@ from ._common import _floats, add_load_options, load_from_args, parse_point
 
 __all__ = ["register", "register_vessel", "run", "run_vessel", "add_lumen_options", "print_summary", "OUTPUTS"]
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 
 

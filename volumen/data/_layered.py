@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, ellipsoid_sd
+from ._canvas import Canvas, VoxelGrid, ellipsoid_sd
 from ._grain import scanner_noise
 from ._texture import smooth_field
 from ._tubes import make_path, truth_tube, tube_field
@@ -41,7 +41,7 @@ LUNG_CENTRE = (60.0, -45.0, 0.0)  # the lung's ellipsoid, back-right of the aort
 STARTS = 20
 
 
-def _contrast(grid: Grid, field, path, layering: float, seed: int) -> np.ndarray:
+def _contrast(grid: VoxelGrid, field, path, layering: float, seed: int) -> np.ndarray:
     """The aorta's values on its field's region: layered front to back, mixed with the jet, a little uneven."""
     reg = field.region
     centre_y = np.interp(field.arc, path.arc, path.points[:, 1])
@@ -73,7 +73,7 @@ def layered_aorta(size=None, *, noise: float = 40.0, seed: int = 0, blur: float 
         raise ValueError(f"noise must be within [30, 60] HU (a real CT's grain), got {noise!r}")
     if not gap >= 3.0:
         raise ValueError(f"gap must be at least 3 mm, got {gap!r}")
-    grid = Grid.centred(FOV, 100 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 100 if size is None else size)
     cv = Canvas(grid, FAT, blur)
     reg = grid.region()
     aorta, neighbour = make_path(*AORTA), make_path(*NEIGHBOUR_PATH)

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid
+from ._canvas import Canvas, VoxelGrid
 from ._texture import smooth_field
 from ._tubes import Path, make_path, truth_tube, tube_field
 
@@ -92,7 +92,7 @@ def _path() -> Path:
     return Path(base.points, radius_profile(base.arc, float(base.arc[-1])), base.arc)
 
 
-def _contrast(grid: Grid, field, path: Path, seed: int, layering: float) -> np.ndarray:
+def _contrast(grid: VoxelGrid, field, path: Path, seed: int, layering: float) -> np.ndarray:
     """The lumen's value on the field's region: falling along the arc, uneven, brighter toward the back."""
     reg = field.region
     along = CONTRAST[0] + (CONTRAST[1] - CONTRAST[0]) * field.arc / float(path.arc[-1])
@@ -109,7 +109,7 @@ def stenosis_phantom(size=None, *, noise: float = 20.0, seed: int = 0, blur: flo
     axis (1 mm). ``layering`` (HU) is how much brighter the contrast is at the lumen's back than at its front."""
     if not 0.0 <= layering <= 200.0:
         raise ValueError(f"layering must be within [0, 200] HU, got {layering!r}")
-    grid = Grid.centred(FOV, 176 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 176 if size is None else size)
     cv = Canvas(grid, TISSUE, blur)
     cv.data[...] += 10.0 * smooth_field(grid, 12.0, seed + 1)
     path = _path()

@@ -4,7 +4,7 @@ Everything that costs more than a dictionary look-up (resampling the volume for 
 fitting the presets, encoding the volume, packing a frame, drawing a slice) runs in a pool of
 ``ServeLimits.workers`` threads, never on the event loop, with at most ``ServeLimits.queue`` requests waiting
 (then 429), and at most as many large answers (frames, the volume) are being made or sent at once. Served
-volumes are made per power-of-two texture size (:func:`~._limits.cache_size`) and the
+volumes are made per power-of-two texture size (:func:`~._serve_limits.cache_size`) and the
 ``ServeLimits.cached_volumes`` most recently used are kept, each with its ``volume.bin`` message.
 """
 
@@ -21,20 +21,45 @@ from importlib import resources
 import numpy as np
 from aiohttp import web
 
-from ._limits import ServeLimits, cache_size
 from ._requests import BadRequest, frame_request
+from ._serve_limits import ServeLimits, cache_size
 from ._served import DEFAULT_MAX_3D, ServedVolume
 
-__all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY"]
+__all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY", "static_folder", "static_files", "routes"]
 
-#: the page's files (package data under ``volumen/web/static``), served at ``/`` and ``/static/NAME``
-STATIC_FILES = ("index.html", "style.css", "main.js", "api.js", "gl.js", "program.js", "camera.js", "linalg.js",
-                "xr.js", "ui.js", "overlay.js", "slices.js", "viewer.js", "display.js")
+#: the content type of each kind of file the page is made of
 _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
-#: route -> (method, handler name of :class:`Handlers`)
-ROUTES = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
-          "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
-          **{f"static/{name}": ("GET", "static_file") for name in STATIC_FILES}}
+#: route -> (method, handler name of :class:`Handlers`), besides the page's files
+_ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
+            "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice")}
+
+
+def static_folder():
+    """The page's folder: package data under ``volumen/web/static``."""
+    return resources.files(__package__).joinpath("static")
+
+
+def static_files(folder=None) -> tuple[str, ...]:
+    """The page's files: the names of the files directly in ``folder`` (default :func:`static_folder`) whose
+    suffix is a type the page is made of (html, css, js), sorted."""
+    root = static_folder() if folder is None else folder
+    return tuple(sorted(p.name for p in root.iterdir()
+                        if p.is_file() and not p.name.startswith(".") and _suffix(p.name) in _TYPES))
+
+
+def _suffix(name: str) -> str:
+    return "." + name.rsplit(".", 1)[-1] if "." in name else ""
+
+
+def routes(static_names) -> dict[str, tuple[str, str]]:
+    """Route -> (method, handler name of :class:`Handlers`): the answers and ``static/NAME`` for each page file."""
+    return {**_ANSWERS, **{f"static/{name}": ("GET", "static_file") for name in static_names}}
+
+
+#: the page's files, found in its folder, served at ``/`` and ``/static/NAME``
+STATIC_FILES = static_files()
+#: the routes of a server of the installed page
+ROUTES = routes(STATIC_FILES)
 #: largest request body (a frame request is a few KiB): past it, 413
 MAX_BODY = 1 << 20
 #: routes whose answers are large (up to a frame's budget, the volume's texture budget)
@@ -42,12 +67,9 @@ _LARGE = ("frame.bin", "volume.bin")
 
 
 def _static() -> dict[str, tuple[bytes, str]]:
-    root = resources.files(__package__).joinpath("static")
-    out = {}
-    for name in STATIC_FILES:
-        data = root.joinpath(name).read_bytes()
-        out[name] = (data, _TYPES["." + name.rsplit(".", 1)[1]])
-    return out
+    """The page's files read into memory: name -> (bytes, content type)."""
+    root = static_folder()
+    return {name: (root.joinpath(name).read_bytes(), _TYPES[_suffix(name)]) for name in static_files(root)}
 
 
 def _query_int(request, name: str, default: int) -> int:

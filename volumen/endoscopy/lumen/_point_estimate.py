@@ -25,7 +25,14 @@ colon, bone) cannot take the place of the wall:
 5. The lumen's and the wall's values must stand :data:`SEPARATION` noise deviations
    apart (a point in tissue has neighbours of other values too, but no wall round it
    that stands out of its own texture).
-6. **The wall threshold** lies half-way between the lumen's and the wall's values:
+6. **Settled at the vessel's scale** (:func:`probe_lumen`): the lumen's value and spread are read again
+   from the hundreds of voxels the rays crossed inside it, and the rays cast again, while that spread grows
+   (by at most :data:`SETTLE_GROWTH` a step); the last estimate that passes 5. is kept. Contrast layered
+   across a vessel or mixed with unopacified blood is the lumen's own variation, which the ball of 1. does
+   not show: read as noise, the rays left the lumen at its darker layers and took them for its wall. A point
+   refused so, whose rays meet one class in most directions (a pocket of unopacified blood), is estimated
+   from that class, and kept when its own value lies in that lumen's range.
+7. **The wall threshold** lies half-way between the lumen's and the wall's values:
    where a blurred edge between the two is crossed, the partial-volume boundary.
    The lumen's values run from the threshold to the scan's far end.
 

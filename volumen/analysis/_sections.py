@@ -88,9 +88,26 @@ def _plane(volume, point, normal, binormal, half: float, pixel: float):
 
 
 def _sample(array, coords, order: int = 1) -> np.ndarray:
+    """Samples (float32, trilinear) of ``array`` at voxel coordinates ``coords`` (3, ...); 0 outside it."""
     from scipy import ndimage
 
-    return ndimage.map_coordinates(array, coords, order=order, mode="constant", cval=0.0)
+    return ndimage.map_coordinates(array, coords, order=order, mode="constant", cval=0.0, output=np.float32)
+
+
+@dataclass(frozen=True, eq=False)
+class _Fields:
+    """What every section samples: the smoothed ``lumen`` mask on its box (from voxel ``offset``), the
+    :class:`WallDistance` ``distance``, the scan's ``values`` (None: the mask decides the wall) and ``sign``
+    (+1: the lumen is brighter than its wall)."""
+
+    lumen: np.ndarray
+    offset: np.ndarray
+    distance: object
+    values: np.ndarray | None
+    sign: float
+
+    def lumen_at(self, coords: np.ndarray) -> np.ndarray:
+        return _sample(self.lumen, coords - self.offset.reshape(3, 1, 1))
 
 
 def _component(inside: np.ndarray) -> np.ndarray:
@@ -160,21 +177,21 @@ def _inscribed(dist, coords, section: np.ndarray, voxel: float) -> float:
     return float(dist.sample(coords[:, ij[:, 0], ij[:, 1]]).max())
 
 
-def _measure_one(volume, lumen_f, dist, values_f, point, normal, binormal, radius: float, sign: float):
+def _measure_one(volume, fields: _Fields, point, normal, binormal, radius: float):
     """One section's numbers: ``(area, min, max, min_dir, max_dir, inscribed, threshold, centroid)``."""
     voxel = float(min(volume.spacing))
     pixel = PIXEL * voxel
     half = max(HALF_WIDTH * radius, radius + 4.0 * voxel)
     while True:
         coords = _plane(volume, point, normal, binormal, half, pixel)
-        inside = _sample(lumen_f, coords) >= 0.5
+        inside = fields.lumen_at(coords) >= 0.5
         section = _component(inside)
         threshold = np.nan
-        if values_f is not None and section.any():
-            values = _sample(values_f, coords)
+        if fields.values is not None and section.any():
+            values = _sample(fields.values, coords)
             for _ in range(REFINE_STEPS):
                 before = section
-                section, threshold = _refined(section, inside & ~section, values, sign, voxel, pixel)
+                section, threshold = _refined(section, inside & ~section, values, fields.sign, voxel, pixel)
                 if np.array_equal(section, before):
                     break
         rim = np.concatenate([section[0], section[-1], section[:, 0], section[:, -1]])
@@ -185,31 +202,44 @@ def _measure_one(volume, lumen_f, dist, values_f, point, normal, binormal, radiu
             break
     area = float(section.sum()) * pixel * pixel
     dmin, dmax, vmin, vmax = _feret(section, pixel, voxel, normal, binormal)
-    inscribed = _inscribed(dist, coords, section, voxel / pixel)
+    inscribed = _inscribed(fields.distance, coords, section, voxel / pixel)
     uv = np.argwhere(section).mean(axis=0) * pixel - (section.shape[0] // 2) * pixel if section.any() else np.zeros(2)
     centroid = point + uv[0] * normal + uv[1] * binormal
     return area, dmin, dmax, vmin, vmax, inscribed, threshold, centroid
+
+
+def _fields(volume, mask: np.ndarray, refine: bool) -> _Fields:
+    """The fields the sections sample (the smoothed mask on the mask's box only: a whole CT in float32 would
+    be hundreds of megabytes); the lumen's sign from its values against those of a shell two voxels round it."""
+    from scipy import ndimage
+
+    from ._inscribed import WallDistance
+
+    h = np.asarray(volume.spacing, float)
+    zyx = np.argwhere(mask)
+    lo = np.maximum(zyx.min(axis=0) - 3, 0) if zyx.size else np.zeros(3, int)
+    hi = np.minimum(zyx.max(axis=0) + 4, mask.shape) if zyx.size else np.array(mask.shape)
+    box = tuple(slice(a, b) for a, b in zip(lo, hi, strict=True))
+    sub = mask[box]
+    smooth = ndimage.gaussian_filter(sub.astype(np.float32), MASK_SMOOTH * h.min() / h)
+    values, sign = None, 1.0
+    if refine and zyx.size:
+        values = np.asarray(volume.data)
+        data = np.asarray(values[box])
+        shell = ndimage.binary_dilation(sub, iterations=2) & ~sub
+        sign = 1.0 if np.median(data[sub]) > np.median(data[shell]) else -1.0
+    return _Fields(smooth, lo.astype(float), WallDistance(mask, volume.spacing), values, sign)
 
 
 def measure_sections(volume, lumen: np.ndarray, centerline, *, refine: bool = False) -> Sections:
     """The cross-sections of ``lumen`` (bool ``[z, y, x]`` on ``volume``'s grid) at every point of
     ``centerline`` (world mm). ``refine``: draw each section's wall at its own half-way value of the data
     (a lumen grown from the data), else from the mask (a segmentation)."""
-    from scipy import ndimage
-
-    from ._inscribed import WallDistance
-
-    mask = np.asarray(lumen, bool)
-    h = np.asarray(volume.spacing, float)
-    lumen_f = ndimage.gaussian_filter(mask.astype(np.float32), MASK_SMOOTH * h.min() / h)
-    dist = WallDistance(mask, volume.spacing)
-    values_f, sign = None, 1.0
-    if refine:
-        values_f = np.asarray(volume.data, np.float32)
-        sign = 1.0 if np.median(values_f[mask]) > np.median(values_f[~mask]) else -1.0
     _, normals, binormals = centerline.frames()
-    rows = [_measure_one(volume, lumen_f, dist, values_f, p, n, b, max(float(r), float(min(volume.spacing))),
-                         sign)
+    fields = _fields(volume, np.asarray(lumen, bool), refine)
+    voxel = float(min(volume.spacing))
+    rows = [_measure_one(volume, fields, p, n, b, max(float(r), voxel))
             for p, n, b, r in zip(centerline.points, normals, binormals, centerline.radius, strict=True)]
     area, dmin, dmax, vmin, vmax, inscribed, threshold, centroid = (np.array(c) for c in zip(*rows, strict=True))
+    sign = fields.sign
     return Sections(area, 2.0 * np.sqrt(area / np.pi), dmin, dmax, vmin, vmax, inscribed, threshold, centroid, sign)

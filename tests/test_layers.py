@@ -43,4 +43,13 @@ def test_the_layer_contract_is_the_floors_of_docs_design():
     line = next(ln for ln in design.splitlines() if ln.startswith("cli  >"))
     floors = [re.sub(r"\s+", "", f) for f in line.split(">")]
     assert contract == floors
-    assert floors.index("analysis") == floors.index("endoscopy") - 1
+    assert next(k for k, f in enumerate(floors) if "analysis" in f.split("|")) == floors.index("endoscopy") - 1
+
+
+def test_import_volumen_measure_is_light():
+    """The measurement model is numpy only at import: a notebook measuring a distance loads no DICOM or SR
+    machinery (highdicom and pydicom come with the SR's reader and writer, when used)."""
+    code = ("import sys, volumen.measure; heavy = [m for m in ('numba', 'scipy', 'pydicom', 'highdicom', 'PySide6', "
+            "'moderngl') if m in sys.modules]; print(','.join(heavy))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "", f"import volumen.measure loaded: {out}"

@@ -17,6 +17,7 @@ reader's own data are made here:
   ``servers.toml`` under a temporary ``XDG_CONFIG_HOME`` with an empty cache (the ``pacs`` and
   ``dicomweb://`` commands skip, saying so, where Orthanc is not installed).
 * ``cert.pem`` / ``key.pem``: a self-signed certificate made with ``openssl`` (the https line skips without it).
+* ``session.json``: a session of ``scan/`` with a ruler and an ellipse on it (``volumen.measure``).
 
 The commands run with the README's own venv where ``make readme-venv`` (``make test`` does) made it with make demo's
 recipe: every user extra and none of the test tools, as a new user has them; else in this process, saying so.
@@ -151,7 +152,24 @@ def workdir(tmp_path_factory):
     _nifti(d / "segmentations" / "aorta.nii.gz", torso.meta["truth"]["aorta"].mask.astype(np.uint8), torso.affine)
     _manifest(d / "manifest.csv")
     _certificate(d)
+    _session(d)
     return d
+
+
+def _session(folder: Path) -> None:
+    """``session.json``: ``scan/`` (as a relative path, as the commands run in ``folder``) with a ruler and a region."""
+    import json
+
+    import volumen
+    from volumen import measure
+
+    scan = volumen.load(folder / "scan")
+    c = scan.center
+    items = measure.Measurements([measure.distance(c - 10, c + 10, volume=scan),
+                                  measure.roi_stats(scan, measure.slice_plane(scan, "axial", scan.shape[0] // 2),
+                                                    measure.Ellipse((80.0, 60.0), (30.0, 20.0)))])
+    d = {"version": 1, "scene": {"volume": "scan"}, measure.SESSION_KEY: items.to_dicts()}
+    (folder / "session.json").write_text(json.dumps(d))
 
 
 def _certificate(folder: Path) -> None:

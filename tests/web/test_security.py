@@ -54,6 +54,13 @@ def _route_paths(info=None):
         if route == "slice.png":
             c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
             path += f"?plane=axial&x={c[0]}&y={c[1]}&z={c[2]}&level=40&width=400"
+        if route == "region.json":  # a disc of 10 mm about the centre on the axial plane there
+            c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
+            body = json.dumps({"plane": {"origin": c, "u": [1, 0, 0], "v": [0, 1, 0]},
+                               "shape": {"kind": "ellipse", "center": [0, 0], "radii": [10, 10]}}).encode()
+        if route == "pick.json":  # the centre of a 16 x 16 picture
+            frame = {"scene": (info or {}).get("scene", {}), "camera": (info or {}).get("camera", {}), "size": [16, 16]}
+            body = json.dumps({"frame": frame, "x": 8.5, "y": 8.5}).encode()
         out.append((method, path, body))
     return out
 

@@ -12,8 +12,7 @@ Writes into the folder ``REPORT`` (made if missing): ``profile.csv`` (one row pe
 stretched CPR above, the stenosis and the maximum marked), and prints the summary. A failure is one line on
 stderr, exit status 1, and nothing is written.
 
-:func:`register_vessel` adds the ``vessel`` command to a ``volumen measure`` group's sub-parsers;
-:func:`register` makes such a group holding it alone.
+:func:`register` adds the ``vessel`` action to the ``volumen measure`` group (``_measure.ACTIONS``).
 """
 
 from __future__ import annotations
@@ -22,7 +21,8 @@ from pathlib import Path
 
 from ._common import _floats, add_load_options, load_from_args, parse_point
 
-__all__ = ["register", "register_vessel", "run", "run_vessel", "add_lumen_options", "print_summary", "OUTPUTS"]
+__all__ = ["register", "run", "add_lumen_options", "print_summary", "flight_profile", "write_flight_report",
+           "OUTPUTS"]
 
 #: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
@@ -41,31 +41,17 @@ def add_lumen_options(p) -> None:
     p.add_argument("--label", help="with --lumen-mask: label value N (a file) or structure NAME (a folder)")
 
 
-def register_vessel(measure_sub):
-    """Add ``vessel`` to the sub-parsers of a ``volumen measure`` group; returns its parser."""
-    p = measure_sub.add_parser("vessel", help="diameters, areas, stenosis and length along a vessel or airway",
-                               description=__doc__.split("\n\n")[1])
+def register(actions):
+    """Add ``vessel`` to the ``volumen measure`` group's actions; returns its parser."""
+    p = actions.add_parser("vessel", help="diameters, areas, stenosis and length along a vessel or airway",
+                           description=__doc__.split("\n\n")[1])
     p.add_argument("input", help="volume file, DICOM folder, or phantom:NAME")
     p.add_argument("--start", required=True, help="path start X,Y,Z (world RAS mm), inside the lumen")
     p.add_argument("--end", required=True, help="path end X,Y,Z (world RAS mm), inside the same lumen")
     p.add_argument("-o", "--out", required=True, help="report folder: profile.csv, report.json, profile.png")
     add_lumen_options(p)
     add_load_options(p)
-    p.set_defaults(_measure_run=run_vessel)
     return p
-
-
-def register(sub):
-    """The ``volumen measure`` group, holding ``vessel``."""
-    p = sub.add_parser("measure", help="measure structures in a volume (vessel: along a vessel or airway)")
-    group = p.add_subparsers(dest="measure_command", metavar="WHAT")
-    group.required = True
-    register_vessel(group)
-    return p
-
-
-def run(args):
-    return args._measure_run(args)
 
 
 def check_out(out) -> Path:
@@ -88,7 +74,7 @@ def print_summary(profile, out: Path) -> None:
     print(f"report: {out / 'profile.csv'}, {out / 'report.json'}, {out / 'profile.png'}")
 
 
-def run_vessel(args):
+def run(args):
     from volumen.analysis import profile, write_report
     from volumen.endoscopy import check_points_in_mask, load_lumen_mask
     from volumen.errors import require

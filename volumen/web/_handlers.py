@@ -21,9 +21,18 @@ from importlib import resources
 import numpy as np
 from aiohttp import web
 
+from volumen.core import PRESETS, fitted_preset
+from volumen.core._tonemap import shader_constants
+from volumen.errors import VolumenError
+from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
+from volumen.render.raster._shaders import STAGES, stage_parts
+
+from ._frames import FrameBudgetError, encode, web_frame
+from ._measure_routes import pick_answer, region_answer
 from ._requests import BadRequest, frame_request
 from ._serve_limits import ServeLimits, cache_size
 from ._served import DEFAULT_MAX_3D, ServedVolume
+from ._slices import slice_png
 
 __all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY", "static_folder", "static_files", "routes"]
 
@@ -31,7 +40,8 @@ __all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY", "static_folder", "s
 _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
 #: route -> (method, handler name of :class:`Handlers`), besides the page's files
 _ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
-            "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice")}
+            "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
+            "region.json": ("POST", "region"), "pick.json": ("POST", "pick")}
 
 
 def static_folder():
@@ -162,10 +172,6 @@ class Handlers:
         return body, "application/json"
 
     def _info(self, max_3d: int) -> bytes:
-        from volumen.core import PRESETS, fitted_preset
-        from volumen.core._tonemap import shader_constants
-        from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
-
         served = self.served(max_3d)
         transfers = {name: fitted_preset(name, served.volume).to_dict() for name in PRESETS}
         scene = self.scene.to_dict()
@@ -178,8 +184,6 @@ class Handlers:
         return json.dumps(body).encode()
 
     async def shaders(self, request):
-        from volumen.render.raster._shaders import STAGES, stage_parts
-
         body = {name: {stage: list(stage_parts(name, stage, "es300")) for stage in STAGES}
                 for name in ("raycast", "display")}
         return json.dumps(body).encode(), "application/json"
@@ -188,8 +192,6 @@ class Handlers:
         return await self.work(self._volume, _query_int(request, "max3d", DEFAULT_MAX_3D)), "application/octet-stream"
 
     def _volume(self, max_3d: int) -> bytes:
-        from ._frames import encode
-
         served, size = self.served(max_3d), cache_size(max_3d)
         with self._served_lock:
             if size in self._messages:
@@ -203,10 +205,11 @@ class Handlers:
                 self._messages[size] = message
         return message
 
-    async def frame(self, request):
+    async def body(self, request) -> bytes:
+        """A POST's body, within ``limits.body_timeout`` and :data:`MAX_BODY` (408, 413, 400 otherwise)."""
         try:
             async with asyncio.timeout(self.limits.body_timeout):
-                body = await request.read()   # past MAX_BODY: 413
+                return await request.read()   # past MAX_BODY: 413
         except TimeoutError:
             raise web.HTTPRequestTimeout(text=f"408: the body did not arrive within {self.limits.body_timeout:g} s"
                                          ) from None
@@ -214,6 +217,27 @@ class Handlers:
             raise
         except Exception as exc:  # noqa: BLE001 - a payload aiohttp cannot read: bad gzip, broken chunks
             raise web.HTTPBadRequest(text=f"the body could not be read ({type(exc).__name__})") from None
+
+    async def region(self, request):
+        """A region's statistics over the scan's own voxels (not the served, maybe coarser, copy):
+        ``{"plane": {"origin", "u", "v"}, "shape": {...}}`` (``volumen.measure``) -> numbers and units only."""
+
+        body = await self.body(request)
+        return await self.work(region_answer, self.source, body), "application/json"
+
+    async def pick(self, request):
+        """The first visible surface under a point of the 3-D picture, in the served volume (the page's)."""
+
+        body = await self.body(request)
+        try:
+            max3d = int(json.loads(body)["frame"].get("max3d", DEFAULT_MAX_3D))
+        except (ValueError, KeyError, TypeError, AttributeError):
+            max3d = DEFAULT_MAX_3D  # pick_answer says what is wrong with the body
+        served = self.served(max(1, min(max3d, DEFAULT_MAX_3D)))
+        return await self.work(pick_answer, served.volume, body), "application/json"
+
+    async def frame(self, request):
+        body = await self.body(request)
         try:
             req = frame_request(body)
         except BadRequest as exc:
@@ -221,10 +245,6 @@ class Handlers:
         return await self.work(self._frame, req), "application/octet-stream"
 
     def _frame(self, req) -> bytes:
-        from volumen.errors import VolumenError
-
-        from ._frames import FrameBudgetError, encode, web_frame
-
         served = self.served(req.max3d if req.max3d is not None else DEFAULT_MAX_3D)
         try:
             header, arrays = web_frame(served.volume, req.scene, req.camera, req.size,
@@ -237,8 +257,6 @@ class Handlers:
         return encode(header, arrays)
 
     async def slice(self, request):
-        from ._slices import slice_png
-
         max_3d = _query_int(request, "max3d", DEFAULT_MAX_3D)
         plane = request.query.get("plane", "")
         world = tuple(_query_float(request, a) for a in "xyz")

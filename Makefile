@@ -10,7 +10,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 # the demo installs every extra a command of the README needs (the application, OpenGL, out of core and batch, the
 # notebook viewer, MP4 video), not the test-only tools (VTK, pytest, the CUDA compiler's libraries)
-DEMO_EXTRAS := gui,gl,scale,notebook,video
+DEMO_EXTRAS := gui,gl,scale,notebook,video,report
 DEMO_STAMP := $(VENV)/.installed-demo
 # two workers on the two cores, each given one contiguous half of the tests, then stealing from the other's end
 # (neighbouring tests share kernel variants: on a cold checkout round-robin made both workers compile the same

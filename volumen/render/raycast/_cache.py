@@ -136,9 +136,10 @@ class Prepared:
         if block not in self._blocks:
             t = time.perf_counter()
             bmin, bmax = build_blocks(self.u, block)
-            if self.u0 != 0.0 or self.ufac != 1.0:  # in table units
-                bmin = ((bmin - self.u0) * self.ufac).astype(np.float32)
-                bmax = ((bmax - self.u0) * self.ufac).astype(np.float32)
+            if self.u0 != 0.0 or self.ufac != 1.0:  # in table units, in place a slab at a time (no grid-sized copy)
+                for grid in (bmin, bmax):
+                    for k in range(grid.shape[0]):
+                        grid[k] = (grid[k] - self.u0) * self.ufac
             self._blocks[block] = bmin, bmax
             self.timings["blocks"] = time.perf_counter() - t
         return self._blocks[block]

@@ -17,8 +17,8 @@ BUDGET = 3.0
 #: most values in one light's lattice per voxel of the volume (float32: a quarter of an int16 volume's bytes); coarser
 #: spacing beyond ...
 NODE_SHARE = 1.0 / 8.0
-#: ... though never fewer than this many (4 MiB: a small volume keeps its finest lattice)
-MIN_NODES = 2 ** 20
+#: ... though never fewer than this many (16 MiB; below 32 M voxels this floor, not the share, bounds a lattice)
+MIN_NODES = 2 ** 22
 #: reference steps of each light path marched directly before the illumination volume is read: near the
 #: sample, surfaces lie within one lattice spacing of the path, where any interpolated volume smears them
 NEAR_STEPS = 3.0

@@ -107,3 +107,21 @@ def test_a_picture_that_reads_no_light_volumes_frees_them(small):
     assert prepare(small).light_set is not None
     render(_scene(small, "headlight"), Camera.orbit(small), (16, 16))
     assert prepare(small).light_set is None
+
+
+def test_the_codes_are_kept_while_they_hold_a_frames_bricks_and_built_again_for_far_fewer(small):
+    """A frame that shows bricks the kept codes lack builds them again; one that shows a part of them keeps them,
+    unless they hold more than ``SLACK`` times its bricks (then only its own are built: the rest freed)."""
+    clear_cache(small)
+    prep = prepare(small)
+    grid = brick_grid(small.data.shape)
+    wide = np.ones(grid, bool)
+    few = np.zeros(grid, bool)
+    few[0, 0, :2] = True
+    pool, slots, _ = prep.codes(False, True, False, wide)
+    assert prep.codes(False, True, False, wide)[0] is pool  # the same bricks: kept
+    assert prep.codes(False, True, False, None)[0] is pool  # every brick: what it holds
+    narrow, narrow_slots, _ = prep.codes(False, True, False, few)
+    assert narrow is not pool and narrow.shape[0] == (few.sum() + 1) * SPAN
+    assert (narrow_slots[few] > 0).all() and (narrow_slots[~few] == 0).all()
+    assert prep.codes(False, True, False, wide)[0].shape == pool.shape  # shown again: built again

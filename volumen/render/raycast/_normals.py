@@ -30,7 +30,7 @@ magnitude codes alike: the result is not unit; the shading normalizes it.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit
@@ -136,7 +136,7 @@ def _magnitude_kernel(part, parts, u, m, sobel, inv_gmax, mags):
     for k in range(part * nz // parts, (part + 1) * nz // parts):
         for j in range(ny):
             for i in range(nx):
-                g = world_grad(u, m, k, j, i, sobel)[3]
+                _, _, _, g = world_grad(u, m, k, j, i, sobel)
                 mags[k, j, i] = np.uint8(np.rint(127.0 * np.sqrt(min(g * inv_gmax, 1.0))))
 
 
@@ -213,18 +213,28 @@ def covers(codes: BrickCodes | None, keep: np.ndarray | None) -> bool:
     return (not np.any(keep & ~codes.kept)) and int(np.count_nonzero(codes.kept)) <= SLACK * need + 64
 
 
+class Cell(NamedTuple):
+    """A voxel cell's codes in the pool (:func:`_cell_at`)."""
+
+    z0: Any  #: its lower corner in ``ncode``: its brick's first plane plus the corner's place in the brick
+    y0: Any
+    x0: Any
+    dz: Any  #: the steps to its upper corners (0 where clamped at the volume's end)
+    dy: Any
+    dx: Any
+
+
 @njit(cache=True, fastmath=True, inline="always")
 def _cell_at(a, x, y, z):
     """The codes of the voxel cell at index position (x, y, z) (clamped to the volume, as ``_sample._cell`` clamps
-    it): ``(z0, y0, x0, dz, dy, dx)``, its lower corner in ``a.ncode`` (its brick's slot, the corner's place in the
-    brick) and the steps to its upper corners (0 where clamped at the volume's end), and ``(fx, fy, fz)``."""
+    it): its :class:`Cell` and the fractions ``(fx, fy, fz)``."""
     nz, ny, nx = a.vol.shape
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
     k0, k1, fz = _cell(z, nz)
     sh, low = np.uintp(_SHIFT), np.uintp(BRICK - 1)
     base = np.uintp(a.nslot[k0 >> sh, j0 >> sh, i0 >> sh]) * np.uintp(SPAN)
-    return (base + (k0 & low), j0 & low, i0 & low, k1 - k0, j1 - j0, i1 - i0), (fx, fy, fz)
+    return Cell(base + (k0 & low), j0 & low, i0 & low, k1 - k0, j1 - j0, i1 - i0), (fx, fy, fz)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -232,10 +242,10 @@ def prefetch_codes(a, x, y, z):
     """Ask for the cache lines of the codes of the voxel cell at index position (x, y, z) (``volumen.jit.prefetch``):
     the line of each of its four rows' lower voxel, in its brick."""
     c, _ = _cell_at(a, x, y, z)
-    prefetch(a.ncode, (c[0], c[1], c[2]))
-    prefetch(a.ncode, (c[0], c[1] + c[4], c[2]))
-    prefetch(a.ncode, (c[0] + c[3], c[1], c[2]))
-    prefetch(a.ncode, (c[0] + c[3], c[1] + c[4], c[2]))
+    prefetch(a.ncode, (c.z0, c.y0, c.x0))
+    prefetch(a.ncode, (c.z0, c.y0 + c.dy, c.x0))
+    prefetch(a.ncode, (c.z0 + c.dz, c.y0, c.x0))
+    prefetch(a.ncode, (c.z0 + c.dz, c.y0 + c.dy, c.x0))
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -260,15 +270,16 @@ def _weight(fx, fy, fz, n):
 def _code(a, c, n):
     """The code of corner ``n`` of the cell ``c`` (:func:`_cell_at`; bits of ``n``: the upper voxel along z, y, x)."""
     none = np.uintp(0)
-    return a.ncode[c[0] + (c[3] if n & 4 else none), c[1] + (c[4] if n & 2 else none),
-                   c[2] + (c[5] if n & 1 else none)]
+    return a.ncode[c.z0 + (c.dz if n & 4 else none), c.y0 + (c.dy if n & 2 else none),
+                   c.x0 + (c.dx if n & 1 else none)]
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def _corner(a, c, f, n):
     """Corner ``n`` of the cell ``c`` (:func:`_cell_at`, fractions ``f``): its direction's components ``q`` times its
     trilinear weight."""
-    w = _weight(f[0], f[1], f[2], n)
+    fx, fy, fz = f
+    w = _weight(fx, fy, fz, n)
     qx, qy, qz = _component(a.ndir[_code(a, c, n)])
     return w * qx, w * qy, w * qz
 
@@ -291,7 +302,8 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
         k = min(max(int(z + 0.5), 0), nz - 1)
         if want_dir:  # the nearest voxel: a corner of the cell the position lies in
             c, f = _cell_at(a, x, y, z)
-            n = (4 if f[2] >= 0.5 else 0) + (2 if f[1] >= 0.5 else 0) + (1 if f[0] >= 0.5 else 0)
+            fx, fy, fz = f
+            n = (4 if fz >= 0.5 else 0) + (2 if fy >= 0.5 else 0) + (1 if fx >= 0.5 else 0)
             qx, qy, qz = _component(a.ndir[_code(a, c, n)])
             gx, gy, gz = _direction(qx, qy, qz)
         if want_mag:

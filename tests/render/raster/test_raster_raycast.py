@@ -205,7 +205,7 @@ def test_every_frame_field_reaches_the_shader():
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm",
               "envsh": "u_envsh", "nrm": "u_nmat"}
     not_on_gl = {"lab", "llut",  # label maps: DeviceLimitError on gl
-                 "ncode", "gcode", "ndir",  # normal codes: the shader computes normals from the volume (u_nmat)
+                 "ncode", "nslot", "gcode", "ndir",  # normal codes: the shader's normals are the volume's (u_nmat)
                  "whole", "carry",  # bricks: cpu only
                  "env", "envbasis", "envcdf", "maj",  # the path tracer's environment map and majorant grid
                  "bcoarse",  # adaptive sampling: cpu and cuda

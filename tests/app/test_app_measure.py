@@ -144,3 +144,65 @@ def test_measurements_exported_and_imported_again(make_window, qtbot, tmp_path):
         import_measurements(win, tmp_path / "other.json")
     assert "other.nii" in str(err.value) and "\n" not in str(err.value)
     assert list(win.state.measurements) == made
+
+
+def test_an_angle_placed_by_its_arm_and_second_point_and_moved(make_window, qtbot):
+    """The first arm dragged (first point to vertex), the second point dragged after the next press: the degrees
+    beside the vertex follow the drag and end within 0.5 deg of the angle between the pixel vectors; a drag of the
+    vertex changes it as the analytic answer says; the coronal slice that holds it shows it too."""
+    win = make_window()
+    ax = win.slices["axial"]
+    set_tool(win, "angle")
+    cx, cy = np.rint(ax.world_to_widget(win.state.crosshair)).astype(int)
+    first, vertex, second = (int(cx) + 40, int(cy)), (int(cx), int(cy)), (int(cx) + 30, int(cy) - 30)
+    _drag(qtbot, ax, first, vertex)
+    assert len(win.state.measurements) == 0 and ax.measure_tool.arm is not None  # half an angle, drawn, not kept
+    seen = _drag(qtbot, ax, (int(cx) + 40, int(cy) - 5), second)
+    (angle,) = win.state.measurements
+    dz, dy, dx = win.state.volume.spacing
+    assert dx == pytest.approx(dy)  # square pixels in mm: the picture's angle is the world's
+    assert abs(angle.degrees - 45.0) < 0.5
+    degrees = [float(c[0].rstrip("\u00b0")) for c in seen]
+    assert degrees == sorted(degrees) and degrees[0] < degrees[-1]  # the value followed the drag
+    text, (tx, ty) = ax.measure_tool.captions[0]
+    assert text == f"{angle.degrees:.1f}\u00b0" and abs(tx - (vertex[0] + 6)) < 2  # beside the vertex
+    win.slices["coronal"].repaint()
+    assert [c for c, _ in win.slices["coronal"].measure_tool.captions] == [text]
+
+    set_tool(win, None)
+    _drag(qtbot, ax, vertex, (int(cx), int(cy) - 30))  # the vertex moved up: first arm at 45 deg below, second level
+    (moved,) = win.state.measurements
+    want = np.degrees(np.arctan2(30, 40))  # the vertex (0, -30) px: arms (40, 30) and (30, 0)
+    assert abs(moved.degrees - want) < 0.5
+    qtbot.mouseClick(ax, Qt.RightButton, pos=QPoint(int(cx), int(cy) - 30))
+    assert len(win.state.measurements) == 0
+
+
+def test_a_point_shows_its_world_position_and_the_scans_value(make_window, qtbot, tmp_path):
+    """A click with the point tool: the point at the click's world position, its caption the coordinates in mm and
+    the value of the scan's voxel there; dragged, it moves; saved and read back with the session; in the SR."""
+    from volumen.core import hu_offset
+    from volumen.measure import point_value
+
+    win = make_window()
+    ax = win.slices["axial"]
+    set_tool(win, "point")
+    cx, cy = np.rint(ax.world_to_widget(win.state.crosshair)).astype(int)
+    qtbot.mouseClick(ax, Qt.LeftButton, pos=QPoint(int(cx) + 12, int(cy) - 7))
+    ax.repaint()
+    (pt,) = win.state.measurements
+    assert np.allclose(pt.position, ax.world_at(int(cx) + 12, int(cy) - 7), atol=1e-6)
+    vol = win.state.volume
+    i, j, k = np.rint(vol.world_to_index(np.array([pt.position]))[0]).astype(int)
+    value, units = point_value(vol, pt.position)
+    assert value == pytest.approx(float(np.asarray(vol.data)[k, j, i]) - (hu_offset(vol) or 0), abs=1e-6)
+    text = ax.measure_tool.captions[0][0]
+    assert text.startswith(" ".join(f"{c:.1f}" for c in pt.position) + " mm")
+    set_tool(win, None)
+    _drag(qtbot, ax, (int(cx) + 12, int(cy) - 7), (int(cx) + 32, int(cy) - 7))
+    (moved,) = win.state.measurements
+    assert np.linalg.norm(np.subtract(moved.position, pt.position)) == pytest.approx(20 * _mm_per_px(ax), abs=1e-6)
+    win.save_session(tmp_path / "s.json")
+    again = make_window()
+    assert again.load_session(tmp_path / "s.json", volume=vol)
+    assert again.state.measurements == win.state.measurements

@@ -1,7 +1,8 @@
 """The page's measurements that need the server: ``region.json`` answers the statistics of a region drawn on a slice
 view over the scan's own voxels (``volumen.measure.roi_stats``), never over the picture or the served copy;
-``pick.json`` the first visible surface under a point of the 3-D picture (``volumen.measure.pick``) in the served
-volume, the one the page draws, on the CPU. Nothing that names the scan: numbers and units."""
+``value.json`` the scan's own value at a point (``volumen.measure.point_value``); ``pick.json`` the first visible
+surface under a point of the 3-D picture (``volumen.measure.pick``) in the served volume, the one the page draws,
+on the CPU. Nothing that names the scan: numbers and units."""
 
 from __future__ import annotations
 
@@ -12,11 +13,11 @@ from aiohttp import web
 
 from volumen.core import Camera, Scene
 from volumen.errors import OutsideVolumeError, VolumenError
-from volumen.measure import Plane, pick, roi_stats, shape_from_dict
+from volumen.measure import Plane, pick, point_value, roi_stats, shape_from_dict
 
 from ._requests import BadRequest, frame_request
 
-__all__ = ["region_answer", "pick_answer"]
+__all__ = ["region_answer", "value_answer", "pick_answer"]
 
 #: the numbers of a region the page is told
 FIELDS = ("mean", "sd", "min", "max", "median", "area_mm2", "voxels", "units")
@@ -36,6 +37,21 @@ def region_answer(volume, body: bytes) -> bytes:
         text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise web.HTTPBadRequest(text=text[:200]) from None
     return json.dumps({f: getattr(region, f) for f in FIELDS}).encode()
+
+
+def value_answer(volume, body: bytes) -> bytes:
+    """The JSON answer for a ``value.json`` body ``{"point": [x, y, z]}`` (world mm): ``{"value", "units"}`` of the
+    scan's voxel nearest it, or null outside the scan; 400 with one line for a bad request."""
+
+    try:
+        point = np.asarray(json.loads(body)["point"], dtype=float)
+        if point.shape != (3,) or not np.all(np.isfinite(point)):
+            raise ValueError("point must be three finite numbers (mm)")
+        found = point_value(volume, point)
+    except (ValueError, KeyError, TypeError, IndexError, AttributeError) as exc:
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise web.HTTPBadRequest(text=text[:200]) from None
+    return json.dumps(None if found is None else {"value": found[0], "units": found[1]}).encode()
 
 
 def pick_answer(volume, body: bytes) -> bytes:

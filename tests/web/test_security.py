@@ -58,6 +58,8 @@ def _route_paths(info=None):
             c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
             body = json.dumps({"plane": {"origin": c, "u": [1, 0, 0], "v": [0, 1, 0]},
                                "shape": {"kind": "ellipse", "center": [0, 0], "radii": [10, 10]}}).encode()
+        if route == "open-measurements.json":  # a measurements JSON that holds none
+            body = b'{"measurements": []}'
         if route == "value.json":  # the scan's value at its centre
             body = json.dumps({"point": (info or {}).get("volume", {}).get("center", [0, 0, 0])}).encode()
         if route == "pick.json":  # the centre of a 16 x 16 picture

@@ -7,7 +7,7 @@
 // in the slice (within half a voxel), the crossing points elsewhere. The measurements are volumen.measure's
 // JSON (`toDicts`), which `volumen measure export` reads.
 
-import { postJSON } from './api.js';
+import { postFile, postJSON } from './api.js';
 import { add, cross, dot, norm, scale, sub, unit } from './linalg.js';
 import { fitted } from './slices.js';
 
@@ -109,6 +109,7 @@ export class SliceMeasures {
       b.addEventListener('click', () => this.setTool(tool));
       bar.append(b);
     }
+    bar.append(this.opener());
     /** @type {HTMLElement} */ (slices.views.axial.img.parentElement).append(bar);
     for (const [plane, v] of Object.entries(slices.views)) {
       const svg = /** @type {SVGSVGElement} */ (document.createElementNS(SVG, 'svg'));
@@ -125,10 +126,43 @@ export class SliceMeasures {
     this.setTool(null);
   }
 
+  // the "open" button: a DICOM SR, a session or a measurements JSON the user picks, read by the server
+  // (open-measurements.json: checked to be of the scan's study and series) and added; a refusal shows in one line
+  opener() {
+    const input = /** @type {HTMLInputElement} */ (document.createElement('input'));
+    Object.assign(input, { type: 'file', accept: '.dcm,.json,application/dicom,application/json', hidden: true });
+    const button = document.createElement('button');
+    button.textContent = 'open SR...';
+    button.className = 'open-measurements';
+    button.addEventListener('click', () => input.click());
+    this.note = document.createElement('span');
+    this.note.className = 'measure-note';
+    input.addEventListener('change', () => { if (input.files?.[0]) this.open(input.files[0]); input.value = ''; });
+    const span = document.createElement('span');
+    span.append(button, input, this.note);
+    return span;
+  }
+
+  /** Add the measurements of a file (its bytes read by the server); returns how many, 0 with the refusal shown. */
+  /** @param {Blob} file */
+  async open(file) {
+    const note = /** @type {HTMLSpanElement} */ (this.note);
+    try {
+      const n = this.fromDicts((await postFile('open-measurements.json', file)).measurements);
+      note.textContent = `${n} measurement(s) opened`;
+      return n;
+    } catch (e) {
+      note.textContent = String((e instanceof Error && e.message) || e).replace(/^\d+: /, '');
+      return 0;
+    }
+  }
+
   /** @param {string | null} tool */
   setTool(tool) {
     this.tool = tool;
-    this.bar.querySelectorAll('button').forEach((b) => b.classList.toggle('on', b.dataset.tool === (tool ?? '')));
+    this.bar.querySelectorAll('button[data-tool]').forEach((b) => {
+      b.classList.toggle('on', /** @type {HTMLElement} */ (b).dataset.tool === (tool ?? ''));
+    });
   }
 
   /** @param {string} plane @param {number} clientX @param {number} clientY @returns {Vec3 | null} */

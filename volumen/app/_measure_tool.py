@@ -1,7 +1,8 @@
 """The measurement tool of a slice view: place, move and delete rulers, angles, points and regions with the mouse.
 
 * with a tool chosen (``SliceView.measure_tool.tool``: one of ``TOOLS``), a left drag places one; its value is
-  drawn beside it and follows the drag. An angle takes two: the first drags its first arm (first point to
+  drawn beside it and follows the drag (a free-hand polygon is the path the drag traces, a vertex every
+  :data:`TRACE_STEP` px). An angle takes two: the first drags its first arm (first point to
   vertex), the next press places its second point (the degrees drawn beside the vertex follow that drag);
 * a left drag on a handle (a ruler's end, an angle's point, a point, a region's corner; within :data:`GRAB` px),
   in any mode, moves it;
@@ -18,12 +19,14 @@ from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QColor, QPen, QPolygonF
 
 from ..errors import OutsideVolumeError
-from ._slice_measures import SHOWN, TOOLS, caption, drag_to, grab, handles, slice_part, view_plane
+from ._slice_measures import REGION_TOOLS, SHOWN, TOOLS, caption, drag_to, grab, handles, make, slice_part, view_plane
 
 __all__ = ["MeasureTool", "GRAB"]
 
 #: how near (px) a press must be to a handle to grab it
 GRAB = 7.0
+#: how far (px) the pointer moves before a free-hand polygon takes its next vertex
+TRACE_STEP = 4.0
 _COLOUR = QColor(255, 235, 60)
 _CUT = QColor(255, 235, 60, 150)
 
@@ -46,6 +49,7 @@ class MeasureTool:
         self._drag: list | None = None  # [measurement index (None: not placed yet), how to remake it (drag_to)]
         self.arm: list | None = None  # an angle's first arm being placed: [first point, vertex] world mm
         self._arming = False  # the first arm follows the pointer (between its press and release)
+        self.trace: list | None = None  # a free-hand polygon being traced: [measurement index or None, world points]
 
     def set_tool(self, tool: str | None) -> None:
         if tool is not None and tool not in TOOLS:
@@ -84,6 +88,9 @@ class MeasureTool:
             return False
         start = self.view.world_at(x, y)
         plane = view_plane(self.view.geometry_, self.view.index)
+        if self.tool == "polygon":
+            self.trace = [None, [start]]
+            return True
         if self.tool == "angle" and self.arm is None:  # the first arm, dragged from its first point to the vertex
             self.arm, self._arming = [start, start], True
             return True
@@ -92,12 +99,14 @@ class MeasureTool:
         else:
             points, which = [start] * (1 if self.tool == "point" else 2), (0 if self.tool == "point" else 1)
         self._drag = [None, (self.tool, points, plane, "", which)]
-        if self.tool != "rectangle" and self.tool != "ellipse":
+        if self.tool not in REGION_TOOLS:
             self.move(x, y)
         return True
 
     def move(self, x: float, y: float) -> bool:
         """Follow the pointer with the handle dragged; a region is placed once it holds a voxel."""
+        if self.trace is not None:
+            return self._traced(x, y)
         if self._arming:
             self.arm[1] = self.view.world_at(x, y)
             self.view.update()
@@ -113,18 +122,35 @@ class MeasureTool:
         self._drag[0] = st.put_measurement(index, m)
         return True
 
+    def _traced(self, x: float, y: float) -> bool:
+        """The traced polygon's next vertex where the pointer is (once :data:`TRACE_STEP` px from the last)."""
+        index, points = self.trace
+        if np.hypot(*(self.view.world_to_widget(points[-1]) - (x, y))) < TRACE_STEP:
+            return True
+        points.append(self.view.world_at(x, y))
+        if len(points) >= 3:
+            plane = view_plane(self.view.geometry_, self.view.index)
+            try:
+                self.trace[0] = self._state().put_measurement(index, make("polygon", points, self._state().volume,
+                                                                          plane))
+            except (OutsideVolumeError, ValueError):  # no voxel inside yet: drawn as a trace
+                pass
+        self.view.update()
+        return True
+
     def release(self) -> bool:
-        taken, self._drag = self._drag is not None or self._arming, None
-        self._arming = False
+        taken, self._drag = self._drag is not None or self._arming or self.trace is not None, None
+        self._arming, self.trace = False, None
         return taken
 
     # -- drawing --------------------------------------------------------------
     def paint(self, p) -> None:
         g = self.view.geometry_
         self.captions = []
-        if self.arm is not None:
-            p.setPen(QPen(_COLOUR, 1.5))
-            p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in self.view.world_to_widget(np.array(self.arm))]))
+        for part in (self.arm, None if self.trace is None or self.trace[0] is not None else self.trace[1]):
+            if part is not None:  # an angle's first arm, a polygon's trace: not measurements yet
+                p.setPen(QPen(_COLOUR, 1.5))
+                p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in self.view.world_to_widget(np.array(part))]))
         for m in self._state().measurements:
             if m.kind not in SHOWN:
                 continue
@@ -143,8 +169,8 @@ class MeasureTool:
         p.setBrush(Qt.NoBrush)
         line = QPolygonF([QPointF(x, y) for x, y in xy])
         p.drawPolygon(line) if m.kind == "region" else p.drawPolyline(line)
-        for hx, hy in self.view.world_to_widget(handles(m)):
-            p.drawRect(int(hx) - 3, int(hy) - 3, 6, 6)
+        for hx, hy in self.view.world_to_widget(handles(m)) if m.kind != "region" or len(handles(m)) == 2 else ():
+            p.drawRect(int(hx) - 3, int(hy) - 3, 6, 6)  # a polygon's vertices are grabbed, not drawn
         self._caption(p, m, xy[1:2] if m.kind == "angle" else xy)  # an angle's value beside its vertex
 
     def _cut(self, p, m, xy: np.ndarray) -> None:

@@ -2,8 +2,8 @@
 shows.
 
 A ruler runs from the press to the pointer; an angle has its first arm dragged (first point to vertex) and its
-second point placed by the next press; a point is where the press is; a rectangle or ellipse spans the box between
-the press and the pointer on the slice's plane
+second point placed by the next press; a point is where the press is; a free-hand polygon is the path the pointer
+traces; a rectangle or ellipse spans the box between the press and the pointer on the slice's plane
 (:func:`view_plane`: the plane through the slice's voxel centres, ``u`` along the display's columns, ``v`` down its
 rows), its statistics taken over the scan's voxels (:func:`volumen.measure.roi_stats`). A slice shows a measurement
 whole where it lies within half a slice of it, and where it only crosses the slice, the cut: the point a ruler
@@ -15,12 +15,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import mm_text, value_text
-from ..measure import Angle, Distance, Ellipse, Plane, Point, Rectangle, Scan, point_value, roi_stats
+from ..measure import Angle, Distance, Ellipse, Plane, Point, Polygon, Rectangle, Scan, point_value, roi_stats
 
 __all__ = ["TOOLS", "view_plane", "make", "handles", "grab", "drag_to", "slice_part", "caption"]
 
 #: the measurement tools of a slice view
-TOOLS = ("ruler", "angle", "point", "rectangle", "ellipse")
+TOOLS = ("ruler", "angle", "point", "rectangle", "ellipse", "polygon")
+#: the tools that make a region on the slice's plane
+REGION_TOOLS = ("rectangle", "ellipse", "polygon")
 #: the measurement kinds drawn on a slice view (the kind each tool makes)
 SHOWN = ("distance", "angle", "point", "region")
 #: how many points outline an ellipse when it is drawn or cut
@@ -40,7 +42,7 @@ def _box(plane: Plane, a, b) -> tuple[tuple[float, float], tuple[float, float]]:
 
 def make(tool: str, points, volume, plane: Plane | None = None, label: str = ""):
     """The measurement of ``tool`` through world ``points`` (a ruler's ends, an angle's first point, vertex and
-    second point, a point, a region's opposite box corners on ``plane``) of ``volume``."""
+    second point, a point, a polygon's vertices, a region's opposite box corners on ``plane``) of ``volume``."""
     scan = Scan.of(volume)
     if tool == "ruler":
         return Distance(*points, scan=scan, label=label)
@@ -48,6 +50,8 @@ def make(tool: str, points, volume, plane: Plane | None = None, label: str = "")
         return Angle(*points, scan=scan, label=label)
     if tool == "point":
         return Point(points[0], scan=scan, label=label)
+    if tool == "polygon":
+        return roi_stats(volume, plane, Polygon(plane.to_plane(np.asarray(points, float))[0]), label=label)
     lo, hi = _box(plane, *points)
     lo = tuple(np.minimum(lo, np.subtract(hi, 1e-3)))  # a click without a drag: a region a micrometre wide
     if tool == "rectangle":
@@ -58,8 +62,9 @@ def make(tool: str, points, volume, plane: Plane | None = None, label: str = "")
 
 
 def handles(m) -> np.ndarray:
-    """The world points a measurement is dragged by ``(n, 3)``: its points, a region's box corners."""
-    if m.kind != "region":
+    """The world points a measurement is dragged by ``(n, 3)``: its points, a polygon's vertices, a region's box
+    corners."""
+    if m.kind != "region" or m.shape.kind == "polygon":
         return np.array(m.points)
     lo, hi = m.shape.bounds()
     return m.plane.to_world(np.array([lo, hi]))
@@ -79,7 +84,7 @@ def drag_to(recipe: tuple, world, volume):
     """The measurement of a drag (:func:`grab`'s recipe, or a new one's ``(tool, points, plane, "", which)``) with
     the dragged handle at ``world`` (a region's kept on its plane)."""
     tool, points, plane, label, which = recipe
-    if tool in ("rectangle", "ellipse"):
+    if tool in REGION_TOOLS:
         world = plane.to_world(plane.to_plane(world)[0])
     points = [np.asarray(p, float) for p in points]
     points[which] = np.asarray(world, float)

@@ -194,3 +194,35 @@ def test_an_angle_by_its_arm_and_second_point_and_a_point_with_the_scans_value(b
     value, units = measure.point_value(head_server.handlers.source, pt.position)
     at = " ".join(f"{c:.1f}" for c in pt.position)
     assert _captions(browser, "axial")[1] == f"{at} mm  {value_text(value, units)}" + (f" {units}" * bool(units))
+
+
+def test_a_free_hand_polygon_traced_on_the_page(browser, head_server):
+    """The polygon tool traces the drag's path: a rectangle's outline traced in 5 px steps is a polygon whose
+    statistics are ``roi_stats`` over the scan's voxels (the server's answer, within 0.5 %) and whose area is the
+    traced rectangle's from the picture's pixel map (to 1e-6); it reads back as volumen.measure's polygon."""
+    browser.open(head_server.url)
+    browser.evaluate("volumen.shown()")
+    _tool(browser, "polygon")
+    v = _view(browser, "axial")
+    x = v["left"] + (v["cross"]["col"] + 0.5) * v["s"]
+    y = v["top"] + (v["cross"]["row"] + 0.5) * v["s"]
+    corners = [(x - 30, y - 20), (x + 30, y - 20), (x + 30, y + 20), (x - 30, y + 20), (x - 30, y - 20)]
+    browser.mouse("pressed", *corners[0])
+    for a, b in zip(corners, corners[1:], strict=False):
+        for t in np.linspace(0, 1, int(np.hypot(*np.subtract(b, a)) // 5) + 1)[1:]:
+            browser.mouse("moved", *np.add(a, t * np.subtract(b, a)))
+    browser.mouse("released", *corners[-1])
+    end = time.monotonic() + 30
+    while True:  # until the statistics shown are those of the polygon's final shape
+        (d,) = browser.evaluate("volumen.measurements()")["measurements"]
+        region = measure.from_dict(d) if "mean" in d else None
+        truth = region and measure.roi_stats(head_server.handlers.source, region.plane, region.shape)
+        if truth and region.voxels == truth.voxels:
+            break
+        assert time.monotonic() < end, d
+        time.sleep(0.05)
+    assert region.shape.kind == "polygon" and _captions(browser, "axial")[0].startswith("mean ")
+    col, row = np.linalg.norm(v["map"][1]) / v["s"], np.linalg.norm(v["map"][2]) / v["s"]  # mm per CSS px
+    assert region.shape.area == pytest.approx(60 * col * 40 * row, rel=1e-6)
+    assert truth.voxels > 20
+    assert region.mean == pytest.approx(truth.mean, rel=0.005) and region.sd == pytest.approx(truth.sd, rel=0.005)

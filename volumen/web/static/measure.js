@@ -1,5 +1,6 @@
 // Rulers, angles, points and regions on the slice views: place with a tool (ruler, angle, point, rectangle,
-// ellipse) by a drag (an angle by two: its first arm, first point to vertex, then its second point), move by a drag
+// ellipse, polygon) by a drag (an angle by two: its first arm, first point to vertex, then its second point; a
+// free-hand polygon is the path the drag traces, a vertex every TRACE_STEP px), move by a drag
 // on a handle (an end, a point, a corner), delete by a right click there. The value is drawn beside each and
 // follows the drag: a ruler's length and an angle's degrees (beside its vertex) from their world points, a
 // point's world mm and the scan's value there (value.json, volumen.measure.point_value), a region's statistics from
@@ -15,19 +16,22 @@ import { fitted } from './slices.js';
 /** @import { Vec3 } from './linalg.js' */
 /**
  * @typedef {{origin: Vec3, u: Vec3, v: Vec3}} Plane
- * @typedef {{kind: string, lo?: number[], hi?: number[], center?: number[], radii?: number[]}} Shape
+ * @typedef {{kind: string, lo?: number[], hi?: number[], center?: number[], radii?: number[],
+ *   points?: number[][]}} Shape
  * @typedef {{mean: number, sd: number, min: number, max: number, median: number, area_mm2: number,
  *   voxels: number, units: string}} Stats
  * @typedef {{kind: string, points: Vec3[], plane: Plane | null, shape: string, stats: Stats | null,
- *   label: string, value?: {value: number, units: string} | null}} Measurement  a ruler (points: its ends), an
+ *   label: string, value?: {value: number, units: string} | null, asked?: number}} Measurement  a ruler (points: its ends), an
  *   angle (its first point, vertex and second point; two while its first arm is placed), a point (value: the
- *   scan's there) or a region (points: two opposite corners)
+ *   scan's there) or a region (points: two opposite corners; a polygon's: its vertices); asked: the number of
+ *   its latest request to the server (an answer to an older one is dropped)
  */
 
-export const TOOLS = ['ruler', 'angle', 'point', 'rectangle', 'ellipse'];
+export const TOOLS = ['ruler', 'angle', 'point', 'rectangle', 'ellipse', 'polygon'];
 /** @type {Record<string, string>} the kind of measurement a tool makes, besides regions */
 const KIND = { ruler: 'distance', angle: 'angle', point: 'point' };
 const GRAB = 7;   // px: how near a press must be to an end or corner to grab it
+const TRACE_STEP = 4;   // px: how far the pointer moves before a traced polygon takes its next vertex
 const SVG = 'http://www.w3.org/2000/svg';
 const ELLIPSE_POINTS = 72;
 
@@ -39,6 +43,11 @@ const valueText = (v, units) => (units.toUpperCase().startsWith('HU') ? String(M
 function boxOf(m) {
   const p = /** @type {Plane} */ (m.plane);
   const st = m.points.map((w) => [dot(sub(w, p.origin), p.u), dot(sub(w, p.origin), p.v)]);
+  if (m.shape === 'polygon') {
+    const s = st.map((q) => q[0]), t = st.map((q) => q[1]);
+    return { lo: [Math.min(...s), Math.min(...t)], hi: [Math.max(...s), Math.max(...t)],
+      shape: { kind: 'polygon', points: st } };
+  }
   const lo = [Math.min(st[0][0], st[1][0]), Math.min(st[0][1], st[1][1])];
   const hi = [Math.max(st[0][0], st[1][0], lo[0] + 1e-3), Math.max(st[0][1], st[1][1], lo[1] + 1e-3)];
   const shape = m.shape === 'rectangle' ? { kind: 'rectangle', lo, hi }
@@ -47,10 +56,15 @@ function boxOf(m) {
   return { lo, hi, shape };
 }
 
+/** The world point of plane coordinates (s, t) mm on plane p. */
+/** @param {Plane} p @returns {(st: number[]) => Vec3} */
+const onPlane = (p) => (st) => add(p.origin, add(scale(p.u, st[0]), scale(p.v, st[1])));
+
 /** A measurement's outline in world mm: its points, a region's closed outline. */
 /** @param {Measurement} m @returns {Vec3[]} */
 function outline(m) {
   if (m.kind !== 'region') return m.points;
+  if (m.shape === 'polygon') return [...m.points, m.points[0]];
   const p = /** @type {Plane} */ (m.plane), { lo, hi } = boxOf(m);
   /** @type {(s: number, t: number) => Vec3} */
   const at = (s, t) => add(p.origin, add(scale(p.u, s), scale(p.v, t)));
@@ -122,7 +136,7 @@ export class SliceMeasures {
     }
     slices.onDrawn = () => this.draw();
     addEventListener('pointermove', (e) => this.move(e));
-    addEventListener('pointerup', () => { this.drag = null; });
+    addEventListener('pointerup', () => this.up());
     this.setTool(null);
   }
 
@@ -155,6 +169,13 @@ export class SliceMeasures {
       note.textContent = String((e instanceof Error && e.message) || e).replace(/^\d+: /, '');
       return 0;
     }
+  }
+
+  // the end of a drag: a traced polygon of fewer than three vertices is dropped
+  up() {
+    const m = this.drag && this.items[this.drag.index];
+    this.drag = null;
+    if (m && m.shape === 'polygon' && m.points.length < 3) { this.items.splice(this.items.indexOf(m), 1); this.draw(); }
   }
 
   /** @param {string | null} tool */
@@ -219,7 +240,8 @@ export class SliceMeasures {
     this.items.push({ kind: KIND[tool] ?? 'region', points: tool === 'point' ? [w] : [w, w.slice()], label: '',
       stats: null, shape: region ? tool : '', value: null,
       plane: region ? { origin: map[0], u: unit(map[1]), v: unit(map[2]) } : null });
-    this.drag = { index: this.items.length - 1, handle: tool === 'point' ? 0 : 1, plane };
+    if (tool === 'polygon') this.items[this.items.length - 1].points = [w];   // traced: handle -1 adds vertices
+    this.drag = { index: this.items.length - 1, handle: { point: 0, polygon: -1 }[tool] ?? 1, plane };
     if (tool === 'point') this.askValue(this.items[this.items.length - 1]);
     this.draw();
   }
@@ -234,31 +256,35 @@ export class SliceMeasures {
       const p = m.plane, d = sub(w, p.origin);
       w = add(p.origin, add(scale(p.u, dot(d, p.u)), scale(p.v, dot(d, p.v))));
     }
-    m.points[handle] = w;
-    if (m.kind === 'region') this.askStats(m);
+    if (handle < 0) {   // a polygon's trace
+      const [x0, y0] = this.toView(plane, m.points[m.points.length - 1]), [x1, y1] = this.toView(plane, w);
+      if (Math.hypot(x1 - x0, y1 - y0) < TRACE_STEP) return;
+      m.points.push(w);
+    } else m.points[handle] = w;
+    if (m.kind === 'region' && (m.shape !== 'polygon' || m.points.length >= 3)) this.askStats(m);
     if (m.kind === 'point') this.askValue(m);
     this.draw();
   }
 
-  /** The region's statistics from the server; the latest request wins. */
+  /** The region's statistics from the server; its latest request wins. */
   /** @param {Measurement} m */
   async askStats(m) {
-    const seq = ++this.seq;
+    const seq = m.asked = ++this.seq;
     try {
       const stats = await postJSON('region.json', { plane: m.plane, shape: boxOf(m).shape });
-      if (seq === this.seq || !this.drag) { m.stats = stats; this.draw(); }
+      if (seq === m.asked) { m.stats = stats; this.draw(); }
     } catch {
       // a region that holds no voxel yet: its value waits for the drag
     }
   }
 
-  /** A point's value in the scan (its own voxels) from the server; the latest request wins. */
+  /** A point's value in the scan (its own voxels) from the server; its latest request wins. */
   /** @param {Measurement} m */
   async askValue(m) {
-    const seq = ++this.seq, at = m.points[0];
+    const seq = m.asked = ++this.seq;
     try {
-      const value = await postJSON('value.json', { point: at });
-      if (seq === this.seq || m.points[0] === at) { m.value = value; this.draw(); }
+      const value = await postJSON('value.json', { point: m.points[0] });
+      if (seq === m.asked) { m.value = value; this.draw(); }
     } catch {
       // the server could not answer: the point keeps its coordinates only
     }
@@ -351,12 +377,14 @@ export class SliceMeasures {
           plane: null, shape: '', stats: null, value: null, label: d.label ?? '' };
         this.items.push(m);
         if (d.kind === 'point') this.askValue(m);
+      } else if (d.kind === 'region' && d.shape.kind === 'polygon') {
+        const p = d.plane, at = onPlane(p), { mean, sd, min, max, median, area_mm2, voxels, units } = d;
+        this.items.push({ kind: 'region', points: d.shape.points.map(at), plane: p, shape: 'polygon',
+          label: d.label ?? '', stats: { mean, sd, min, max, median, area_mm2, voxels, units } });
       } else if (d.kind === 'region' && ['rectangle', 'ellipse'].includes(d.shape.kind)) {
-        const s = d.shape, p = d.plane;
+        const s = d.shape, p = d.plane, at = onPlane(p);
         const lo = s.lo ?? [s.center[0] - s.radii[0], s.center[1] - s.radii[1]];
         const hi = s.hi ?? [s.center[0] + s.radii[0], s.center[1] + s.radii[1]];
-        /** @type {(st: number[]) => Vec3} */
-        const at = (st) => add(p.origin, add(scale(p.u, st[0]), scale(p.v, st[1])));
         const { mean, sd, min, max, median, area_mm2, voxels, units } = d;
         this.items.push({ kind: 'region', points: [at(lo), at(hi)], plane: p, shape: s.kind, label: d.label ?? '',
           stats: { mean, sd, min, max, median, area_mm2, voxels, units } });
@@ -369,7 +397,9 @@ export class SliceMeasures {
 
   // the measurements as volumen.measure's JSON (Measurements.to_dicts)
   toDicts() {
-    return this.items.filter((m) => m.kind !== 'angle' || m.points.length === 3).map((m) => {
+    const placed = (/** @type {Measurement} */ m) => (m.kind === 'angle' ? m.points.length === 3
+      : m.shape !== 'polygon' || m.points.length >= 3);
+    return this.items.filter(placed).map((m) => {
       if (m.kind === 'distance') return { kind: 'distance', start: m.points[0], end: m.points[1], label: m.label,
         scan: {} };
       if (m.kind === 'angle') return { kind: 'angle', first: m.points[0], vertex: m.points[1], second: m.points[2],

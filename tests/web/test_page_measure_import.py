@@ -90,6 +90,11 @@ def test_an_sr_opened_on_the_page_shows_its_measurements(browser, ct_server, cts
     note = browser.evaluate("document.querySelector('.measure-note').textContent")
     assert note == "the SR is of another study than the scan shown"
     assert len(browser.evaluate("volumen.measurements()")["measurements"]) == 4
+    (root / "junk.bin").write_bytes(b"not a report" * 20)
+    assert _open(browser, root / "junk.bin") == 0  # neither an SR nor JSON: one line, nothing lost
+    note = browser.evaluate("document.querySelector('.measure-note').textContent")
+    assert note.startswith("the file holds no measurements volumen reads") and "\n" not in note
+    assert len(browser.evaluate("volumen.measurements()")["measurements"]) == 4
 
 
 def test_serve_opens_the_page_with_an_srs_measurements(browser, ct_server, cts, capsys):

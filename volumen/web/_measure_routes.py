@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import os
 import tempfile
+import threading
 
 import numpy as np
 from aiohttp import web
@@ -31,6 +32,10 @@ from volumen.measure import (
 from ._requests import BadRequest, frame_request
 
 __all__ = ["region_answer", "value_answer", "measurements_answer", "pick_answer"]
+
+#: one file read at a time: an SR's first reading imports highdicom and volumen.pacs, which two request threads
+#: must not import at once (Python's import locks can answer that with a _DeadlockError)
+_READING = threading.Lock()
 
 #: the numbers of a region the page is told
 FIELDS = ("mean", "sd", "min", "max", "median", "area_mm2", "voxels", "units")
@@ -83,14 +88,16 @@ def measurements_answer(volume, body: bytes) -> bytes:
     JSON): ``{"measurements": [...]}`` as ``Measurements.to_dicts``; 400 with one line that names neither file nor
     scan for a file that holds none, an SR of another study, measurements of another scan."""
 
-    try:
-        items, study = _read_body(body)
-    except (MeasurementError, ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise web.HTTPBadRequest(text=f"the file holds no measurements volumen reads ({type(exc).__name__})") from None
-    try:
-        check_study(study, volume, "the SR") if study else None
-    except MeasurementError:
-        raise web.HTTPBadRequest(text="the SR is of another study than the scan shown") from None
+    with _READING:
+        try:
+            items, study = _read_body(body)
+        except (MeasurementError, ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise web.HTTPBadRequest(text=f"the file holds no measurements volumen reads ({type(exc).__name__})"
+                                     ) from None
+        try:
+            check_study(study, volume, "the SR") if study else None
+        except MeasurementError:
+            raise web.HTTPBadRequest(text="the SR is of another study than the scan shown") from None
     try:
         check_scan(items, volume)
     except MeasurementError:

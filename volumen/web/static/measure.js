@@ -153,6 +153,7 @@ export class SliceMeasures {
     this.note.className = 'measure-note';
     input.addEventListener('change', () => { if (input.files?.[0]) this.open(input.files[0]); input.value = ''; });
     const span = document.createElement('span');
+    span.className = 'measure-open';
     span.append(button, input, this.note);
     return span;
   }

@@ -23,7 +23,7 @@ def test_structures_panel(make_window, tmp_path):
     layer = win.state.scene.labels
     assert layer.opacity == 0.8 and len(layer.show) == 5
     assert win.state.mask.data.sum() == (labels.data > 0).sum()
-    liver = next(i for i in range(panel.list.count()) if panel.list.item(i).text() == "liver")
+    liver = next(i for i in range(panel.list.count()) if panel.name(panel.list.item(i)) == "liver")
     from PySide6.QtCore import Qt
 
     panel.list.item(liver).setCheckState(Qt.Unchecked)
@@ -32,3 +32,23 @@ def test_structures_panel(make_window, tmp_path):
     assert win.state.mask.data.sum() == ((labels.data > 0) & (labels.data != 1)).sum()
     panel.open(tmp_path / "missing")  # a bad path: one error, no crash
     assert win.last_error[0] == "Labels" and "missing" in win.last_error[1]
+
+
+def test_each_structure_shows_its_volume_in_ml(make_window):
+    """A sphere label of radius 20 mm on a 1 mm grid (the voxels whose centres lie inside): the volume the panel
+    shows is within 1 % of 4/3 pi r^3."""
+    from volumen.core import LabelMap
+    from volumen.data import phantom
+
+    vol = phantom("sphere", 64, radius=20.0)
+    r = vol.meta["truth"]["radius"]
+    inside = (np.asarray(vol.data) > 0).astype(np.uint8)
+    labels = LabelMap(inside, spacing=vol.spacing, affine=vol.affine, names={1: "ball"})
+    win = make_window(load=False)
+    win.set_volume(vol, "phantom:sphere")
+    assert win.wait_for_final(120)
+    win.labels_panel.set_labels(labels)
+    (text,) = [win.labels_panel.list.item(i).text() for i in range(win.labels_panel.list.count())]
+    name, ml, unit = text.split()
+    assert name == "ball" and unit == "ml"
+    assert abs(float(ml) - 4 / 3 * np.pi * r**3 / 1000) < 0.01 * (4 / 3 * np.pi * r**3 / 1000)

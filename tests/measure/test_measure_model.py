@@ -159,3 +159,26 @@ def test_measurements_round_trip_and_show_as_a_table():
     html = items._repr_html_()
     assert html.count("<tr>") == 5 and "5.0" in html and "90.0" in html
     assert items.to_csv().splitlines()[0].startswith("kind,label,value,unit,mean")
+
+
+def test_each_notebook_call_shows_as_a_table():
+    """What a notebook cell shows for each call of the measurement API: an HTML table, one row per measurement
+    (per structure for ``label_volumes``), with its value; ``point_value`` is the voxel's value, None outside."""
+    vol = Volume(np.arange(4 * 5 * 6, dtype=np.float32).reshape(4, 5, 6), spacing=(2.0, 1.0, 1.0), units="a.u.")
+    labels = LabelMap((np.arange(4 * 5 * 6).reshape(4, 5, 6) % 3).astype(np.uint8), spacing=(2.0, 1.0, 1.0),
+                      names={1: "one", 2: "two"})
+    plane = measure.slice_plane(vol, "axial", 2)
+    shown = {
+        "distance": (measure.distance((0, 0, 0), (30, 40, 0)), 1, "50.0"),
+        "angle": (measure.angle((1, 0, 0), (0, 0, 0), (1, 1, 0)), 1, "45.0"),
+        "point": (measure.point((1, 2, 3)), 1, "1.0 2.0 3.0"),
+        "roi_stats": (measure.roi_stats(vol, plane, measure.Rectangle((0.5, 0.5), (3.5, 2.5))), 1, "a.u."),
+        "label_volumes": (measure.label_volumes(labels), 2, "two"),
+    }
+    for name, (result, rows, text) in shown.items():
+        html = result._repr_html_()
+        assert html.startswith("<table>") and html.count("<tr>") == rows + 1 and text in html, name
+    i, j, k = 3, 2, 1
+    world = vol.index_to_world(np.array([i, j, k], float))
+    assert measure.point_value(vol, world + 0.4) == (float(np.asarray(vol.data)[k, j, i]), "a.u.")
+    assert measure.point_value(vol, vol.index_to_world(np.array([-1.0, 0, 0]))) is None

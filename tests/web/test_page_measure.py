@@ -147,3 +147,82 @@ def test_a_3d_ruler_picks_the_points_the_cpu_picks(browser, head_server):
     assert ruler.mm > 10
     drawn = browser.evaluate("[...document.querySelectorAll('#view3d .ruler3d-layer text')].map((t) => t.textContent)")
     assert drawn == [f"{ruler.mm:.1f} mm"]
+
+
+def test_an_angle_by_its_arm_and_second_point_and_a_point_with_the_scans_value(browser, head_server):
+    """The angle tool: the first arm dragged (first point to vertex), the second point dragged after the next press;
+    the degrees beside the vertex follow the drag and end within 0.5 deg of the angle between the arms' world vectors
+    (from the picture's pixel map); the coronal
+    slice that holds it shows it. The point tool: a click's world point, its caption the coordinates in mm and the
+    scan's own value there (``measure.point_value`` on the source). Both read back as volumen.measure's."""
+    from volumen.core import value_text
+
+    browser.open(head_server.url)
+    browser.evaluate("volumen.shown()")
+    _tool(browser, "angle")
+    v = _view(browser, "axial")
+    x = v["left"] + (v["cross"]["col"] + 0.5) * v["s"]
+    y = v["top"] + (v["cross"]["row"] + 0.5) * v["s"]  # the row the coronal plane cuts
+    _drag(browser, (x + 60, y), (x, y))
+    assert browser.evaluate("volumen.measurements()")["measurements"] == []  # half an angle is not one yet
+    seen = _drag(browser, (x + 60, y - 8), (x + 40, y - 40))
+    (d,) = browser.evaluate("volumen.measurements()")["measurements"]
+    got = measure.from_dict(d)
+    col, row = np.divide(v["map"][1], v["s"]), np.divide(v["map"][2], v["s"])  # world mm per CSS px
+    a, b = 60 * col, 40 * col - 40 * row  # the arms in world mm (45 deg on the screen; pixels near square)
+    assert abs(got.degrees - np.degrees(np.arccos(a @ b / np.linalg.norm(a) / np.linalg.norm(b)))) < 0.5
+    degrees = [float(c[0].rstrip("\u00b0")) for c in seen]
+    assert degrees == sorted(degrees) and degrees[0] < degrees[-1]  # the value followed the drag
+    assert _captions(browser, "axial") == [f"{got.degrees:.1f}\u00b0"]
+    tx = browser.evaluate("Number(document.querySelector('svg.measures[data-plane=axial] text').getAttribute('x'))")
+    vx = browser.evaluate(f"volumen.measures.toView('axial', {json.dumps(list(got.vertex))})[0]")
+    assert tx == pytest.approx(vx + 6, abs=1e-6)  # beside the vertex
+    assert _captions(browser, "coronal") == [f"{got.degrees:.1f}\u00b0"]
+
+    _tool(browser, "point")
+    browser.mouse("pressed", x - 25, y + 15)
+    browser.mouse("released", x - 25, y + 15)
+    end = time.monotonic() + 30
+    while len(_captions(browser, "axial")) < 2 or "  " not in _captions(browser, "axial")[1]:
+        assert time.monotonic() < end, _captions(browser, "axial")
+        time.sleep(0.05)
+    angle_back, pt = (measure.from_dict(m) for m in browser.evaluate("volumen.measurements()")["measurements"])
+    assert angle_back == got
+    want = np.add(v["map"][0], np.add(np.multiply(v["map"][1], (x - 25 - v["left"]) / v["s"] - 0.5),
+                                      np.multiply(v["map"][2], (y + 15 - v["top"]) / v["s"] - 0.5)))
+    assert np.allclose(pt.position, want, atol=1e-6)
+    value, units = measure.point_value(head_server.handlers.source, pt.position)
+    at = " ".join(f"{c:.1f}" for c in pt.position)
+    assert _captions(browser, "axial")[1] == f"{at} mm  {value_text(value, units)}" + (f" {units}" * bool(units))
+
+
+def test_a_free_hand_polygon_traced_on_the_page(browser, head_server):
+    """The polygon tool traces the drag's path: a rectangle's outline traced in 5 px steps is a polygon whose
+    statistics are ``roi_stats`` over the scan's voxels (the server's answer, within 0.5 %) and whose area is the
+    traced rectangle's from the picture's pixel map (to 1e-6); it reads back as volumen.measure's polygon."""
+    browser.open(head_server.url)
+    browser.evaluate("volumen.shown()")
+    _tool(browser, "polygon")
+    v = _view(browser, "axial")
+    x = v["left"] + (v["cross"]["col"] + 0.5) * v["s"]
+    y = v["top"] + (v["cross"]["row"] + 0.5) * v["s"]
+    corners = [(x - 30, y - 20), (x + 30, y - 20), (x + 30, y + 20), (x - 30, y + 20), (x - 30, y - 20)]
+    browser.mouse("pressed", *corners[0])
+    for a, b in zip(corners, corners[1:], strict=False):
+        for t in np.linspace(0, 1, int(np.hypot(*np.subtract(b, a)) // 5) + 1)[1:]:
+            browser.mouse("moved", *np.add(a, t * np.subtract(b, a)))
+    browser.mouse("released", *corners[-1])
+    end = time.monotonic() + 30
+    while True:  # until the statistics shown are those of the polygon's final shape
+        (d,) = browser.evaluate("volumen.measurements()")["measurements"]
+        region = measure.from_dict(d) if "mean" in d else None
+        truth = region and measure.roi_stats(head_server.handlers.source, region.plane, region.shape)
+        if truth and region.voxels == truth.voxels:
+            break
+        assert time.monotonic() < end, d
+        time.sleep(0.05)
+    assert region.shape.kind == "polygon" and _captions(browser, "axial")[0].startswith("mean ")
+    col, row = np.linalg.norm(v["map"][1]) / v["s"], np.linalg.norm(v["map"][2]) / v["s"]  # mm per CSS px
+    assert region.shape.area == pytest.approx(60 * col * 40 * row, rel=1e-6)
+    assert truth.voxels > 20
+    assert region.mean == pytest.approx(truth.mean, rel=0.005) and region.sd == pytest.approx(truth.sd, rel=0.005)

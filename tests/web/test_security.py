@@ -58,6 +58,10 @@ def _route_paths(info=None):
             c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
             body = json.dumps({"plane": {"origin": c, "u": [1, 0, 0], "v": [0, 1, 0]},
                                "shape": {"kind": "ellipse", "center": [0, 0], "radii": [10, 10]}}).encode()
+        if route == "open-measurements.json":  # a measurements JSON that holds none
+            body = b'{"measurements": []}'
+        if route == "value.json":  # the scan's value at its centre
+            body = json.dumps({"point": (info or {}).get("volume", {}).get("center", [0, 0, 0])}).encode()
         if route == "pick.json":  # the centre of a 16 x 16 picture
             frame = {"scene": (info or {}).get("scene", {}), "camera": (info or {}).get("camera", {}), "size": [16, 16]}
             body = json.dumps({"frame": frame, "x": 8.5, "y": 8.5}).encode()
@@ -106,6 +110,8 @@ def test_traversal_and_absolute_paths_are_404(head_server):
                               b'"camera": {"position": [0, 0, 1]}, "size": [8, 8]}')
     assert status == 400 and b"Scene.mode must be one of" in body and b"\n" not in body.strip()
     assert request(port, "POST", "/frame.bin", headers=auth, body=b"x" * (2 << 20))[0] == 413
+    status, _, body = request(port, "POST", "/value.json", headers=auth, body=b'{"point": [0, "a"]}')
+    assert status == 400 and body and b"\n" not in body.strip()
     assert request(port, "GET", "/slice.png?plane=../../etc&x=0&y=0&z=0&level=1&width=1", headers=auth)[0] == 400
 
 

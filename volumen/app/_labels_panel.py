@@ -1,7 +1,8 @@
 """The structures panel: a segmentation's structures with visibility, colour and opacity, drawn in 3-D.
 
 "Open labels..." reads anything :func:`volumen.load_labels` reads onto the current scan's grid; the list
-shows each structure (tick: drawn; double-click: its colour); the opacity, the style (solid or the scan's
+shows each structure with its volume in ml (:func:`volumen.measure.label_volumes`: its voxels times a voxel's
+volume; tick: drawn; double-click: its colour); the opacity, the style (solid or the scan's
 texture) and the unlabelled scan (kept or hidden) go into the scene's :class:`~volumen.core.LabelLayer`.
 The drawn structures also show as the slice views' overlay.
 """
@@ -79,10 +80,14 @@ class LabelsPanel(QWidget):
         """Show ``labels`` (a LabelMap on the scan's grid): every structure listed and drawn."""
         self.labels = labels
         self.colors = {labels.names[v]: labels.colors[v] for v in labels.values}
+        from volumen.measure import label_volumes
+
+        ml = {m.value: m.ml for m in label_volumes(labels, scan=self.state.volume)}
         self.list.blockSignals(True)
         self.list.clear()
         for v in labels.values:
-            item = QListWidgetItem(labels.names[v])
+            item = QListWidgetItem(f"{labels.names[v]}  {ml.get(v, 0.0):.2f} ml")
+            item.setData(Qt.UserRole, labels.names[v])
             item.setFlags(item.flags() | Qt.ItemIsUserCheckable)
             item.setCheckState(Qt.Checked)
             self._paint(item)
@@ -90,19 +95,24 @@ class LabelsPanel(QWidget):
         self.list.blockSignals(False)
         self.apply()
 
+    @staticmethod
+    def name(item) -> str:
+        """The structure a list item shows (its text adds the volume)."""
+        return item.data(Qt.UserRole)
+
     def _paint(self, item) -> None:
-        rgb = np.clip(np.asarray(self.colors[item.text()]) ** (1 / 2.2), 0, 1)
+        rgb = np.clip(np.asarray(self.colors[self.name(item)]) ** (1 / 2.2), 0, 1)
         item.setBackground(QColor(*(int(round(c * 255)) for c in rgb)))
 
     def pick_color(self, item) -> None:
         c = QColorDialog.getColor(parent=self)
         if c.isValid():
-            self.colors[item.text()] = tuple((np.array(c.getRgbF()[:3]) ** 2.2).tolist())
+            self.colors[self.name(item)] = tuple((np.array(c.getRgbF()[:3]) ** 2.2).tolist())
             self._paint(item)
             self.apply()
 
     def shown(self) -> tuple[str, ...]:
-        return tuple(self.list.item(i).text() for i in range(self.list.count())
+        return tuple(self.name(self.list.item(i)) for i in range(self.list.count())
                      if self.list.item(i).checkState() == Qt.Checked)
 
     def apply(self) -> None:

@@ -1,6 +1,7 @@
-"""The Measure menu: choose the tool (none; ruler, rectangle, ellipse on the slice views; the 3-D view's ruler),
-import measurements (a DICOM SR, a session or a measurements JSON: ``volumen.load_measurements``) and export them
-as CSV, JSON or a DICOM SR, as ``volumen measure export`` writes them."""
+"""The Measure menu: choose the tool (none; ruler, angle, point, rectangle, ellipse, free-hand polygon on the slice
+views; the 3-D view's ruler), import measurements (a DICOM SR, a session or a measurements JSON:
+``volumen.load_measurements``) and export them as CSV, JSON or a DICOM SR, as ``volumen measure export`` writes
+them."""
 
 from __future__ import annotations
 
@@ -77,7 +78,9 @@ def build_measure_menu(window) -> None:
     """Add the Measure menu to ``window``'s menu bar."""
     menu = window.menuBar().addMenu("&Measure")
     group = QActionGroup(menu)
-    names = {None: "Crosshair (no tool)", "ruler3d": "Ruler in 3-D (two clicks on the picture)"}
+    names = {None: "Crosshair (no tool)", "angle": "Angle (drag the first arm, click the second point)",
+             "polygon": "Polygon (free hand: trace it)",
+             "ruler3d": "Ruler in 3-D (two clicks on the picture)"}
     for tool in (None, *MENU_TOOLS):
         action = menu.addAction(names.get(tool, (tool or "").capitalize()))
         action.setCheckable(True)

@@ -1,9 +1,12 @@
-"""The measurement tool of a slice view: place, move and delete rulers and regions with the mouse.
+"""The measurement tool of a slice view: place, move and delete rulers, angles, points and regions with the mouse.
 
-* with a tool chosen (``SliceView.measure_tool.tool``: ruler, rectangle, ellipse), a left drag places one; its
-  value is drawn beside it and follows the drag;
-* a left drag on an end of a ruler or a corner of a region (within :data:`GRAB` px), in any mode, moves it;
-* a right click on an end or corner deletes the measurement.
+* with a tool chosen (``SliceView.measure_tool.tool``: one of ``TOOLS``), a left drag places one; its value is
+  drawn beside it and follows the drag (a free-hand polygon is the path the drag traces, a vertex every
+  :data:`TRACE_STEP` px). An angle takes two: the first drags its first arm (first point to
+  vertex), the next press places its second point (the degrees drawn beside the vertex follow that drag);
+* a left drag on a handle (a ruler's end, an angle's point, a point, a region's corner; within :data:`GRAB` px),
+  in any mode, moves it;
+* a right click on a handle deletes the measurement.
 
 Every slice view draws each measurement its slice cuts (``_slice_measures.slice_part``): whole where it lies in
 the slice, a cross where a ruler passes through it, the chord where a region does.
@@ -16,12 +19,14 @@ from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QColor, QPen, QPolygonF
 
 from ..errors import OutsideVolumeError
-from ._slice_measures import TOOLS, caption, drag_to, grab, handles, slice_part, view_plane
+from ._slice_measures import REGION_TOOLS, SHOWN, TOOLS, caption, drag_to, grab, handles, make, slice_part, view_plane
 
 __all__ = ["MeasureTool", "GRAB"]
 
 #: how near (px) a press must be to a handle to grab it
 GRAB = 7.0
+#: how far (px) the pointer moves before a free-hand polygon takes its next vertex
+TRACE_STEP = 4.0
 _COLOUR = QColor(255, 235, 60)
 _CUT = QColor(255, 235, 60, 150)
 
@@ -42,11 +47,14 @@ class MeasureTool:
         self.tool: str | None = None
         self.captions: list[tuple[str, tuple[float, float]]] = []
         self._drag: list | None = None  # [measurement index (None: not placed yet), how to remake it (drag_to)]
+        self.arm: list | None = None  # an angle's first arm being placed: [first point, vertex] world mm
+        self._arming = False  # the first arm follows the pointer (between its press and release)
+        self.trace: list | None = None  # a free-hand polygon being traced: [measurement index or None, world points]
 
     def set_tool(self, tool: str | None) -> None:
         if tool is not None and tool not in TOOLS:
             raise ValueError(f"tool must be one of {', '.join(TOOLS)} or None, got {tool!r}")
-        self.tool = tool
+        self.tool, self.arm = tool, None
 
     def _state(self):
         return self.view.state
@@ -55,7 +63,7 @@ class MeasureTool:
         """(index, handle) of the handle shown on this slice nearest ``(x, y)`` within :data:`GRAB` px."""
         g, best, best_d = self.view.geometry_, None, GRAB
         for i, m in enumerate(self._state().measurements):
-            if m.kind not in ("distance", "region") or slice_part(g, self.view.index, m) is None:
+            if m.kind not in SHOWN or slice_part(g, self.view.index, m) is None:
                 continue
             for h, w in enumerate(handles(m)):
                 d = float(np.hypot(*(self.view.world_to_widget(w) - (x, y))))
@@ -79,34 +87,72 @@ class MeasureTool:
         if self.tool is None:
             return False
         start = self.view.world_at(x, y)
-        self._drag = [None, (self.tool, start, view_plane(self.view.geometry_, self.view.index), "", 1)]
-        if self.tool == "ruler":
+        plane = view_plane(self.view.geometry_, self.view.index)
+        if self.tool == "polygon":
+            self.trace = [None, [start]]
+            return True
+        if self.tool == "angle" and self.arm is None:  # the first arm, dragged from its first point to the vertex
+            self.arm, self._arming = [start, start], True
+            return True
+        if self.tool == "angle":
+            points, which, self.arm = [*self.arm, start], 2, None
+        else:
+            points, which = [start] * (1 if self.tool == "point" else 2), (0 if self.tool == "point" else 1)
+        self._drag = [None, (self.tool, points, plane, "", which)]
+        if self.tool not in REGION_TOOLS:
             self.move(x, y)
         return True
 
     def move(self, x: float, y: float) -> bool:
         """Follow the pointer with the handle dragged; a region is placed once it holds a voxel."""
+        if self.trace is not None:
+            return self._traced(x, y)
+        if self._arming:
+            self.arm[1] = self.view.world_at(x, y)
+            self.view.update()
+            return True
         if self._drag is None:
             return False
         st, w = self._state(), self.view.world_at(x, y)
         index, recipe = self._drag
         try:
             m = drag_to(recipe, w, st.volume)
-        except OutsideVolumeError:  # a region that holds no voxel yet (or any more): kept as it was
+        except (OutsideVolumeError, ValueError):  # a region without a voxel, an angle's point on its vertex: kept
             return True
         self._drag[0] = st.put_measurement(index, m)
         return True
 
+    def _traced(self, x: float, y: float) -> bool:
+        """The traced polygon's next vertex where the pointer is (once :data:`TRACE_STEP` px from the last)."""
+        index, points = self.trace
+        if np.hypot(*(self.view.world_to_widget(points[-1]) - (x, y))) < TRACE_STEP:
+            return True
+        points.append(self.view.world_at(x, y))
+        if len(points) >= 3:
+            plane = view_plane(self.view.geometry_, self.view.index)
+            try:
+                self.trace[0] = self._state().put_measurement(index, make("polygon", points, self._state().volume,
+                                                                          plane))
+            except (OutsideVolumeError, ValueError):  # no voxel inside yet: drawn as a trace
+                pass
+        self.view.update()
+        return True
+
     def release(self) -> bool:
-        taken, self._drag = self._drag is not None, None
+        taken, self._drag = self._drag is not None or self._arming or self.trace is not None, None
+        self._arming, self.trace = False, None
         return taken
 
     # -- drawing --------------------------------------------------------------
     def paint(self, p) -> None:
         g = self.view.geometry_
         self.captions = []
+        for part in (self.arm, None if self.trace is None or self.trace[0] is not None else self.trace[1]):
+            if part is not None:  # an angle's first arm, a polygon's trace: not measurements yet
+                p.setPen(QPen(_COLOUR, 1.5))
+                p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in self.view.world_to_widget(np.array(part))]))
         for m in self._state().measurements:
-            if m.kind not in ("distance", "region"):
+            if m.kind not in SHOWN:
                 continue
             part = slice_part(g, self.view.index, m)
             if part is None:
@@ -122,24 +168,24 @@ class MeasureTool:
         p.setPen(QPen(_COLOUR, 1.5))
         p.setBrush(Qt.NoBrush)
         line = QPolygonF([QPointF(x, y) for x, y in xy])
-        p.drawPolyline(line) if m.kind == "distance" else p.drawPolygon(line)
-        for hx, hy in self.view.world_to_widget(handles(m)):
-            p.drawRect(int(hx) - 3, int(hy) - 3, 6, 6)
-        self._caption(p, m, xy)
+        p.drawPolygon(line) if m.kind == "region" else p.drawPolyline(line)
+        for hx, hy in self.view.world_to_widget(handles(m)) if m.kind != "region" or len(handles(m)) == 2 else ():
+            p.drawRect(int(hx) - 3, int(hy) - 3, 6, 6)  # a polygon's vertices are grabbed, not drawn
+        self._caption(p, m, xy[1:2] if m.kind == "angle" else xy)  # an angle's value beside its vertex
 
     def _cut(self, p, m, xy: np.ndarray) -> None:
         p.setPen(QPen(_CUT, 1.5, Qt.DashLine))
-        if m.kind == "distance" or len(xy) == 1:
+        if m.kind != "region" or len(xy) == 1:
             for x, y in xy:
                 p.drawLine(QPointF(x - 4, y - 4), QPointF(x + 4, y + 4))
                 p.drawLine(QPointF(x - 4, y + 4), QPointF(x + 4, y - 4))
         else:
             p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in xy]))
-        if m.kind == "distance":  # a region's value is drawn where it lies whole, not beside every chord
+        if m.kind in ("distance", "angle"):  # a region's value is drawn where it lies whole, not beside every chord
             self._caption(p, m, xy)
 
     def _caption(self, p, m, xy: np.ndarray) -> None:
-        text = caption(m)
+        text = caption(m, self._state().volume)
         x, y = float(xy[:, 0].max()) + 6, float(xy[:, 1].min()) - 4
         x = max(0.0, min(x, self.view.width() - p.fontMetrics().horizontalAdvance(text) - 2))  # kept in the view
         while any(abs(y - cy) < 13 and abs(x - cx) < 120 for _, (cx, cy) in self.captions):

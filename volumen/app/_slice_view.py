@@ -6,8 +6,8 @@
 * left drag on an edge of the crop box: move that face of the box;
 * in a pick mode (seeds for region growing, endoscopy start/end) a left click
   reports the world point to ``picked`` instead;
-* rulers and regions: placed, moved and deleted by ``measure_tool`` (``_measure_tool``), which takes a press
-  first.
+* rulers, angles, points and regions: placed, moved and deleted by ``measure_tool`` (``_measure_tool``), which
+  takes a press first.
 
 Overlays: the segmentation mask (red), seeds, the crop box, the endoscopy
 start, end and centerline, the 3D camera's position (cyan), and the measurements with their values (yellow).

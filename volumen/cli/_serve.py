@@ -38,6 +38,8 @@ def register(sub):
                    "(iwer, `make web-deps`)")
     p.add_argument("--size", default="1280x800", metavar="WxH", help="with --screenshot: the browser window's "
                    "size in CSS pixels (default 1280x800)")
+    p.add_argument("--measurements", metavar="FILE", help="measurements the page opens with: a DICOM SR, a session "
+                   "or a measurements JSON of this scan (`volumen measure export`)")
     p.add_argument("--settings", help="scene and camera to open with (a `volumen render --save-settings` file)")
     p.add_argument("--preset", choices=PRESETS, help="transfer function preset to open with")
     p.add_argument("--shift", type=float, default=0.0, help="move the preset along the values by this much (data "
@@ -132,6 +134,11 @@ def run(args):
 
     volume = load_from_args(args, args.path)
     scene, camera = _scene_and_camera(args, volume)
+    shown = []
+    if args.measurements:
+        from volumen.measure import load_measurements
+
+        shown = load_measurements(args.measurements, volume=volume).to_dicts()
     try:
         server = ViewerServer(volume, scene, camera, host=args.host, port=args.port, budget_mb=args.budget,
                               ssl_context=_ssl(args), shift=args.shift,
@@ -139,6 +146,7 @@ def run(args):
     except OSError as exc:
         raise ValueError(f"cannot listen on {args.host} port {args.port}: {exc.strerror or exc} "
                          "(pick another with --port, or 0 for a free one)") from None
+    server.handlers.opening = shown
     print(server.url, flush=True)
     if not is_loopback(args.host):
         print(f"volumen serve: warning: listening on {args.host}: the scan is reachable from the network by "

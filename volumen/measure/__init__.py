@@ -14,14 +14,23 @@ from __future__ import annotations
 
 from ._label_volumes import label_volumes
 from ._model import KINDS, Angle, Distance, LabelVolume, Measurements, Point, RegionStats, Scan, from_dict
-from ._persistence import SESSION_KEY, check_scan, load_measurements, save_measurements, session_measurements
+from ._persistence import (
+    SESSION_KEY,
+    check_scan,
+    check_study,
+    load_measurements,
+    read_measurements,
+    save_measurements,
+    session_measurements,
+)
 from ._plane_shapes import SHAPES, Ellipse, Plane, Polygon, Rectangle, shape_from_dict, slice_plane
-from ._regions import region_voxels, roi_stats
+from ._regions import point_value, region_voxels, roi_stats
 
 __all__ = ["Plane", "Ellipse", "Rectangle", "Polygon", "SHAPES", "shape_from_dict", "slice_plane", "Scan", "Point",
            "Distance", "Angle", "RegionStats", "LabelVolume", "Measurements", "KINDS", "from_dict", "distance", "angle",
-           "point", "roi_stats", "region_voxels", "label_volumes", "load_measurements", "save_measurements",
-           "session_measurements", "check_scan", "SESSION_KEY", "make_sr", "pick"]
+           "point", "point_value", "roi_stats", "region_voxels", "label_volumes", "load_measurements",
+           "read_measurements", "save_measurements", "session_measurements", "check_scan", "check_study", "SESSION_KEY",
+           "make_sr", "pick"]
 
 
 def distance(p, q, volume=None, label: str = "") -> Distance:

@@ -15,8 +15,8 @@ from pathlib import Path
 from ..errors import MeasurementError
 from ._model import Measurements, Scan
 
-__all__ = ["SESSION_KEY", "load_measurements", "save_measurements", "session_measurements", "check_scan",
-           "check_study"]
+__all__ = ["SESSION_KEY", "load_measurements", "read_measurements", "save_measurements", "session_measurements",
+           "check_scan", "check_study"]
 
 #: where a session (app JSON, page state) keeps its measurements
 SESSION_KEY = "measurements"
@@ -50,12 +50,12 @@ def _study_of(volume) -> str:
         return ""
 
 
-def check_study(facts, volume, path) -> None:
-    """Raise :class:`MeasurementError` where the SR at ``path`` (its :class:`SRFacts`) is of another study or series
-    than ``volume``."""
+def check_study(study_uid: str, volume, path) -> None:
+    """Raise :class:`MeasurementError` where the SR at ``path`` (of study ``study_uid``) is of another study than
+    ``volume``."""
     study = _study_of(volume)
-    if study and facts.study_uid != study:
-        raise MeasurementError(f"{path}: an SR of study {facts.study_uid}, not of the scan's study {study}")
+    if study and study_uid != study:
+        raise MeasurementError(f"{path}: an SR of study {study_uid}, not of the scan's study {study}")
 
 
 def _is_dicom(path: Path) -> bool:
@@ -75,6 +75,17 @@ def load_measurements(path, volume=None) -> Measurements:
     MeasurementError
         A measurement of another scan, an SR of another study, a file that holds no measurements.
     """
+    items, study = read_measurements(path)
+    if volume is not None and study:
+        check_study(study, volume, path)
+    if volume is not None:
+        check_scan(items, volume, str(path))
+    return items
+
+
+def read_measurements(path) -> tuple[Measurements, str]:
+    """The measurements in ``path`` (a DICOM SR, a session JSON or a measurements JSON file) and the SR's study
+    UID ("" for JSON); nothing is checked against a scan (:func:`load_measurements` does)."""
     path = Path(path)
     if not path.is_file():
         raise MeasurementError(f"{path}: no such file")
@@ -82,19 +93,14 @@ def load_measurements(path, volume=None) -> Measurements:
         from ._sr_read import read_sr
 
         items, facts = read_sr(path)
-        if volume is not None:
-            check_study(facts, volume, path)
-    else:
-        try:
-            d = json.loads(path.read_text(encoding="utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise MeasurementError(f"{path}: neither a DICOM SR nor JSON ({exc})") from None
-        if not isinstance(d, dict) or SESSION_KEY not in d:
-            raise MeasurementError(f"{path}: holds no {SESSION_KEY!r} list")
-        items = session_measurements(d)
-    if volume is not None:
-        check_scan(items, volume, str(path))
-    return items
+        return items, facts.study_uid
+    try:
+        d = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise MeasurementError(f"{path}: neither a DICOM SR nor JSON ({exc})") from None
+    if not isinstance(d, dict) or SESSION_KEY not in d:
+        raise MeasurementError(f"{path}: holds no {SESSION_KEY!r} list")
+    return session_measurements(d), ""
 
 
 def _write_atomic(path: Path, text: str) -> None:

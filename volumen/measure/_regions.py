@@ -1,4 +1,4 @@
-"""A region's statistics over the scan's voxels (never over the displayed picture).
+"""A region's statistics, and a point's value, over the scan's voxels (never over the displayed picture).
 
 The voxels of a region are those whose box the plane cuts and whose centre, projected onto the plane, lies inside
 the shape. A voxel's box is cut by the plane where its centre lies within half the box's width along the normal,
@@ -16,7 +16,7 @@ from ..errors import OutsideVolumeError
 from ._model import RegionStats, Scan
 from ._plane_shapes import Plane
 
-__all__ = ["roi_stats", "region_voxels"]
+__all__ = ["roi_stats", "region_voxels", "point_value"]
 
 
 def _half_width(volume, plane: Plane) -> float:
@@ -101,3 +101,14 @@ def roi_stats(volume, plane: Plane, shape, label: str = "") -> RegionStats:
     return RegionStats(plane=plane, shape=shape, mean=float(values.mean()), sd=float(values.std()),
                   min=float(values.min()), max=float(values.max()), median=float(np.median(values)),
                   area_mm2=shape.area, voxels=int(values.size), units=units, scan=Scan.of(volume), label=label)
+
+
+def point_value(volume, world) -> tuple[float, str] | None:
+    """The scan's value at the voxel nearest world point ``world`` (RAS+ mm) and its units (HU for a CT stored
+    with an offset, as :func:`roi_stats`); None outside the volume."""
+    k = np.rint(volume.world_to_index(np.asarray(world, float)[None])[0]).astype(int)
+    if np.any(k < 0) or np.any(k >= np.asarray(volume.shape)[::-1]):
+        return None
+    value = float(np.asarray(volume.data[k[2], k[1], k[0]]))
+    offset = hu_offset(volume)
+    return (value - offset, "HU") if offset is not None else (value, volume.units or "")

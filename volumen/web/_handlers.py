@@ -28,7 +28,7 @@ from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
 from volumen.render.raster._shaders import STAGES, stage_parts
 
 from ._frames import FrameBudgetError, encode, web_frame
-from ._measure_routes import pick_answer, region_answer
+from ._measure_routes import measurements_answer, pick_answer, region_answer, value_answer
 from ._requests import BadRequest, frame_request
 from ._serve_limits import ServeLimits, cache_size
 from ._served import DEFAULT_MAX_3D, ServedVolume
@@ -41,7 +41,8 @@ _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
 #: route -> (method, handler name of :class:`Handlers`), besides the page's files
 _ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
             "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
-            "region.json": ("POST", "region"), "pick.json": ("POST", "pick")}
+            "region.json": ("POST", "region"), "value.json": ("POST", "value"), "pick.json": ("POST", "pick"),
+            "measurements.json": ("GET", "measurements"), "open-measurements.json": ("POST", "open_measurements")}
 
 
 def static_folder():
@@ -117,6 +118,7 @@ class Handlers:
         self._pool = ThreadPoolExecutor(max_workers=limits.workers, thread_name_prefix="volumen-web")
         self._waiting = self._sending = 0
         self._messages: dict[int, bytes] = {}   # volume.bin's message per served size, shared by every answer
+        self.opening: list[dict] = []   # the measurements the page opens with (``volumen serve --measurements``)
 
     def served(self, max_3d: int = DEFAULT_MAX_3D) -> ServedVolume:
         """The volume as a client with ``max_3d`` (its 3-D texture size) gets it: made once per power of two,
@@ -224,6 +226,23 @@ class Handlers:
 
         body = await self.body(request)
         return await self.work(region_answer, self.source, body), "application/json"
+
+    async def value(self, request):
+        """The scan's own value at a point (``{"point": [x, y, z]}`` mm) -> ``{"value", "units"}`` or null."""
+
+        body = await self.body(request)
+        return await self.work(value_answer, self.source, body), "application/json"
+
+    async def measurements(self, request):
+        """The measurements the page opens with, as ``volumen.measure.Measurements.to_dicts``."""
+
+        return json.dumps({"measurements": self.opening}).encode(), "application/json"
+
+    async def open_measurements(self, request):
+        """The measurements of a file the user opens on the page (its bytes), checked against the scan."""
+
+        body = await self.body(request)
+        return await self.work(measurements_answer, self.source, body), "application/json"
 
     async def pick(self, request):
         """The first visible surface under a point of the 3-D picture, in the served volume (the page's)."""

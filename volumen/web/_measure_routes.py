@@ -1,22 +1,41 @@
 """The page's measurements that need the server: ``region.json`` answers the statistics of a region drawn on a slice
 view over the scan's own voxels (``volumen.measure.roi_stats``), never over the picture or the served copy;
-``pick.json`` the first visible surface under a point of the 3-D picture (``volumen.measure.pick``) in the served
-volume, the one the page draws, on the CPU. Nothing that names the scan: numbers and units."""
+``value.json`` the scan's own value at a point (``volumen.measure.point_value``); ``open-measurements.json`` the
+measurements of a file the user opens on the page (a DICOM SR, a session or a measurements JSON), refused where
+they belong to another study or scan; ``pick.json`` the first visible
+surface under a point of the 3-D picture (``volumen.measure.pick``) in the served volume, the one the page draws,
+on the CPU. Nothing that names the scan: numbers and units."""
 
 from __future__ import annotations
 
 import json
+import os
+import tempfile
+import threading
 
 import numpy as np
 from aiohttp import web
 
 from volumen.core import Camera, Scene
-from volumen.errors import OutsideVolumeError, VolumenError
-from volumen.measure import Plane, pick, roi_stats, shape_from_dict
+from volumen.errors import MeasurementError, OutsideVolumeError, VolumenError
+from volumen.measure import (
+    Plane,
+    check_scan,
+    check_study,
+    pick,
+    point_value,
+    read_measurements,
+    roi_stats,
+    shape_from_dict,
+)
 
 from ._requests import BadRequest, frame_request
 
-__all__ = ["region_answer", "pick_answer"]
+__all__ = ["region_answer", "value_answer", "measurements_answer", "pick_answer"]
+
+#: one file read at a time: an SR's first reading imports highdicom and volumen.pacs, which two request threads
+#: must not import at once (Python's import locks can answer that with a _DeadlockError)
+_READING = threading.Lock()
 
 #: the numbers of a region the page is told
 FIELDS = ("mean", "sd", "min", "max", "median", "area_mm2", "voxels", "units")
@@ -36,6 +55,54 @@ def region_answer(volume, body: bytes) -> bytes:
         text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise web.HTTPBadRequest(text=text[:200]) from None
     return json.dumps({f: getattr(region, f) for f in FIELDS}).encode()
+
+
+def value_answer(volume, body: bytes) -> bytes:
+    """The JSON answer for a ``value.json`` body ``{"point": [x, y, z]}`` (world mm): ``{"value", "units"}`` of the
+    scan's voxel nearest it, or null outside the scan; 400 with one line for a bad request."""
+
+    try:
+        point = np.asarray(json.loads(body)["point"], dtype=float)
+        if point.shape != (3,) or not np.all(np.isfinite(point)):
+            raise ValueError("point must be three finite numbers (mm)")
+        found = point_value(volume, point)
+    except (ValueError, KeyError, TypeError, IndexError, AttributeError) as exc:
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise web.HTTPBadRequest(text=text[:200]) from None
+    return json.dumps(None if found is None else {"value": found[0], "units": found[1]}).encode()
+
+
+def _read_body(body: bytes):
+    """The measurements of a file's bytes and its study UID (an SR's; "" for JSON)."""
+    fd, path = tempfile.mkstemp(prefix="volumen-measurements-")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(body)
+        return read_measurements(path)
+    finally:
+        os.unlink(path)
+
+
+def measurements_answer(volume, body: bytes) -> bytes:
+    """The JSON answer for an ``open-measurements.json`` body (the bytes of a DICOM SR, a session or a measurements
+    JSON): ``{"measurements": [...]}`` as ``Measurements.to_dicts``; 400 with one line that names neither file nor
+    scan for a file that holds none, an SR of another study, measurements of another scan."""
+
+    with _READING:
+        try:
+            items, study = _read_body(body)
+        except (MeasurementError, ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise web.HTTPBadRequest(text=f"the file holds no measurements volumen reads ({type(exc).__name__})"
+                                     ) from None
+        try:
+            check_study(study, volume, "the SR") if study else None
+        except MeasurementError:
+            raise web.HTTPBadRequest(text="the SR is of another study than the scan shown") from None
+    try:
+        check_scan(items, volume)
+    except MeasurementError:
+        raise web.HTTPBadRequest(text="the measurements were made on another scan than the one shown") from None
+    return json.dumps({"measurements": items.to_dicts()}).encode()
 
 
 def pick_answer(volume, body: bytes) -> bytes:

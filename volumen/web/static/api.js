@@ -42,6 +42,13 @@ export async function postBinary(route, body) {
   return decode(await (await checked(r)).arrayBuffer());
 }
 
+/** @param {string} route @param {Blob} file sent as its bytes @returns {Promise<any>} the parsed JSON answer */
+export async function postFile(route, file) {
+  const r = await fetch(route, { method: 'POST', headers: { ...HEADERS, 'Content-Type': 'application/octet-stream' },
+    body: file });
+  return (await checked(r)).json();
+}
+
 /** @param {string} route @param {unknown} body sent as JSON @returns {Promise<any>} the parsed JSON answer */
 export async function postJSON(route, body) {
   const r = await fetch(route, { method: 'POST', headers: { ...HEADERS, 'Content-Type': 'application/json' },

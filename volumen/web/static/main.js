@@ -65,6 +65,7 @@ async function boot() {
   const slices = new SliceViews(element('slices', HTMLElement), { info, max3d,
     onCrosshair: () => viewer.redraw() });
   const measures = new SliceMeasures(slices);
+  measures.fromDicts((await getJSON('measurements.json')).measurements);   // `volumen serve --measurements`
   const ruler3d = new PictureRuler(viewer, measures, /** @type {HTMLElement} */ (canvas.parentElement));
   const xrRuler = new XRRuler(xr, ruler3d);
   const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });

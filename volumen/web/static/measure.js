@@ -1,11 +1,14 @@
-// Rulers and regions on the slice views: place with a tool (ruler, rectangle, ellipse) by a drag, move by a drag
-// on an end or corner, delete by a right click there. The value is drawn beside each and follows the drag: a
-// ruler's length from its world points, a region's statistics from the server (region.json: the scan's own
-// voxels, volumen.measure.roi_stats). Every view draws what its slice cuts: the whole measurement where it lies
+// Rulers, angles, points and regions on the slice views: place with a tool (ruler, angle, point, rectangle,
+// ellipse, polygon) by a drag (an angle by two: its first arm, first point to vertex, then its second point; a
+// free-hand polygon is the path the drag traces, a vertex every TRACE_STEP px), move by a drag
+// on a handle (an end, a point, a corner), delete by a right click there. The value is drawn beside each and
+// follows the drag: a ruler's length and an angle's degrees (beside its vertex) from their world points, a
+// point's world mm and the scan's value there (value.json, volumen.measure.point_value), a region's statistics from
+// the server (region.json: the scan's own voxels, volumen.measure.roi_stats). Every view draws what its slice cuts: the whole measurement where it lies
 // in the slice (within half a voxel), the crossing points elsewhere. The measurements are volumen.measure's
 // JSON (`toDicts`), which `volumen measure export` reads.
 
-import { postJSON } from './api.js';
+import { postFile, postJSON } from './api.js';
 import { add, cross, dot, norm, scale, sub, unit } from './linalg.js';
 import { fitted } from './slices.js';
 
@@ -13,15 +16,22 @@ import { fitted } from './slices.js';
 /** @import { Vec3 } from './linalg.js' */
 /**
  * @typedef {{origin: Vec3, u: Vec3, v: Vec3}} Plane
- * @typedef {{kind: string, lo?: number[], hi?: number[], center?: number[], radii?: number[]}} Shape
+ * @typedef {{kind: string, lo?: number[], hi?: number[], center?: number[], radii?: number[],
+ *   points?: number[][]}} Shape
  * @typedef {{mean: number, sd: number, min: number, max: number, median: number, area_mm2: number,
  *   voxels: number, units: string}} Stats
  * @typedef {{kind: string, points: Vec3[], plane: Plane | null, shape: string, stats: Stats | null,
- *   label: string}} Measurement  a ruler (points: its ends) or a region (points: two opposite corners)
+ *   label: string, value?: {value: number, units: string} | null, asked?: number}} Measurement  a ruler (points: its ends), an
+ *   angle (its first point, vertex and second point; two while its first arm is placed), a point (value: the
+ *   scan's there) or a region (points: two opposite corners; a polygon's: its vertices); asked: the number of
+ *   its latest request to the server (an answer to an older one is dropped)
  */
 
-export const TOOLS = ['ruler', 'rectangle', 'ellipse'];
+export const TOOLS = ['ruler', 'angle', 'point', 'rectangle', 'ellipse', 'polygon'];
+/** @type {Record<string, string>} the kind of measurement a tool makes, besides regions */
+const KIND = { ruler: 'distance', angle: 'angle', point: 'point' };
 const GRAB = 7;   // px: how near a press must be to an end or corner to grab it
+const TRACE_STEP = 4;   // px: how far the pointer moves before a traced polygon takes its next vertex
 const SVG = 'http://www.w3.org/2000/svg';
 const ELLIPSE_POINTS = 72;
 
@@ -33,6 +43,11 @@ const valueText = (v, units) => (units.toUpperCase().startsWith('HU') ? String(M
 function boxOf(m) {
   const p = /** @type {Plane} */ (m.plane);
   const st = m.points.map((w) => [dot(sub(w, p.origin), p.u), dot(sub(w, p.origin), p.v)]);
+  if (m.shape === 'polygon') {
+    const s = st.map((q) => q[0]), t = st.map((q) => q[1]);
+    return { lo: [Math.min(...s), Math.min(...t)], hi: [Math.max(...s), Math.max(...t)],
+      shape: { kind: 'polygon', points: st } };
+  }
   const lo = [Math.min(st[0][0], st[1][0]), Math.min(st[0][1], st[1][1])];
   const hi = [Math.max(st[0][0], st[1][0], lo[0] + 1e-3), Math.max(st[0][1], st[1][1], lo[1] + 1e-3)];
   const shape = m.shape === 'rectangle' ? { kind: 'rectangle', lo, hi }
@@ -41,10 +56,15 @@ function boxOf(m) {
   return { lo, hi, shape };
 }
 
-/** A measurement's outline in world mm: a ruler's ends, a region's closed outline. */
+/** The world point of plane coordinates (s, t) mm on plane p. */
+/** @param {Plane} p @returns {(st: number[]) => Vec3} */
+const onPlane = (p) => (st) => add(p.origin, add(scale(p.u, st[0]), scale(p.v, st[1])));
+
+/** A measurement's outline in world mm: its points, a region's closed outline. */
 /** @param {Measurement} m @returns {Vec3[]} */
 function outline(m) {
-  if (m.kind === 'distance') return m.points;
+  if (m.kind !== 'region') return m.points;
+  if (m.shape === 'polygon') return [...m.points, m.points[0]];
   const p = /** @type {Plane} */ (m.plane), { lo, hi } = boxOf(m);
   /** @type {(s: number, t: number) => Vec3} */
   const at = (s, t) => add(p.origin, add(scale(p.u, s), scale(p.v, t)));
@@ -61,10 +81,22 @@ function outline(m) {
 /** @param {Measurement} m */
 export function caption(m) {
   if (m.kind === 'distance') return `${norm(sub(m.points[1], m.points[0])).toFixed(1)} mm`;
+  if (m.kind === 'angle') return m.points.length === 3 ? `${degrees(m.points).toFixed(1)}\u00b0` : '';
+  if (m.kind === 'point') {
+    const at = `${m.points[0].map((c) => (c + 0).toFixed(1)).join(' ')} mm`, v = m.value;
+    return v ? `${at}  ${valueText(v.value, v.units)}${v.units ? ` ${v.units}` : ''}` : at;
+  }
   const s = m.stats;
   if (!s) return '...';
   const u = s.units ? ` ${s.units}` : '';
   return `mean ${valueText(s.mean, s.units)}${u}  SD ${valueText(s.sd, s.units)}  ${s.area_mm2.toFixed(1)} mm\u00b2`;
+}
+
+/** The angle at the vertex (the middle point) in degrees, 0..180. */
+/** @param {Vec3[]} points */
+function degrees([first, vertex, second]) {
+  const a = sub(first, vertex), b = sub(second, vertex);
+  return (Math.atan2(norm(cross(a, b)), dot(a, b)) * 180) / Math.PI;
 }
 
 export class SliceMeasures {
@@ -91,6 +123,7 @@ export class SliceMeasures {
       b.addEventListener('click', () => this.setTool(tool));
       bar.append(b);
     }
+    bar.append(this.opener());
     /** @type {HTMLElement} */ (slices.views.axial.img.parentElement).append(bar);
     for (const [plane, v] of Object.entries(slices.views)) {
       const svg = /** @type {SVGSVGElement} */ (document.createElementNS(SVG, 'svg'));
@@ -103,14 +136,55 @@ export class SliceMeasures {
     }
     slices.onDrawn = () => this.draw();
     addEventListener('pointermove', (e) => this.move(e));
-    addEventListener('pointerup', () => { this.drag = null; });
+    addEventListener('pointerup', () => this.up());
     this.setTool(null);
+  }
+
+  // the "open" button: a DICOM SR, a session or a measurements JSON the user picks, read by the server
+  // (open-measurements.json: checked to be of the scan's study and series) and added; a refusal shows in one line
+  opener() {
+    const input = /** @type {HTMLInputElement} */ (document.createElement('input'));
+    Object.assign(input, { type: 'file', accept: '.dcm,.json,application/dicom,application/json', hidden: true });
+    const button = document.createElement('button');
+    button.textContent = 'open SR...';
+    button.className = 'open-measurements';
+    button.addEventListener('click', () => input.click());
+    this.note = document.createElement('span');
+    this.note.className = 'measure-note';
+    input.addEventListener('change', () => { if (input.files?.[0]) this.open(input.files[0]); input.value = ''; });
+    const span = document.createElement('span');
+    span.className = 'measure-open';
+    span.append(button, input, this.note);
+    return span;
+  }
+
+  /** Add the measurements of a file (its bytes read by the server); returns how many, 0 with the refusal shown. */
+  /** @param {Blob} file */
+  async open(file) {
+    const note = /** @type {HTMLSpanElement} */ (this.note);
+    try {
+      const n = this.fromDicts((await postFile('open-measurements.json', file)).measurements);
+      note.textContent = `${n} measurement(s) opened`;
+      return n;
+    } catch (e) {
+      note.textContent = String((e instanceof Error && e.message) || e).replace(/^\d+: /, '');
+      return 0;
+    }
+  }
+
+  // the end of a drag: a traced polygon of fewer than three vertices is dropped
+  up() {
+    const m = this.drag && this.items[this.drag.index];
+    this.drag = null;
+    if (m && m.shape === 'polygon' && m.points.length < 3) { this.items.splice(this.items.indexOf(m), 1); this.draw(); }
   }
 
   /** @param {string | null} tool */
   setTool(tool) {
     this.tool = tool;
-    this.bar.querySelectorAll('button').forEach((b) => b.classList.toggle('on', b.dataset.tool === (tool ?? '')));
+    this.bar.querySelectorAll('button[data-tool]').forEach((b) => {
+      b.classList.toggle('on', /** @type {HTMLElement} */ (b).dataset.tool === (tool ?? ''));
+    });
   }
 
   /** @param {string} plane @param {number} clientX @param {number} clientY @returns {Vec3 | null} */
@@ -155,12 +229,21 @@ export class SliceMeasures {
     this.slices.suppressClick = true;
     if (grabbed) { this.drag = { ...grabbed, plane }; return; }
     const w = /** @type {Vec3} */ (this.worldAt(plane, e.clientX, e.clientY));
+    const last = this.items[this.items.length - 1];
+    if (this.tool === 'angle' && last?.kind === 'angle' && last.points.length === 2) {   // its second point
+      last.points.push(w);
+      this.drag = { index: this.items.length - 1, handle: 2, plane };
+      this.draw();
+      return;
+    }
     const map = /** @type {number[][]} */ (this.slices.views[plane].map);
-    const region = this.tool !== 'ruler';
-    this.items.push({ kind: region ? 'region' : 'distance', points: [w, w.slice()], label: '', stats: null,
-      shape: region ? /** @type {string} */ (this.tool) : '',
+    const tool = /** @type {string} */ (this.tool), region = !(tool in KIND);
+    this.items.push({ kind: KIND[tool] ?? 'region', points: tool === 'point' ? [w] : [w, w.slice()], label: '',
+      stats: null, shape: region ? tool : '', value: null,
       plane: region ? { origin: map[0], u: unit(map[1]), v: unit(map[2]) } : null });
-    this.drag = { index: this.items.length - 1, handle: 1, plane };
+    if (tool === 'polygon') this.items[this.items.length - 1].points = [w];   // traced: handle -1 adds vertices
+    this.drag = { index: this.items.length - 1, handle: { point: 0, polygon: -1 }[tool] ?? 1, plane };
+    if (tool === 'point') this.askValue(this.items[this.items.length - 1]);
     this.draw();
   }
 
@@ -174,20 +257,37 @@ export class SliceMeasures {
       const p = m.plane, d = sub(w, p.origin);
       w = add(p.origin, add(scale(p.u, dot(d, p.u)), scale(p.v, dot(d, p.v))));
     }
-    m.points[handle] = w;
-    if (m.kind === 'region') this.askStats(m);
+    if (handle < 0) {   // a polygon's trace
+      const [x0, y0] = this.toView(plane, m.points[m.points.length - 1]), [x1, y1] = this.toView(plane, w);
+      if (Math.hypot(x1 - x0, y1 - y0) < TRACE_STEP) return;
+      m.points.push(w);
+    } else m.points[handle] = w;
+    if (m.kind === 'region' && (m.shape !== 'polygon' || m.points.length >= 3)) this.askStats(m);
+    if (m.kind === 'point') this.askValue(m);
     this.draw();
   }
 
-  /** The region's statistics from the server; the latest request wins. */
+  /** The region's statistics from the server; its latest request wins. */
   /** @param {Measurement} m */
   async askStats(m) {
-    const seq = ++this.seq;
+    const seq = m.asked = ++this.seq;
     try {
       const stats = await postJSON('region.json', { plane: m.plane, shape: boxOf(m).shape });
-      if (seq === this.seq || !this.drag) { m.stats = stats; this.draw(); }
+      if (seq === m.asked) { m.stats = stats; this.draw(); }
     } catch {
       // a region that holds no voxel yet: its value waits for the drag
+    }
+  }
+
+  /** A point's value in the scan (its own voxels) from the server; its latest request wins. */
+  /** @param {Measurement} m */
+  async askValue(m) {
+    const seq = m.asked = ++this.seq;
+    try {
+      const value = await postJSON('value.json', { point: m.points[0] });
+      if (seq === m.asked) { m.value = value; this.draw(); }
+    } catch {
+      // the server could not answer: the point keeps its coordinates only
     }
   }
 
@@ -245,23 +345,27 @@ export class SliceMeasures {
       return e;
     };
     const pts = xy.map(([x, y]) => `${x},${y}`).join(' ');
-    if (whole || m.kind !== 'distance') el('polyline', { points: pts, class: whole ? 'whole' : 'cut' });
+    if (whole || m.kind === 'region') el('polyline', { points: pts, class: whole ? 'whole' : 'cut' });
+    if (whole && m.kind === 'point') el('circle', { cx: xy[0][0], cy: xy[0][1], r: 3, class: 'whole' });
     if (!whole) for (const [x, y] of xy) el('path', { d: `M${x - 4},${y - 4}l8,8m0,-8l-8,8`, class: 'cut' });
-    if (!whole && m.kind !== 'distance') return;   // a region's value is drawn where it lies whole, not by a chord
-    const x = Math.max(...xy.map((p) => p[0])) + 6;
-    let y = Math.min(...xy.map((p) => p[1])) - 4;
+    if (!whole && m.kind === 'region') return;   // a region's value is drawn where it lies whole, not by a chord
+    const text0 = caption(m);
+    if (!text0) return;   // an angle whose second point is not placed yet
+    const at = whole && m.kind === 'angle' ? [xy[1]] : xy;   // an angle's value beside its vertex
+    const x = Math.max(...at.map((p) => p[0])) + 6;
+    let y = Math.min(...at.map((p) => p[1])) - 4;
     /** @type {number[][]} */
     const taken = [];
     svg.querySelectorAll('text').forEach((t) => taken.push([Number(t.getAttribute('x')), Number(t.getAttribute('y'))]));
     while (taken.some(([tx, ty]) => Math.abs(ty - y) < 13 && Math.abs(tx - x) < 160)) y += 14;   // under one there
     const text = /** @type {SVGTextElement} */ (el('text', { x, y }));
-    text.textContent = caption(m);
+    text.textContent = text0;
     const wide = text.getComputedTextLength();   // kept inside the view
     if (x + wide > svg.clientWidth) text.setAttribute('x', String(Math.max(0, svg.clientWidth - wide - 2)));
   }
 
-  // add volumen.measure's JSON (Measurements.to_dicts: rulers and rectangle or ellipse regions; what else it
-  // holds is left out), as `toDicts` writes it; returns how many were added
+  // add volumen.measure's JSON (Measurements.to_dicts: rulers, angles, points and rectangle or ellipse regions;
+  // what else it holds is left out), as `toDicts` writes it; returns how many were added
   /** @param {Record<string, any>[]} dicts */
   fromDicts(dicts) {
     let n = 0;
@@ -269,12 +373,19 @@ export class SliceMeasures {
       if (d.kind === 'distance') {
         this.items.push({ kind: 'distance', points: [d.start, d.end], plane: null, shape: '', stats: null,
           label: d.label ?? '' });
+      } else if (d.kind === 'angle' || d.kind === 'point') {
+        const m = { kind: d.kind, points: d.kind === 'angle' ? [d.first, d.vertex, d.second] : [d.position],
+          plane: null, shape: '', stats: null, value: null, label: d.label ?? '' };
+        this.items.push(m);
+        if (d.kind === 'point') this.askValue(m);
+      } else if (d.kind === 'region' && d.shape.kind === 'polygon') {
+        const p = d.plane, at = onPlane(p), { mean, sd, min, max, median, area_mm2, voxels, units } = d;
+        this.items.push({ kind: 'region', points: d.shape.points.map(at), plane: p, shape: 'polygon',
+          label: d.label ?? '', stats: { mean, sd, min, max, median, area_mm2, voxels, units } });
       } else if (d.kind === 'region' && ['rectangle', 'ellipse'].includes(d.shape.kind)) {
-        const s = d.shape, p = d.plane;
+        const s = d.shape, p = d.plane, at = onPlane(p);
         const lo = s.lo ?? [s.center[0] - s.radii[0], s.center[1] - s.radii[1]];
         const hi = s.hi ?? [s.center[0] + s.radii[0], s.center[1] + s.radii[1]];
-        /** @type {(st: number[]) => Vec3} */
-        const at = (st) => add(p.origin, add(scale(p.u, st[0]), scale(p.v, st[1])));
         const { mean, sd, min, max, median, area_mm2, voxels, units } = d;
         this.items.push({ kind: 'region', points: [at(lo), at(hi)], plane: p, shape: s.kind, label: d.label ?? '',
           stats: { mean, sd, min, max, median, area_mm2, voxels, units } });
@@ -287,9 +398,14 @@ export class SliceMeasures {
 
   // the measurements as volumen.measure's JSON (Measurements.to_dicts)
   toDicts() {
-    return this.items.map((m) => {
+    const placed = (/** @type {Measurement} */ m) => (m.kind === 'angle' ? m.points.length === 3
+      : m.shape !== 'polygon' || m.points.length >= 3);
+    return this.items.filter(placed).map((m) => {
       if (m.kind === 'distance') return { kind: 'distance', start: m.points[0], end: m.points[1], label: m.label,
         scan: {} };
+      if (m.kind === 'angle') return { kind: 'angle', first: m.points[0], vertex: m.points[1], second: m.points[2],
+        label: m.label, scan: {} };
+      if (m.kind === 'point') return { kind: 'point', position: m.points[0], label: m.label, scan: {} };
       return { kind: 'region', plane: m.plane, shape: boxOf(m).shape, label: m.label, scan: {},
         ...(m.stats ?? {}) };
     });

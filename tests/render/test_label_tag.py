@@ -39,7 +39,7 @@ def test_a_frame_carries_the_label_tag_of_its_label_map(organs):
     plain, labelled = organs
     for scene, tag in ((plain, ScanOnly), (labelled, WithLabels)):
         s = pack_frame(scene, Camera.orbit(scene.volume), (16, 16)).settings
-        assert type(s.labels) is tag and (s.nlab > 0) == (tag is WithLabels)
+        assert type(s.labels) is tag and (s.nlabels > 0) == (tag is WithLabels)
     assert label_tag(0) == ScanOnly() and label_tag(3) == WithLabels()
 
 

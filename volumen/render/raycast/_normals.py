@@ -144,7 +144,7 @@ def _weight(fx, fy, fz, n):
 def _corner(a, k, j, i, fx, fy, fz, n):
     """Corner ``n`` of a cell, voxel ``[k, j, i]``: its direction's components ``q`` times its trilinear weight."""
     w = _weight(fx, fy, fz, n)
-    qx, qy, qz = _component(a.ndir[a.ncode[k, j, i]])
+    qx, qy, qz = _component(a.normal_dirs[a.normal_codes[k, j, i]])
     return w * qx, w * qy, w * qz
 
 
@@ -155,8 +155,9 @@ def _add(p, q):
 
 @njit(cache=True, fastmath=True, inline="always")
 def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
-    """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of ``a.ncode`` (decoded
-    by ``a.ndir``) when ``want_dir`` and magnitude codes of ``a.gcode`` when ``want_mag`` (0 otherwise)."""
+    """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of ``a.normal_codes``
+    (decoded by ``a.normal_dirs``) when ``want_dir`` and magnitude codes of ``a.gradient_codes`` when ``want_mag``
+    (0 otherwise)."""
     nz, ny, nx = a.vol.shape
     gx = gy = gz = gm = 0.0
     if nearest:
@@ -164,10 +165,10 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
         j = min(max(int(y + 0.5), 0), ny - 1)
         k = min(max(int(z + 0.5), 0), nz - 1)
         if want_dir:
-            qx, qy, qz = _component(a.ndir[a.ncode[k, j, i]])
+            qx, qy, qz = _component(a.normal_dirs[a.normal_codes[k, j, i]])
             gx, gy, gz = _direction(qx, qy, qz)
         if want_mag:
-            gm = np.float64(a.gcode[k, j, i])
+            gm = np.float64(a.gradient_codes[k, j, i])
         return gx, gy, gz, gm
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
@@ -180,6 +181,7 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
         gx, gy, gz = _direction(gx, gy, gz)  # the trilinear weights sum to 1: the offset is taken off once
     if want_mag:
         for n in range(8):
-            gm += _weight(fx, fy, fz, n) * a.gcode[k1 if n & 4 else k0, j1 if n & 2 else j0, i1 if n & 1 else i0]
+            gm += _weight(fx, fy, fz, n) * a.gradient_codes[k1 if n & 4 else k0, j1 if n & 2 else j0,
+                                                            i1 if n & 1 else i0]
     return gx, gy, gz, gm
 

@@ -51,7 +51,8 @@ def _compiled_shadow_ray(scene) -> str:
     med = njit(lambda a, s: frame_medium(a, s))(a, s)
     assert isinstance(med, Medium) and type(med.labels) is type(s.labels)
     fresh = njit(fastmath=True)(shadow_transmittance.py_func)
-    t = fresh(med, a.cells, False, a.geo, a.planes, 0, *scene.volume.center, 1.0, 0.0, 0.0, 5.0, s.ds0, s.ds0, 1.0)
+    t = fresh(med, a.cells, False, (a.geo, a.planes, 0), tuple(scene.volume.center), (1.0, 0.0, 0.0), 5.0,
+              (s.ds0, s.ds0, 1.0))
     assert 0.0 <= t <= 1.0
     return fresh.inspect_llvm(fresh.signatures[0])
 

@@ -65,7 +65,7 @@ class Event(NamedTuple):
 
     point: tuple      #: where it happens, world mm
     direction: tuple  #: the direction the path arrived along (unit)
-    index: int        #: events before it on the path (its Sobol dimensions, ``_dim``)
+    number: int       #: events before it on the path (it picks its Sobol dimensions, ``_dim``)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -125,7 +125,7 @@ def _transmittance(a, s, w, lv, dist, off, key, ctr):
 @njit(cache=True, fastmath=True, inline="always")
 def _light_sample(a, s, li, ev, pick, key, ctr):
     """Light ``li`` reaching event ``ev`` (an :class:`Event`), per unit throughput, over its pick probability."""
-    w, d, n = ev.point, ev.direction, ev.index
+    w, d, n = ev.point, ev.direction, ev.number
     rad = a.lights[li, L_RAD]
     qx, qy, qz = a.lights[li, L_POS], a.lights[li, L_POS + 1], a.lights[li, L_POS + 2]
     u1, ctr = _u(key, n, _D_LIGHT, ctr)
@@ -151,7 +151,7 @@ def _light_sample(a, s, li, ev, pick, key, ctr):
 def _env_sample(a, s, ev, pick, last, key, ctr):
     """The environment reaching event ``ev`` (an :class:`Event`) along a direction drawn from its tables,
     MIS-weighted against phase sampling unless the path ends here (``last``), over its pick probability."""
-    w, d, n = ev.point, ev.direction, ev.index
+    w, d, n = ev.point, ev.direction, ev.number
     u1, ctr = _u(key, n, _D_LIGHT, ctr)
     u2, ctr = _u(key, n, _D_LIGHT + 1, ctr)
     lx, ly, lz, pdf = env_sample(a, u1, u2)
@@ -170,7 +170,7 @@ def _env_sample(a, s, ev, pick, last, key, ctr):
 def _next_event(a, s, ev, env_w, last, key, ctr):
     """One light (or the environment, of weight ``env_w``) reaching event ``ev`` (an :class:`Event`):
     ``(r, g, b, ctr)`` per unit throughput."""
-    n = ev.index
+    n = ev.number
     total = env_w
     for li in range(s.nlights):
         total += _power(a, li)

@@ -30,8 +30,8 @@ class ProjectionState(NamedTuple):
 
     extreme: float  #: the largest value so far (minip: the largest negated value, :func:`_signed`)
     depth: float    #: where ``extreme`` was first met
-    total: float    #: the sum of the values so far
-    count: float    #: the number of values summed
+    value_sum: float    #: the sum of the values so far
+    value_count: float  #: the number of values summed
 
 
 @init.register(Projection)
@@ -52,8 +52,8 @@ def _step(light, r, a, s, st, smp):
     t, v = smp.t, smp.v
     if s.projection != AVERAGE:
         w = _signed(s, v)
-        return (ProjectionState(w, t, st.total, st.count) if w > st.extreme else st), 0, False
-    return ProjectionState(st.extreme, st.depth, st.total + v, st.count + 1.0), 0, False
+        return (ProjectionState(w, t, st.value_sum, st.value_count) if w > st.extreme else st), 0, False
+    return ProjectionState(st.extreme, st.depth, st.value_sum + v, st.value_count + 1.0), 0, False
 
 
 @njit(cache=True, fastmath=True)
@@ -77,8 +77,8 @@ def _finish(light, r, a, s, st, end, pix):
     if s.projection != AVERAGE:
         if taken > 0:
             _write(a, s, _signed(s, st.extreme), st.depth, out, px, py)
-    elif st.count > 0.0:
-        _write(a, s, st.total / st.count, r.t0, out, px, py)
+    elif st.value_count > 0.0:
+        _write(a, s, st.value_sum / st.value_count, r.t0, out, px, py)
 
 
 @radius.register(Projection)

@@ -152,7 +152,7 @@ demo: $(DEMO_STAMP)
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff]); the test extra installs
 # the CUDA compiler's libraries, so the CUDA kernels' PTX check must run, not skip (VOLUMEN_REQUIRE_PTX)
 test: $(STAMP) system-data system-libs browser pacs-server web-deps readme-venv
-	$(VENV)/bin/ruff check volumen tests
+	$(VENV)/bin/ruff check volumen tests tools
 	VOLUMEN_REQUIRE_PTX=1 $(PY) -m pytest $(PYTEST_ARGS)
 
 # A long seeded fuzz campaign over every reader (12,000 mutants, 2 workers, 10 s and 4 GiB per mutant);
@@ -160,7 +160,7 @@ test: $(STAMP) system-data system-libs browser pacs-server web-deps readme-venv
 # read outside the header's folder. `make test` runs a 3,000-mutant slice (tests/io/test_fuzz.py).
 FUZZ_ARGS ?= --mutants 12000 --seed 1
 fuzz: $(STAMP) fuzz-net
-	$(PY) -m volumen.io.fuzz $(FUZZ_ARGS)
+	$(PY) -m tools.fuzz.io $(FUZZ_ARGS)
 
 # A long seeded campaign over the network surfaces: 20,000 mutated requests (request lines, headers, bodies, query
 # values) to `volumen serve` in a process of its own and 5,000 mutated DICOMweb answers from a hostile archive to
@@ -168,10 +168,10 @@ fuzz: $(STAMP) fuzz-net
 # server's log, or control character in a table. `make test` runs a slice (tests/web/test_net_fuzz.py).
 FUZZ_NET_ARGS ?= --requests 20000 --replies 5000 --seed 1
 fuzz-net: $(STAMP)
-	$(PY) -m volumen.web.fuzz $(FUZZ_NET_ARGS)
+	$(PY) -m tools.fuzz.net $(FUZZ_NET_ARGS)
 
 # The 2048x2048x1024 int16 synthetic volume (8 GiB of disk, written to a temporary folder and deleted)
-# drawn out of core in a fresh process; prints its peak RSS, the cache, the bound and the time (issue 16).
+# drawn out of core in a fresh process; prints its peak RSS, the cache, the bound and the time.
 huge: $(STAMP)
 	$(VENV)/bin/volumen bench scale --huge
 

@@ -21,7 +21,7 @@ def pytest_configure(config):
 
     kernel_folder()
     if os.environ.get("VOLUMEN_COMPILE_LOCK", "1") != "0":
-        from compile_lock import install
+        from tests.compile_lock import install
 
         install()
 
@@ -69,10 +69,7 @@ def output_dir() -> Path:
 def archive(tmp_path_factory):
     """A running Orthanc (Debian's package, free local ports, temporary storage) holding the test studies and
     pydicom's files (tests/pacs/archive_data.py); stopped at the end. Skips, saying why, without Orthanc."""
-    import sys
-
-    sys.path.insert(0, str(ROOT / "tests" / "pacs"))
-    from archive_data import running_archive
+    from tests.pacs.archive_data import running_archive
 
     yield from running_archive(tmp_path_factory)
 
@@ -81,8 +78,8 @@ def archive(tmp_path_factory):
 def archive_config(archive, tmp_path, monkeypatch):
     """``archive`` named ``archive`` in a servers.toml under a temporary XDG_CONFIG_HOME (the password in an
     environment variable) and an empty temporary cache; returns the servers.toml path."""
-    from archive_data import PASSWORD_ENV, write_servers_toml
-    from orthanc_server import PASSWORD
+    from tests.pacs.archive_data import PASSWORD_ENV, write_servers_toml
+    from tests.pacs.orthanc_server import PASSWORD
 
     monkeypatch.delenv("VOLUMEN_CONFIG_DIR", raising=False)
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))

@@ -29,3 +29,12 @@ def test_import_volumen_is_light():
             "'PySide6', 'moderngl', 'vtk', 'imageio') if m in sys.modules]; print(','.join(heavy))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "", f"import volumen loaded: {out}"
+
+
+def test_import_volumen_measure_is_light():
+    """The measurement model is numpy only at import: a notebook measuring a distance loads no DICOM or SR
+    machinery (highdicom and pydicom come with the SR's reader and writer, when used)."""
+    code = ("import sys, volumen.measure; heavy = [m for m in ('numba', 'scipy', 'pydicom', 'highdicom', 'PySide6', "
+            "'moderngl') if m in sys.modules]; print(','.join(heavy))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "", f"import volumen.measure loaded: {out}"

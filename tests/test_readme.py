@@ -1,4 +1,4 @@
-"""Every ``volumen ...`` command of the README's shell examples runs (issue 12, item 7), against the phantoms and
+"""Every ``volumen ...`` command of the README's shell examples runs, against the phantoms and
 the shared data, so an example can never go stale.
 
 The commands run one after the other in one folder (a later one may read what an earlier one wrote), through
@@ -17,6 +17,7 @@ reader's own data are made here:
   ``servers.toml`` under a temporary ``XDG_CONFIG_HOME`` with an empty cache (the ``pacs`` and
   ``dicomweb://`` commands skip, saying so, where Orthanc is not installed).
 * ``cert.pem`` / ``key.pem``: a self-signed certificate made with ``openssl`` (the https line skips without it).
+* ``session.json``: a session of ``scan/`` with a ruler and an ellipse on it (``volumen.measure``).
 
 The commands run with the README's own venv where ``make readme-venv`` (``make test`` does) made it with make demo's
 recipe: every user extra and none of the test tools, as a new user has them; else in this process, saying so.
@@ -31,7 +32,6 @@ from __future__ import annotations
 
 import re
 import shlex
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -121,9 +121,7 @@ def _shrink(argv: list[str]) -> list[str]:
 
 
 def _scan(folder: Path) -> None:
-    sys.path.insert(0, str(ROOT / "tests" / "io"))
-    from dicom_factory import stack_positions, write_series
-
+    from tests.io.dicom_factory import stack_positions, write_series
     from volumen.data import phantom
 
     vol = phantom("torso", size=48)
@@ -154,7 +152,24 @@ def workdir(tmp_path_factory):
     _nifti(d / "segmentations" / "aorta.nii.gz", torso.meta["truth"]["aorta"].mask.astype(np.uint8), torso.affine)
     _manifest(d / "manifest.csv")
     _certificate(d)
+    _session(d)
     return d
+
+
+def _session(folder: Path) -> None:
+    """``session.json``: ``scan/`` (as a relative path, as the commands run in ``folder``) with a ruler and a region."""
+    import json
+
+    import volumen
+    from volumen import measure
+
+    scan = volumen.load(folder / "scan")
+    c = scan.center
+    items = measure.Measurements([measure.distance(c - 10, c + 10, volume=scan),
+                                  measure.roi_stats(scan, measure.slice_plane(scan, "axial", scan.shape[0] // 2),
+                                                    measure.Ellipse((80.0, 60.0), (30.0, 20.0)))])
+    d = {"version": 1, "scene": {"volume": "scan"}, measure.SESSION_KEY: items.to_dicts()}
+    (folder / "session.json").write_text(json.dumps(d))
 
 
 def _certificate(folder: Path) -> None:
@@ -227,13 +242,12 @@ def _outputs(argv: list[str]) -> list[str]:
 @pytest.fixture(scope="module")
 def readme_archive(request, workdir, tmp_path_factory):
     """(config home, archive) with ``scan/`` uploaded, or the reason Orthanc cannot run here."""
-    sys.path.insert(0, str(ROOT / "tests" / "pacs"))
-    from orthanc_server import missing_reason
+    from tests.pacs.orthanc_server import missing_reason
 
     reason = missing_reason()
     if reason:
         return reason
-    from archive_data import write_servers_toml
+    from tests.pacs.archive_data import write_servers_toml
 
     archive = request.getfixturevalue("archive")
     files = sorted((workdir / "scan").iterdir())
@@ -336,8 +350,8 @@ def test_readme_commands_run_in_order(workdir, readme_archive, monkeypatch, caps
     monkeypatch.setattr(ViewerServer, "run", _serve_once)
     monkeypatch.setattr(webbrowser, "open", lambda url: True)
     if not isinstance(readme_archive, str):
-        from archive_data import PASSWORD_ENV
-        from orthanc_server import PASSWORD
+        from tests.pacs.archive_data import PASSWORD_ENV
+        from tests.pacs.orthanc_server import PASSWORD
 
         monkeypatch.delenv("VOLUMEN_CONFIG_DIR", raising=False)
         monkeypatch.setenv("XDG_CONFIG_HOME", str(readme_archive[0]))

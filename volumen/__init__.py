@@ -11,8 +11,8 @@ from .core import Volume
 from .core._repr import set_picture_maker
 from .errors import VolumenError, VolumeReadError, VolumeWriteError
 
-__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "load_labels", "save", "show",
-           "__version__"]
+__all__ = ["Volume", "VolumeReadError", "VolumeWriteError", "VolumenError", "load", "load_labels", "load_measurements",
+           "save", "show", "__version__"]
 __version__ = "0.1.0"
 
 
@@ -26,6 +26,23 @@ def load(path, **options) -> Volume:
     from .io import load as _load
 
     return _load(path, **options)
+
+
+def load_measurements(path, volume=None):
+    """Read measurements back: a DICOM SR volumen (or another TID 1500 writer) wrote, or a session / JSON file; with
+    ``volume``, check they belong to its scan (see :func:`volumen.measure.load_measurements`)."""
+    from .measure import load_measurements as _load_measurements
+
+    return _load_measurements(path, volume=volume)
+
+
+def __getattr__(name: str):
+    """``volumen.measure`` without importing it first (a notebook's ``volumen.measure.distance(p, q)``)."""
+    if name == "measure":
+        import importlib
+
+        return importlib.import_module(".measure", __name__)
+    raise AttributeError(f"module 'volumen' has no attribute {name!r}")
 
 
 def load_labels(path, **options):

@@ -13,6 +13,7 @@ import os
 
 __all__ = [
     "VolumenError",
+    "MeasurementError",
     "VolumeReadError",
     "MissingPathError",
     "UnknownFormatError",
@@ -127,6 +128,11 @@ class SampleDataMissingError(VolumeReadError):
 class LumenError(VolumenError, ValueError):
     """No usable lumen: a point outside the scan or in no lumen, two points in lumens that do not
     connect, a lumen mask that does not fit the scan. The message names the point or the file."""
+
+
+class MeasurementError(VolumenError, ValueError):
+    """Measurements that do not belong where they are used: made on another scan than the one loaded, an SR of
+    another study, a file that holds none. The message names the file and both scans or studies."""
 
 
 class UnexpectedReadError(CorruptDataError):

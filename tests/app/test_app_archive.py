@@ -68,8 +68,8 @@ def test_search_browse_retrieve_and_open(make_window, qtbot, archive, archive_co
 
 
 def test_archive_errors_are_one_line_in_the_dialog(make_window, qtbot, archive, archive_config, monkeypatch):
-    from archive_data import PASSWORD_ENV
-    from orthanc_server import PASSWORD
+    from tests.pacs.archive_data import PASSWORD_ENV
+    from tests.pacs.orthanc_server import PASSWORD
 
     monkeypatch.setenv(PASSWORD_ENV, "wrong-password-123")
     win = make_window(load=False)
@@ -84,8 +84,9 @@ def test_archive_errors_are_one_line_in_the_dialog(make_window, qtbot, archive, 
 def test_a_password_not_configured_is_asked_for_once(make_window, qtbot, archive, archive_config, monkeypatch):
     """servers.toml names a user without a password: the dialog asks (on the GUI thread, before the request runs on
     its worker) and the answer serves the search and the series listing after it."""
-    from orthanc_server import PASSWORD
     from PySide6.QtWidgets import QInputDialog
+
+    from tests.pacs.orthanc_server import PASSWORD
 
     archive_config.write_text("\n".join(line for line in archive_config.read_text().splitlines()
                                         if not line.startswith("password_env")))

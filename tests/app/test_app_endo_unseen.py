@@ -1,6 +1,6 @@
-"""Issue 23 in the application: the endoscopy panel finds the lumen with the same estimate as ``volumen fly`` (on
-the washout phantom, whose contrast fades along the artery), draws the lumen's own wall while flying, and refuses a
-leak with the same one-line message as the command line."""
+"""The lumen estimate in the application: the endoscopy panel finds the lumen with the same estimate as
+``volumen fly`` (on the washout phantom, whose contrast fades along the artery), draws the lumen's own wall while
+flying, and refuses a leak with the same one-line message as the command line."""
 
 from __future__ import annotations
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import multiprocessing as mp
 import time
 
-from volumen.app._frame import FrameJob
+from volumen.app._view_picture import FrameJob
 from volumen.app._warmup import VARIANTS, Warmup, variants
 from volumen.core import Camera, Scene, Shading, TransferFunction
 

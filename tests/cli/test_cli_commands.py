@@ -3,19 +3,15 @@
 from __future__ import annotations
 
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image as PILImage
 
 import volumen
+from tests.io.dicom_factory import PATIENT, write_series
 from volumen.cli import main
 from volumen.core import Volume
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
-from dicom_factory import PATIENT, write_series
 
 
 def _volume():

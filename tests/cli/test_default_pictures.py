@@ -119,7 +119,7 @@ def test_the_cpr_fills_its_figure_and_its_window_shows_the_vessel(tmp_path):
     lumen's grey stands at least 0.4 above the tissue's round it (:data:`CPR_CONTRAST_BAR`; 0.18 through the CPR's
     1st..99.5th percentiles, air to bone: grey on grey)."""
     from volumen.endoscopy import Centerline
-    from volumen.endoscopy._cpr_figure import WALL_RADII
+    from volumen.endoscopy.views._cpr_figure import WALL_RADII
 
     tube = phantom("torso").meta["truth"]["aorta"]
     path = tmp_path / "aorta.json"

@@ -107,9 +107,9 @@ def test_a_staircase_would_be_caught():
     """The measure itself: a voxel-exact (boolean) head skin shows the staircase's 0.29 voxel RMS."""
     head = phantom("head", size=64, noise=0, blur=0)
     reg_full = head.index_to_world(np.zeros(3))
-    from volumen.data._canvas import Grid
+    from volumen.data._canvas import VoxelGrid
 
-    grid = Grid(head.shape, head.spacing, tuple(reg_full))
+    grid = VoxelGrid(head.shape, head.spacing, tuple(reg_full))
     hard = np.where(_head._body_sd(grid.region()) < 0, 40.0, -1000.0)
     c = np.array(_head.SKULL_C)
     stairs = _surface_errors(head, _head._body_sd, 2, +1, c, 40.0, -1000.0, 40.0, data=hard)
@@ -135,10 +135,10 @@ def _normal_angles(data, sd, near):
 def test_gradient_follows_the_analytic_normal():
     """Central differences of the data at the head's skin (over the upper skull, away from face and ears)
     point along the analytic normal: a few degrees, against ~17 for a staircase of the same shape."""
-    from volumen.data._canvas import Grid
+    from volumen.data._canvas import VoxelGrid
 
     head = phantom("head", noise=0)
-    grid = Grid(head.shape, head.spacing, tuple(head.index_to_world(np.zeros(3))))
+    grid = VoxelGrid(head.shape, head.spacing, tuple(head.index_to_world(np.zeros(3))))
     reg = grid.region()
     sd = _head._body_sd(reg)
     near = (np.abs(sd) < head.spacing[0] / 2) & (reg.z > 60.0)

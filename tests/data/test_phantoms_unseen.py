@@ -1,4 +1,4 @@
-"""The phantoms of issue 23 (anatomy the lumen estimate was not tuned on): deterministic, their ground truth agrees
+"""The phantoms of anatomy the lumen estimate was not tuned on: deterministic, their ground truth agrees
 with their data, and each has the feature of its failure class where it should be."""
 
 from __future__ import annotations

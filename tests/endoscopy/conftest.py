@@ -1,12 +1,12 @@
 """Fixtures of the endoscopy tests: the torso phantom's colon, its computed lumen and centerline, an analytic torus,
-and the phantoms of anatomy the lumen estimate was not tuned on (issue 23)."""
+and the phantoms of anatomy the lumen estimate was not tuned on."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from endo_helpers import TORUS_H, TORUS_R, TORUS_RC
 
+from tests.endoscopy.endo_helpers import TORUS_H, TORUS_R, TORUS_RC
 from volumen.core import Volume
 
 

@@ -4,8 +4,8 @@ converted so the CT presets classify it as they would a calibrated CT angiogram.
 from __future__ import annotations
 
 import numpy as np
-from aorta_data import aorta_folder, reference_lines
 
+from tests.endoscopy.aorta_data import aorta_folder, reference_lines
 from volumen.bench._datasets import AORTA_HU, hu_aorta
 
 

@@ -1,15 +1,15 @@
 """Virtual endoscopy on VMTK's aorta CTA (real anatomy, contrast-filled): from a start and an end point alone,
-the lumen, the centerline and the flythrough against VMTK's own centerline and lumen surface; the scores of
-issue 23 (Dice, keyframes inside, frames looking down the lumen, the wall drawn against a mask's) from the data
+the lumen, the centerline and the flythrough against VMTK's own centerline and lumen surface; the flight's
+scores (Dice, keyframes inside, frames looking down the lumen, the wall drawn against a mask's) from the data
 alone and from VMTK's surface as the lumen mask."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from aorta_data import ENDS, START, Surface, aorta_folder, looking_down, reference_lines
-from endo_helpers import polyline_distance
 
+from tests.endoscopy.aorta_data import ENDS, START, Surface, aorta_folder, looking_down, reference_lines
+from tests.endoscopy.endo_helpers import polyline_distance
 from volumen.endoscopy import KeyframePath, checked_centerline, find_lumen, lumen_wall, make_flight, score_flight
 
 FRAMES, SIZE = 12, (48, 48)
@@ -130,7 +130,7 @@ def test_frames_look_down_the_lumen(aorta, flights, name, mode):
 
 @pytest.mark.parametrize("mode", ["data", "mask"])
 def test_scores_into_the_left_iliac(aorta, flights, surface_voxels, mode):
-    """Issue 23's bar on real anatomy, into the left iliac (the README's flight): lumen Dice >= 0.9 against VMTK's
+    """The bar on real anatomy, into the left iliac (the README's flight): lumen Dice >= 0.9 against VMTK's
     (in its surface's box), >= 95 % of the keyframes inside it, >= 80 % of 10 frames looking down the lumen; with
     VMTK's lumen as the mask, >= 99 % of the wall pixels drawn within a voxel of its boundary."""
     vol = aorta[0]

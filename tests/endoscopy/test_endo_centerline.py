@@ -2,8 +2,8 @@
 
 import numpy as np
 import pytest
-from endo_helpers import polyline_distance
 
+from tests.endoscopy.endo_helpers import polyline_distance
 from volumen.endoscopy import Centerline, compute_centerline, lumen_mask
 
 

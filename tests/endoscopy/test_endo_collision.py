@@ -7,8 +7,8 @@ the random walk is checked against its ground-truth lumen instead.
 
 import numpy as np
 import pytest
-from endo_helpers import TORUS_R, TORUS_RC, torus_wall_distance
 
+from tests.endoscopy.endo_helpers import TORUS_R, TORUS_RC, torus_wall_distance
 from volumen.endoscopy import Collider, WallField
 
 MARGIN = 2.0

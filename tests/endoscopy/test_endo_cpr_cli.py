@@ -7,7 +7,7 @@ from PIL import Image
 
 from volumen.cli import main
 from volumen.endoscopy import Flight
-from volumen.endoscopy._cpr_figure import MARK_COLORS
+from volumen.endoscopy.views._cpr_figure import MARK_COLORS
 
 
 def test_cpr_of_a_saved_flight(tmp_path, capsys, torso):

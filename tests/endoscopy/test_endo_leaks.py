@@ -1,4 +1,4 @@
-"""Issue 23: each phantom reproduces its failure class, and the lumen found from the points holds against it; a leak
+"""Each phantom reproduces its failure class, and the lumen found from the points holds against it; a leak
 that cannot be contained is refused with one line naming it and the flags to try, and nothing is written."""
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ def test_arch_beside_the_lungs(unseen):
     estimate made round the point itself puts the wall between the aortic wall (45 HU) and the contrast (330)."""
     from skimage.filters import threshold_otsu
 
-    from volumen.endoscopy._polarity import _ball
+    from volumen.endoscopy.lumen._point_estimate import _ball
 
     vol = unseen("arch")
     truth, marks = vol.meta["truth"]["aorta"].mask, vol.meta["truth"]["landmarks"]

@@ -93,7 +93,7 @@ def test_manual_navigation_turns_and_moves():
 
 
 def test_manual_navigation_stops_at_the_wall(torus):
-    from endo_helpers import TORUS_RC, torus_wall_distance
+    from tests.endoscopy.endo_helpers import TORUS_RC, torus_wall_distance
 
     col = Collider(WallField.from_threshold(torus, 0.0), margin=2.5, slide=False)
     nav = ManualNavigator(Pose((TORUS_RC, 0, 0), (1, 0, 0), (0, 0, 1)), col, speed=10.0)

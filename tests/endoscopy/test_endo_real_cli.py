@@ -137,7 +137,7 @@ def test_two_unconnected_lumens_name_the_end_point(torso):
 
 
 def test_a_leak_is_refused_in_one_line_and_nothing_written(tmp_path, capsys, unseen):
-    """Issue 23: a start in an air pocket that touches the trachea through a 2 mm neck (about one voxel of air once
+    """A start in an air pocket that touches the trachea through a 2 mm neck (about one voxel of air once
     blurred): growing from it breaks into the airways before the end; one line naming the leak and the flags to
     try, exit 1, neither video nor flight written."""
     marks = unseen("airways", fistula=2.0).meta["truth"]["landmarks"]

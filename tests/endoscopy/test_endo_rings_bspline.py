@@ -1,4 +1,4 @@
-"""Smooth reconstruction (item 6 of issue 24): the tricubic B-spline takes away the concentric terraces that
+"""Smooth reconstruction: the tricubic B-spline takes away the concentric terraces that
 trilinear reconstruction draws on the wall of a thick-slice scan."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Ring artifacts measured on a tube (item 4 of issue 12), the lumen's polarity on the phantom, and curved planar
+"""Ring artifacts measured on a tube, the lumen's polarity on the phantom, and curved planar
 reformations of analytic tubes."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 23: virtual endoscopy on anatomy the lumen estimate was not tuned on, from ``--start`` and ``--end`` alone
+"""Virtual endoscopy on anatomy the lumen estimate was not tuned on, from ``--start`` and ``--end`` alone
 and from a segmentation, scored by :func:`volumen.endoscopy.score_flight` (the definitions the report uses).
 
 For each phantom of a failure class (the aortic arch beside the lungs, the airways in lung behind one-voxel walls, a

@@ -11,7 +11,10 @@ from __future__ import annotations
 import numpy as np
 import pydicom
 import pytest
-from dicom_factory import (
+from pydicom.uid import HTJ2KLossless, JPEG2000Lossless, JPEGLosslessSV1, JPEGLSLossless
+
+import volumen
+from tests.io.dicom_factory import (
     PATIENT,
     new_uid,
     oblique_cosines,
@@ -21,9 +24,6 @@ from dicom_factory import (
     write_non_image,
     write_series,
 )
-from pydicom.uid import HTJ2KLossless, JPEG2000Lossless, JPEGLosslessSV1, JPEGLSLossless
-
-import volumen
 from volumen.errors import (
     CorruptDataError,
     MissingDependencyError,

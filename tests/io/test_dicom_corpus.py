@@ -7,8 +7,8 @@ printed (``pytest -s``) and quoted in README's Formats section. About 10 s on on
 import re
 
 import pytest
-from dicom_corpus import DOCUMENTED_REFUSALS, corpus_files, examine, table
 
+from tests.io.dicom_corpus import DOCUMENTED_REFUSALS, corpus_files, examine, table
 from volumen.errors import VolumeReadError
 
 #: what a refusal may say: each reason tells the user what the file is or lacks

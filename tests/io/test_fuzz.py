@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from volumen.io.fuzz import FAMILIES, run_campaign
+from tools.fuzz.io import FAMILIES, run_campaign
 
 PER_FAMILY = 300
 SEED = 7
@@ -24,4 +24,4 @@ def test_fuzz_slice_finds_nothing(family):
     assert sum(counts.values()) == PER_FAMILY
     assert counts["typed"] > 0  # the mutants reach the readers' checks
     bad = [f"#{f.index} {f.outcome}: {f.detail} [{f.seed}; {f.what}]" for f in report.bad()]
-    assert not bad, f"{len(bad)} mutants failed (rebuild with volumen.io.fuzz.make_mutant):\n" + "\n".join(bad[:20])
+    assert not bad, f"{len(bad)} mutants failed (rebuild with tools.fuzz.io.make_mutant):\n" + "\n".join(bad[:20])

@@ -1,9 +1,9 @@
 """Each crash, hang, out-of-memory, untyped error and outside read the fuzzer found, as its minimal mutant.
 
-The files are a few lines of header written here; before the fixes they crashed
-SimpleITK (SIGSEGV/SIGABRT/SIGFPE), hung (``line skip``, a 10^8-file pattern), asked
-numpy for petabytes, raised TokenError/KeyError/IndexError/IsADirectoryError, or read
-files outside the header's folder. Each must now raise a typed error naming the file.
+The files are a few lines of header written here. Unchecked, such a header crashes
+SimpleITK (SIGSEGV/SIGABRT/SIGFPE), hangs (``line skip``, a 10^8-file pattern), asks
+numpy for petabytes, raises TokenError/KeyError/IndexError/IsADirectoryError, or reads
+files outside the header's folder; each must raise a typed error naming the file.
 """
 
 from __future__ import annotations
@@ -194,7 +194,7 @@ def test_open_bounded_never_asks_for_more_than_the_file_holds(tmp_path):
     import pydicom
     from pydicom.data import get_testdata_file
 
-    from volumen.io._limits import open_bounded
+    from volumen.io._header_limits import open_bounded
 
     path = tmp_path / "f.bin"
     path.write_bytes(b"0123456789")

@@ -164,7 +164,7 @@ def _seg_from_series(files, mask, fractional, tmp_path, name="seg.dcm"):
 
 @pytest.mark.parametrize("fractional", [False, True])
 def test_dicom_seg_round_trip(tmp_path, fractional):
-    from dicom_factory import oblique_cosines, stack_positions, write_series
+    from tests.io.dicom_factory import oblique_cosines, stack_positions, write_series
 
     n = 12
     row, col = oblique_cosines()
@@ -192,7 +192,7 @@ def test_dicom_seg_round_trip(tmp_path, fractional):
 
 
 def test_dicom_seg_of_another_series(tmp_path):
-    from dicom_factory import stack_positions, write_series
+    from tests.io.dicom_factory import stack_positions, write_series
 
     row, col = np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
     raw = np.zeros((4, 8, 8), np.int16)

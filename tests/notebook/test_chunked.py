@@ -18,14 +18,14 @@ def test_drag_frames_draw_a_coarse_level_and_the_final_frame_the_full_one(tmp_pa
     level 0 -- and equals the bricked render of level 0 at full size; the next drag frame finds the coarse level's
     bricks in its cache."""
     from volumen.notebook._view import ViewState, draw_frame
-    from volumen.scale import _view, render_bricked, write_synthetic
+    from volumen.scale import _interactive, render_bricked, write_synthetic
 
     path = tmp_path / "s.ome.zarr"
     write_synthetic(path, (96, 128, 128), chunks=32)
     vol = volumen.load(path)
     levels, images = [], []
-    real = _view.render_bricked
-    monkeypatch.setattr(_view, "render_bricked",
+    real = _interactive.render_bricked
+    monkeypatch.setattr(_interactive, "render_bricked",
                         lambda *a, **k: levels.append(k["level"]) or images.append(real(*a, **k)) or images[-1])
     scene = Scene(volume=vol, transfer=TransferFunction.window_level(600, 500, opacity=(0.0, 0.6)))
     cam = Camera.orbit(vol, azimuth=30, elevation=20)

@@ -9,17 +9,14 @@
 from __future__ import annotations
 
 import os
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
-
-from dicom_factory import new_uid, stack_positions, write_series
-from orthanc_server import AET, CALLING_AET, USER, Orthanc, missing_reason
+from tests.io.dicom_factory import new_uid, stack_positions, write_series
+from tests.pacs.orthanc_server import AET, CALLING_AET, USER, Orthanc, missing_reason
 
 __all__ = ["Archive", "MadeSeries", "STUDIES", "running_archive", "write_servers_toml", "pydicom_files",
            "PASSWORD_ENV"]

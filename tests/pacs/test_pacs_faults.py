@@ -8,11 +8,11 @@ import os
 import threading
 
 import pytest
-from archive_data import PASSWORD_ENV, running_archive, write_servers_toml
-from orthanc_server import PASSWORD, USER, free_port
 
 import volumen
 import volumen.pacs as pacs
+from tests.pacs.archive_data import PASSWORD_ENV, running_archive, write_servers_toml
+from tests.pacs.orthanc_server import PASSWORD, USER, free_port
 from volumen.cli import main
 from volumen.errors import ArchiveAuthError, ArchiveRefusedError, ArchiveUnreachableError, RetrieveCancelled
 from volumen.pacs import _dimse

@@ -1,4 +1,4 @@
-"""The archive client against a hostile DICOMweb archive (``volumen.web.fuzz.HostileArchive``, a local HTTP server
+"""The archive client against a hostile DICOMweb archive (``tools.fuzz.net.HostileArchive``, a local HTTP server
 answering what it is told): terminal escapes and line ends in fields are escaped in ``find``'s table (``--json``
 stays exact), odd answer shapes are one line and exit 1, a 400 MB answer and a dribbling server end in one line
 within the deadline, a redirect to another host and credentials in a URL are refused."""
@@ -10,10 +10,10 @@ import time
 
 import pytest
 
+from tools.fuzz.net import HostileArchive, Reply, dataset_json, endless
 from volumen.cli import main
 from volumen.errors import ArchiveConfigError
 from volumen.pacs import resolve_server
-from volumen.web.fuzz import HostileArchive, Reply, dataset_json, endless
 
 UID = "1.2.3.4"
 EVIL_NAME = "Doe\x1b]0;pwned\x07\x1b[2J\x1b[H^Jane"

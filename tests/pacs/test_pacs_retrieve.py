@@ -123,7 +123,7 @@ def test_compressed_instances_arrive_as_stored(archive, archive_config, tmp_path
     """pydicom's JPEG 2000 CT, ultrasound and colour files: C-GET proposes a context per transfer syntax for the
     series' SOP classes (Orthanc cannot transcode from JPEG 2000), so both protocols deliver the stored syntax and
     the reader gets the original's values."""
-    from archive_data import pydicom_files
+    from tests.pacs.archive_data import pydicom_files
 
     original = next(p for p in pydicom_files() if p.name == name)
     ds = pydicom.dcmread(original, stop_before_pixels=True)

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
-from render_helpers import sphere_volume
 
+from tests.render.render_helpers import sphere_volume
 from volumen.core import Volume
 
 

@@ -1,11 +1,11 @@
-"""Pictures as 8-bit PNG content before the display transform (issue 24): ``--tonemap linear`` must give them
+"""Pictures as 8-bit PNG content before the display transform: ``--tonemap linear`` must give them
 back bit for bit.
 
 ``python linear_scenes.py OUT.npz`` renders every scene of :func:`scenes` on the CPU (:func:`render_linear`) and
 stores each picture's ``Image.to_uint8`` over two backgrounds (black, and a grey with ``encoding="srgb"``) as
 uint8 arrays. ``linear_pictures.npz`` beside this file was written by the code of commit acb0293, before the
 display transform, the environment light and the studio rig existed (``test_display.py`` compares), and
-re-written once since, when the normals' direction table was packed into 10-bit components (issue 27): of the
+re-written once since, when the normals' direction table was packed into 10-bit components: of the
 6912 bytes of each picture that reads normals (headlight; Phong, shadows and isosurface with a light), 13-41
 moved, by 1 (5 in a specular highlight of ``composite/phong/light``); the others kept every byte. The path tracer is
 left out: its estimator changed in the same issue (another sampler, the majorant grid), so its noise differs by

@@ -4,7 +4,7 @@
 with the CPU backend and stores each picture's rgba as uint16
 (``round(rgba * 65535)``, quantization error <= 7.7e-6) in a compressed
 ``.npz``. ``reference_pictures.npz`` beside this file was written by the
-renderer before its rewrite (issue 13), the ``composite/pathtrace`` pictures again by issue 24's path tracer
+renderer before its rewrite, the ``composite/pathtrace`` pictures again by the path tracer
 (another sampler and majorant grid: other noise; ``test_pathtrace.py`` holds it to the scattering model),
 and again when its samples began to cover the pixel's area (a box filter, not the pixel's centre);
 ``test_reference.py`` checks that the

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import sphere_volume
 
+from tests.render.render_helpers import sphere_volume
 from volumen.core import Camera, Isosurface, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 

@@ -1,4 +1,4 @@
-"""Adaptive sampling (``Sampling.adaptive``, issue 27 item 2): longer steps where every value of a block classifies
+"""Adaptive sampling (``Sampling.adaptive``): longer steps where every value of a block classifies
 nearly transparent, opacity-corrected; full rate wherever a block holds anything more opaque."""
 
 from __future__ import annotations
@@ -7,9 +7,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from render_helpers import axis_camera
 
 import volumen
+from tests.render.render_helpers import axis_camera
 from volumen.core import Camera, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.data import phantom
 from volumen.render import render
@@ -80,7 +80,7 @@ def test_a_thin_opaque_layer_inside_translucent_tissue_is_sampled_at_full_rate()
 @pytest.mark.parametrize("preset", ["ct-skin-bone", "ct-bone"])
 def test_a_whole_abdomen_ct_is_drawn_within_the_bar_with_fewer_samples(preset, output_dir):
     """The whole-abdomen phantom (HU, soft tissue in most rays), a CT preset, the default headlight, jitter and
-    early termination: mean |RGB diff| from the full-rate picture <= 0.005 (issue 27's bar where adaptive
+    early termination: mean |RGB diff| from the full-rate picture <= 0.005 (the bar where adaptive
     sampling is on; measured 0.0005 / 0.0004 here, 0.0009 at 244x202x224), the same coverage, at least 15 % fewer
     samples (measured 25 % / 28 % here, both pictures passing over transparent cells, ``raycast._cells``)."""
     vol = phantom("abdomen", size=(112, 101, 122))

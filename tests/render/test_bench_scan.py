@@ -1,28 +1,24 @@
 """``volumen bench render|lighting|mesh --scan FILE``: a scan the benchmark has not seen, benched like its own CTs.
 
-Issue 27 is checked on a CT the benchmark does not have; these tests check what such a scan goes through before
-it is timed: read, turned to RAS+ axis order (so VTK's peer draws it too), resampled to the benchmark's sizes as
-int16 Hounsfield units, and named scan1, scan2, ... (never after a file or folder, which can carry a patient's
-name). No test here times anything.
+The speed bars are checked on CTs the benchmark does not have too; these tests check what such a scan goes
+through before it is timed: read, turned to RAS+ axis order (so VTK's peer draws it too), resampled to the
+benchmark's sizes as int16 Hounsfield units, and named scan1, scan2, ... (never after a file or folder, which can
+carry a patient's name). No test here times anything.
 """
 
 from __future__ import annotations
 
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))  # the DICOM writer of the reader's tests
-from dicom_factory import PATIENT, write_series
-
+from tests.io.dicom_factory import PATIENT, write_series
 from volumen.bench import _lighting
 from volumen.bench._datasets import SCAN_SIZES, read_scan, scan_at, scan_datasets
 from volumen.bench._mesh import _scan_cases, bench_mesh
 from volumen.bench._render import bench_render
-from volumen.bench._vtk import vtk_available
+from volumen.bench._vtk_peer import vtk_available
 from volumen.cli import main
 from volumen.core import canonical
 from volumen.io import load
@@ -83,7 +79,7 @@ def test_an_oblique_scan_is_laid_on_an_axis_aligned_grid_the_vtk_peer_takes(tmp_
     np.testing.assert_array_equal(vol.data, canonical(load(folder)).data)
     if vtk_available():
         from volumen.bench._render import _scene
-        from volumen.bench._vtk import VtkScene
+        from volumen.bench._vtk_peer import VtkScene
         from volumen.core import Camera
 
         VtkScene(_scene(vol, "composite", "headlight", "ct-bone", 0.0, 1.0), Camera.orbit(vol), (8, 8))

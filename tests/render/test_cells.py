@@ -1,4 +1,4 @@
-"""Pre-classified cells (``raycast._cells``, issue 27 item 2): the marching loop passes over the samples of voxel
+"""Pre-classified cells (``raycast._cells``): the marching loop passes over the samples of voxel
 cells whose values all classify transparent. The bits match a brute-force count, and the pictures do not change
 (bit for bit), with fewer samples taken."""
 

@@ -1,4 +1,4 @@
-"""Lit pictures with no flags (issue 24): anatomy, not a box; neither dark nor burnt; denoising that pays.
+"""Lit pictures with no flags: anatomy, not a box; neither dark nor burnt; denoising that pays.
 
 The chest-like case is the torso phantom (lungs of air next to the contrast-filled aorta, ribs, spine), the
 failure class reported on a contrast chest CT: shadows near black, path tracing black where one light does not

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import axis_camera, sphere_volume
 
+from tests.render.render_helpers import axis_camera, sphere_volume
 from volumen.core import Camera, Light, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 

@@ -27,10 +27,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-import cuda_scenes
 import numpy as np
 import pytest
 
+from tests.render import cuda_scenes
 from volumen.render import render
 
 HERE = Path(__file__).parent

@@ -1,4 +1,4 @@
-"""The environment light (issue 24): its spherical harmonics against brute-force integrals, its importance
+"""The environment light: its spherical harmonics against brute-force integrals, its importance
 sampling against its own density, the studio rig, maps read from HDR files, and the majorant grid and Sobol
 sampler the path tracer tracks and draws with."""
 

@@ -72,7 +72,7 @@ def test_sphere_radius_from_depth(sdf, projection, view):
     assert np.all(np.isinf(im.depth[far_miss])) and np.all(im.rgba[..., 3][far_miss] == 0)
 
 
-# --- the eye's side (issue 12 item 1, issue 13 step 5): an eye inside a bright lumen sees its wall ---
+# --- the eye's side: an eye inside a bright lumen sees its wall ---
 RT = 9.2  # tube radius, mm
 AXIS = np.array([30.3, 29.6])  # tube axis (x, y), world mm, along z
 
@@ -115,7 +115,7 @@ def test_eye_inside_bright_tube_sees_the_wall(tube, direction):
     err = np.abs(im.depth[ok] - t[ok])
     print(f"eye in a bright tube, direction {direction}: depth error mean {err.mean():.3f} mm, max {err.max():.3f} mm")
     assert np.isfinite(im.depth[ok]).all() and err.max() <= 0.25
-    assert im.depth[ok].min() > 1.0  # not the near plane (the bug of issue 12)
+    assert im.depth[ok].min() > 1.0  # not the near plane
 
 
 def test_eye_outside_the_tube_sees_its_outer_wall(tube):

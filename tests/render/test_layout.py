@@ -1,4 +1,4 @@
-"""Code-shape rules of issue 13 for ``volumen/render``, and the frame records reaching both targets.
+"""Code-shape rules for ``volumen/render``, and the frame records reaching both targets.
 
 * no function over 80 lines (its ``def`` to its last line, docstring included);
 * no kernel with more than 8 parameters -- kernels being the compiled entry

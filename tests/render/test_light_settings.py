@@ -6,8 +6,8 @@ import json
 
 import numpy as np
 import pytest
-from render_helpers import sphere_volume
 
+from tests.render.render_helpers import sphere_volume
 from volumen.core import Camera, Environment, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import sphere_volume, three_lights
 
+from tests.render.render_helpers import sphere_volume, three_lights
 from volumen.core import Camera, Environment, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 

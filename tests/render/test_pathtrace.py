@@ -13,8 +13,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from render_helpers import sphere_volume
 
+from tests.render.render_helpers import sphere_volume
 from volumen.core import Camera, Environment, LabelLayer, LabelMap, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.data import phantom
 from volumen.render import PathTracer, render

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import axis_camera
 
+from tests.render.render_helpers import axis_camera
 from volumen.core import Clipping, ClipPlane, Sampling, Scene, TransferFunction, Volume
 from volumen.render import render
 

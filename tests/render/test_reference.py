@@ -1,7 +1,7 @@
-"""The ray caster draws the pictures it drew before its rewrite (issue 13): every mode x every shading.
+"""The ray caster draws the pictures it drew before its rewrite: every mode x every shading.
 
 ``reference_pictures.npz`` holds the pictures of :mod:`reference_scenes` as
-rendered by the renderer before issue 13's changes (uint16-quantized rgba).
+rendered by the renderer before its rewrite (uint16-quantized rgba).
 Bar (the issue's): mean |RGBA diff| <= 0.002 per picture; the p99 of the
 per-channel differences is printed (not asserted: path-traced pictures are
 noisy by nature, and a handful of pixels may flip on a threshold).
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import reference_scenes
 
+from tests.render import reference_scenes
 from volumen.render import render
 
 REF = Path(__file__).parent / "reference_pictures.npz"

@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 
 import numpy as np
-from render_helpers import sphere_volume
 
+from tests.render.render_helpers import sphere_volume
 from volumen.core import Camera, Clipping, ClipPlane, Isosurface, Light, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 

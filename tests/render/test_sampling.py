@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import axis_camera
 
+from tests.render.render_helpers import axis_camera
 from volumen.core import Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 

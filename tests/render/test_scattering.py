@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import axis_camera, sphere_volume, three_lights
 
+from tests.render.render_helpers import axis_camera, sphere_volume, three_lights
 from volumen.core import Camera, Environment, Light, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 from volumen.render.optics import hg_phase

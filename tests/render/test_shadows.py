@@ -2,7 +2,7 @@
 
 Both implement docs/design.md section 3: the light reaching a sample is
 ``1 - opacity accumulated`` from ``shadow_offset`` voxels off the sample toward
-the light, stopping at the light or the clip box. Tolerances (issue 4): mean
+the light, stopping at the light or the clip box. Tolerances: mean
 absolute difference <= 0.01 and 99th percentile <= 0.05 per channel, and the
 umbra of an opaque sphere on a slab where geometry puts it, within one voxel.
 """
@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from render_helpers import axis_camera
 from scipy import ndimage
 
+from tests.render.render_helpers import axis_camera
 from volumen.core import Camera, Clipping, ClipPlane, Light, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.data import phantom
 from volumen.render import render

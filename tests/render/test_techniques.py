@@ -45,7 +45,7 @@ def test_bad_names_and_options_list_the_valid_ones():
         resolve_device("gpu")
     with pytest.raises(ValueError, match="technique 'slicing' runs on gl \\(or auto\\), not 'cuda'"):
         resolve_device("cuda", "slicing")
-    assert resolve_device("gl", "raycast") == "gl"  # the OpenGL ray caster (issue 15)
+    assert resolve_device("gl", "raycast") == "gl"  # the OpenGL ray caster
 
 
 def test_devices_resolve_per_technique():

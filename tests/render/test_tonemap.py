@@ -1,14 +1,14 @@
-"""The display transform (issue 24): the tone curve and sRGB encoding against their published formulas, the
+"""The display transform: the tone curve and sRGB encoding against their published formulas, the
 metered exposure, and ``tonemap="linear"`` giving the pictures of before the transform bit for bit."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import linear_scenes
 import numpy as np
 import pytest
 
+from tests.render import linear_scenes
 from volumen.core import Display, Image
 from volumen.core._tonemap import MIDDLE_GREY, aces, aces_inverse, meter, srgb_encode
 from volumen.render import render

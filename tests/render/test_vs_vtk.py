@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from volumen.bench._vtk import VtkScene, vtk_available
+from volumen.bench._vtk_peer import VtkScene, vtk_available
 from volumen.core import Camera, Sampling, Scene, Shading, TransferFunction, Volume
 from volumen.render import render
 

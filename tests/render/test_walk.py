@@ -1,4 +1,4 @@
-"""The block walk of empty-space skipping (``raycast._walk``, issue 27 item 2), a 3-D DDA through the skipping
+"""The block walk of empty-space skipping (``raycast._walk``), a 3-D DDA through the skipping
 grid: on random rays it visits, in order, every block a dense sampling of the ray meets, and each block it visits
 holds the ray over the interval it gives it (no block the ray misses); a jump past a cube of empty blocks leaves
 the ray on the cube's face; the octant skip sides (``raycast._octants``) are the largest empty cubes ahead of the

@@ -1,4 +1,4 @@
-"""Region growing on the torso phantom's colon (issue 5): the lumen, and no leak into the lungs."""
+"""Region growing on the torso phantom's colon: the lumen, and no leak into the lungs."""
 
 from __future__ import annotations
 

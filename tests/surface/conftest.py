@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
-from surface_fields import ellipsoid_field
 
+from tests.surface.surface_fields import ellipsoid_field
 from volumen.core import Volume
 
 

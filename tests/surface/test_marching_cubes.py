@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from surface_fields import (
+
+from tests.surface.surface_fields import (
     crossing_distances,
     directed_edges_unique,
     edge_counts,
@@ -12,7 +13,6 @@ from surface_fields import (
     ellipsoid_field,
     welded_inner_edges,
 )
-
 from volumen.core import Volume
 from volumen.surface import marching_cubes, vertex_normals
 from volumen.surface._check import welded
@@ -79,8 +79,9 @@ def test_noise_is_watertight_including_ambiguous_cases(seed, sigma):
 
 def test_whole_values_at_a_whole_level_give_a_mesh_closed_when_welded_by_position():
     """Samples equal to the level (phantom "terraces": a fifth of them, with saddles between lumps above and below
-    the level) put every crossing of their edges on their own point before issue 26's fix: 3,970 triangles
-    collapsed and 11 edges had four triangles once corners were joined by position, as an STL reader joins them.
+    the level) would put every crossing of their edges on their own point, were vertices placed on grid points:
+    3,970 triangles collapsed and 11 edges had four triangles once corners were joined by position, as an STL
+    reader joins them.
     Kept ``T_MIN`` voxel off the grid points, every vertex has a position of its own: nothing collapses and every
     edge away from the border has two triangles; the area is scikit-image's within 0.5 %."""
     skimage_measure = pytest.importorskip("skimage.measure")

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from surface_fields import crossing_distances, welded_inner_edges
 
+from tests.surface.surface_fields import crossing_distances, welded_inner_edges
 from volumen.surface import marching_cubes
 
 #: scanner units of the aorta scan: contrast vessels down to the smallest fragments, and the lumen wall
@@ -117,9 +117,9 @@ def test_aorta_mesh_is_closed_away_from_the_scan_border(aorta, level):
 def test_mri_template_at_its_otsu_level_is_closed_with_the_area_of_scikit_image():
     """The MRI template (uint8, 316 x 370 x 301 voxels of 0.5 mm; every other sample, 1 mm, to cost a second) at
     the Otsu level of its head (of the non-zero voxels, as ``volumen bench mesh``; Otsu over all voxels is 0, the
-    background's value): 0.7 % of the samples equal the level, which before issue 26's fix gave 97,320 collapsed
-    triangles and 88 edges of four triangles once welded by position (full size: 704,953 and 529). Now none, and
-    the area is scikit-image's (same step) within 0.5 %."""
+    background's value): 0.7 % of the samples equal the level, which with vertices on grid points gives 97,320
+    collapsed triangles and 88 edges of four triangles once welded by position (full size: 704,953 and 529). Kept
+    off the grid points: none, and the area is scikit-image's (same step) within 0.5 %."""
     skimage = pytest.importorskip("skimage")
     from skimage.filters import threshold_otsu
     from skimage.measure import marching_cubes as sk_marching_cubes

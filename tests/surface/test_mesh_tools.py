@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from surface_fields import directed_edges_unique, edge_counts, ellipsoid_field
 
+from tests.surface.surface_fields import directed_edges_unique, edge_counts, ellipsoid_field
 from volumen.core import Volume
 from volumen.surface import (
     Mesh,

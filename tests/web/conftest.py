@@ -5,13 +5,11 @@ iwer: the tests that need them skip with the reason printed. Helpers: ``web_help
 from __future__ import annotations
 
 import os
-import sys
 from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from web_helpers import AORTA_BUDGET_MB, ROOT, reference_scenes, start_server
+from tests.web.web_helpers import AORTA_BUDGET_MB, ROOT, reference_scenes, start_server
 
 
 def iwer_path() -> Path:

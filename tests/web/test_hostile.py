@@ -12,8 +12,8 @@ import socket
 
 import pytest
 from test_security import request
-from web_helpers import reference_scenes, start_server
 
+from tests.web.web_helpers import reference_scenes, start_server
 from volumen.web._requests import BadRequest, frame_request, host_allowed, origin_allowed
 
 

@@ -16,9 +16,9 @@ import sys
 import time
 
 import pytest
-from web_helpers import reference_scenes, start_server
 
-from volumen.web._limits import ServeLimits, cache_size
+from tests.web.web_helpers import reference_scenes, start_server
+from volumen.web._serve_limits import ServeLimits, cache_size
 
 
 def _head():
@@ -225,7 +225,7 @@ def test_accept_errors_are_reported_once_per_ten_seconds(caplog):
     import errno
     import logging
 
-    from volumen.web._guard import quiet_loop_errors
+    from volumen.web._connection_guard import quiet_loop_errors
 
     caplog.set_level(logging.DEBUG)
     loop = asyncio.new_event_loop()

@@ -6,7 +6,7 @@ character in a table. About 45 s on two cores; each surface's table is printed (
 
 from __future__ import annotations
 
-from volumen.web.fuzz._campaign import run_dimse_replies, run_replies, run_requests
+from tools.fuzz.net._campaign import run_dimse_replies, run_replies, run_requests
 
 SEED = 7
 

@@ -11,7 +11,8 @@ import time
 
 import numpy as np
 import pytest
-from web_helpers import (
+
+from tests.web.web_helpers import (
     DISPLAY_MEAN_TOL,
     DISPLAY_P99_TOL,
     EXPOSURE_TOL,
@@ -24,7 +25,6 @@ from web_helpers import (
     save_pair,
     show,
 )
-
 from volumen.core import Camera, Clipping, ClipPlane, Display, Light, gestures
 from volumen.render import render
 

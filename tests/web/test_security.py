@@ -17,9 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))  # the DICOM writer of the reader's tests
-from dicom_factory import PATIENT, write_series
-
+from tests.io.dicom_factory import PATIENT, write_series
 from volumen.web._server import ROUTES
 
 TRAVERSALS = ["/../etc/passwd", "/static/../../etc/passwd", "/static/%2e%2e/%2e%2e/etc/passwd",
@@ -56,6 +54,13 @@ def _route_paths(info=None):
         if route == "slice.png":
             c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
             path += f"?plane=axial&x={c[0]}&y={c[1]}&z={c[2]}&level=40&width=400"
+        if route == "region.json":  # a disc of 10 mm about the centre on the axial plane there
+            c = (info or {}).get("volume", {}).get("center", [0, 0, 0])
+            body = json.dumps({"plane": {"origin": c, "u": [1, 0, 0], "v": [0, 1, 0]},
+                               "shape": {"kind": "ellipse", "center": [0, 0], "radii": [10, 10]}}).encode()
+        if route == "pick.json":  # the centre of a 16 x 16 picture
+            frame = {"scene": (info or {}).get("scene", {}), "camera": (info or {}).get("camera", {}), "size": [16, 16]}
+            body = json.dumps({"frame": frame, "x": 8.5, "y": 8.5}).encode()
         out.append((method, path, body))
     return out
 
@@ -208,3 +213,38 @@ def test_non_loopback_host_prints_one_warning_line(monkeypatch, capsys):
             assert err.count("\n") == 1
         else:
             assert out.startswith("http://127.0.0.1:") and "warning" not in err
+
+
+def test_the_page_is_the_files_of_its_folder(monkeypatch, tmp_path):
+    """The page's files are found in its folder, not listed by hand: a file added to the folder is served (its bytes,
+    its content type), while a file beside the folder, one in a folder inside it and one of another type are 404."""
+    import shutil
+
+    from tests.web.web_helpers import start_server
+    from volumen.data import phantom
+    from volumen.web import _handlers
+
+    folder = tmp_path / "static"
+    shutil.copytree(Path(_handlers.static_folder()), folder)
+    (folder / "added.js").write_text("export const added = 1;\n")
+    (folder / "notes.txt").write_text("not a page file\n")
+    (folder / "inner").mkdir()
+    (folder / "inner" / "deep.js").write_text("export const deep = 1;\n")
+    (tmp_path / "outside.js").write_text("export const outside = 1;\n")
+    monkeypatch.setattr(_handlers, "static_folder", lambda: folder)
+    assert set(_handlers.static_files()) == set(_handlers.STATIC_FILES) | {"added.js"}
+    vol = phantom("sphere", size=16)
+    from volumen.core import Camera, Scene
+
+    srv = start_server(vol, Scene(volume=vol), Camera.orbit(vol))
+    try:
+        auth = {"X-Volumen-Token": srv.token}
+        status, headers, body = request(srv.port, "GET", "/static/added.js", headers=auth)
+        assert (status, body) == (200, b"export const added = 1;\n")
+        assert headers["Content-Type"].startswith("text/javascript")
+        assert request(srv.port, "GET", "/static/main.js", headers=auth)[0] == 200
+        for path in ("/static/notes.txt", "/static/inner/deep.js", "/static/../outside.js", "/outside.js",
+                     "/static/outside.js", "/static/inner"):
+            assert request(srv.port, "GET", path, headers=auth)[0] == 404, path
+    finally:
+        srv.stop()

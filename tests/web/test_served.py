@@ -170,3 +170,48 @@ def test_the_pages_sliders_and_histogram_span_the_table_range_not_a_fill():
     filled = ServedVolume(fill_outside_field(mr, -1e6)).info()
     tissue = np.asarray(filled["histogram"]["counts"])[np.asarray(filled["histogram"]["edges"][:-1]) >= 0]
     assert np.count_nonzero(tissue) >= 5 and filled["value_range"][1] - filled["value_range"][0] < 20000
+
+
+_FIRST_REQUESTS = r"""
+import http.client, sys, threading
+from tests.web.web_helpers import reference_scenes, start_server
+
+vol = reference_scenes.volumes()["head"][0]
+scene, cam, _ = reference_scenes.scenes()["head/composite/headlight"]
+srv = start_server(vol, scene, cam)
+paths = ["/info.json", "/shaders.json", "/volume.bin", "/info.json?max3d=64",
+         "/slice.png?plane=axial&x=0&y=0&z=0&level=40&width=400"]
+status = {}
+
+def ask(path):
+    c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=120)
+    c.request("GET", path, headers={"X-Volumen-Token": srv.token})
+    r = c.getresponse()
+    r.read()
+    status[path] = r.status
+
+before = set(sys.modules)
+threads = [threading.Thread(target=ask, args=(p,)) for p in paths]
+for t in threads:
+    t.start()
+for t in threads:
+    t.join()
+srv.stop()
+late = sorted(m for m in set(sys.modules) - before if m.startswith("volumen"))
+print(sorted(status.items()), late)
+sys.exit(any(s != 200 for s in status.values()) or bool(late))
+"""
+
+
+def test_a_fresh_servers_first_requests_at_once_are_all_answered():
+    """In a new process, the first requests to the routes at once (each in its own thread) are all answered 200 and
+    import no volumen module: the routes' modules are imported with the server, so two request threads never
+    import one at once (Python's import locks answered that with a _DeadlockError, a 500)."""
+    import subprocess
+    import sys
+
+    from tests.web.web_helpers import ROOT
+
+    r = subprocess.run([sys.executable, "-c", _FIRST_REQUESTS], cwd=ROOT, capture_output=True, text=True,
+                       timeout=600)
+    assert r.returncode == 0, r.stdout + r.stderr[-2000:]

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from web_helpers import (
+
+from tests.web.web_helpers import (
     DISPLAY_MEAN_TOL,
     DISPLAY_P99_TOL,
     EXPOSURE_TOL,
@@ -21,7 +22,6 @@ from web_helpers import (
     save_pair,
     scene_json,
 )
-
 from volumen.core import Camera, Display, Light
 from volumen.render import render
 

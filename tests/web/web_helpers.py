@@ -5,14 +5,12 @@ from __future__ import annotations
 
 import base64
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tests" / "render"))  # the reference scenes of the ray caster's tests
-import reference_scenes  # noqa: E402
+from tests.render import reference_scenes  # noqa: E402
 
 #: the issue's bar, per picture: mean |RGBA diff|; and the 99th percentile (8-bit canvas: 1/255 rounding)
 MEAN_TOL, P99_TOL = 0.01, 0.05

@@ -246,7 +246,7 @@ class EndoscopyPanel(QWidget):
         from dataclasses import replace
 
         from ..endoscopy import VideoWriter
-        from ._frame import FrameJob, render_frame
+        from ._view_picture import FrameJob, render_frame
 
         m = self.model
         poses = m.path().play(fps=fps)

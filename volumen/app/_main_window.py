@@ -33,9 +33,9 @@ from PySide6.QtWidgets import (
 from ..core import VIEWS, WINDOW_PRESETS, default_camera
 from ._clip_panel import ClipPanel
 from ._endo_panel import EndoscopyPanel
-from ._frame import FrameJob
 from ._labels_panel import LabelsPanel
 from ._light_panel import LightPanel, add_light_at_camera
+from ._measure_menu import build_measure_menu
 from ._recent import RecentFiles
 from ._render_panel import RenderPanel, cycle_shading
 from ._segment_panel import SegmentPanel
@@ -44,6 +44,7 @@ from ._state import PICTURE_TOPICS, AppState
 from ._tasks import run_task, show_error
 from ._tf_editor import TransferFunctionEditor
 from ._view3d import View3D
+from ._view_picture import FrameJob
 from ._worker import RenderWorker
 
 __all__ = ["MainWindow"]
@@ -138,6 +139,7 @@ class MainWindow(QMainWindow):
         m.addAction("Screenshot of the 3D view...", self._screenshot_3d_dialog)
         m.addSeparator()
         m.addAction("Quit", self.close)
+        build_measure_menu(self)
         tb = QToolBar("Views")
         self.addToolBar(tb)
         for view in VIEWS:

@@ -1,6 +1,6 @@
 """Screenshots: the whole window as shown, or the 3D view rendered again at any size.
 
-The 3D screenshot uses the same :func:`~volumen.app._frame.render_frame` as
+The 3D screenshot uses the same :func:`~volumen.app._view_picture.render_frame` as
 the view (full quality, path tracing to its full sample count), so the saved
 picture is the view's picture at another size.
 """
@@ -26,7 +26,7 @@ def save_widget(widget: QWidget, path) -> Path:
 
 def render_view_picture(job, size: tuple[int, int]) -> np.ndarray:
     """The 3D view's ``FrameJob`` rendered at ``size = (width, height)``: uint8 ``(H, W, 3)``."""
-    from ._frame import progressive_frames, with_size
+    from ._view_picture import progressive_frames, with_size
 
     *_, last = progressive_frames(with_size(job, size), batch=16)  # the refined frame is the last one
     return last.rgb

@@ -5,7 +5,8 @@ A session is a superset of the settings file of ``volumen render
 ``background``, ``device``, ``technique``), so ``volumen render --settings
 session.json -o out.png`` renders the session's 3D view. The application's own
 state sits under ``"app"``: brightness, stereo, crosshair, slice window, mesh
-display, and the endoscopy path (start, end, centerline).
+display, and the endoscopy path (start, end, centerline). The measurements (rulers, regions: ``volumen.measure``)
+sit under ``"measurements"``, as in the browser page's state, and ``volumen measure export`` reads them there.
 
 The data is named by ``scene.volume`` (a path, or ``phantom:NAME`` with an
 optional ``?size=N``); :func:`resolve_volume` loads it.
@@ -21,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from ..core import Camera, Scene, Window
-from ..errors import VolumenError
+from ..errors import MeasurementError, VolumenError
+from ..measure import SESSION_KEY, check_scan, session_measurements
 
 __all__ = ["SESSION_VERSION", "SessionError", "session_dict", "apply_session", "save_session", "load_session",
            "resolve_volume", "phantom_ref", "series_ref", "split_series_ref", "load_or_list", "write_atomic"]
@@ -127,13 +129,16 @@ def session_dict(state, size: tuple[int, int], endoscopy: dict | None = None) ->
             "mesh_display": state.mesh_display,
             "endoscopy": endoscopy,
         },
+        SESSION_KEY: state.measurements.to_dicts(),
     }
 
 
 def apply_session(state, d: dict, volume) -> dict:
     """Put session ``d`` into ``state`` with the already loaded ``volume``; returns the ``endoscopy`` entry.
 
-    Raises :class:`SessionError` for a malformed session (unknown fields, bad values).
+    Raises :class:`SessionError` for a malformed session (unknown fields, bad values), and
+    :class:`~volumen.errors.MeasurementError` for measurements made on another scan than ``volume``; either way
+    before ``state`` changes.
     """
     from ._stereo import Stereo
 
@@ -145,8 +150,12 @@ def apply_session(state, d: dict, volume) -> dict:
         window = Window(*app["window"]) if "window" in app else None
         background = tuple(float(v) for v in d.get("background", (0, 0, 0)))
         how = _technique(d)
+        measurements = session_measurements(d)
+    except MeasurementError:
+        raise
     except (KeyError, TypeError, ValueError) as exc:
         raise SessionError(None, f"not a valid session: {exc}") from None
+    check_scan(measurements, volume)  # before anything changes: a refused session leaves the state as it was
     with state.batch():
         state.set_volume(volume, scene.volume_ref, transfer=scene.transfer, camera=camera)
         state.update_scene(**{k: getattr(scene, k) for k in ("lights", "mode", "shading", "sampling", "clipping",
@@ -158,6 +167,7 @@ def apply_session(state, d: dict, volume) -> dict:
             state.set_crosshair(np.asarray(app["crosshair"], float))
         if window is not None:
             state.set_window(window)
+        state.set_measurements(measurements)
     return app.get("endoscopy")
 
 

@@ -5,10 +5,12 @@
 * right drag: window (horizontal) and level (vertical);
 * left drag on an edge of the crop box: move that face of the box;
 * in a pick mode (seeds for region growing, endoscopy start/end) a left click
-  reports the world point to ``picked`` instead.
+  reports the world point to ``picked`` instead;
+* rulers and regions: placed, moved and deleted by ``measure_tool`` (``_measure_tool``), which takes a press
+  first.
 
 Overlays: the segmentation mask (red), seeds, the crop box, the endoscopy
-start, end and centerline, and the 3D camera's position (cyan).
+start, end and centerline, the 3D camera's position (cyan), and the measurements with their values (yellow).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from PySide6.QtGui import QColor, QImage, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QWidget
 
 from ..core import Window, table_range, window_to_uint8
+from ._measure_tool import MeasureTool
 from ._slice_geometry import DISPLAY_AXES, SliceGeometry
 
 __all__ = ["SliceView"]
@@ -51,10 +54,12 @@ class SliceView(QWidget):
         self._image: QImage | None = None
         self._mask_image: QImage | None = None
         self._drag: tuple | None = None
+        self.measure_tool = MeasureTool(self)
         self.setMinimumSize(120, 120)
         self.setFocusPolicy(Qt.ClickFocus)
         self.setMouseTracking(True)
-        for topic in ("volume", "crosshair", "window", "mask", "seeds", "camera", "crop", "endoscopy", "scene"):
+        for topic in ("volume", "crosshair", "window", "mask", "seeds", "camera", "crop", "endoscopy", "scene",
+                      "measurements"):
             state.subscribe(topic, self._changed)
         self._changed()
 
@@ -133,6 +138,7 @@ class SliceView(QWidget):
         self._paint_crosshair(p, rect)
         self._paint_crop(p)
         self._paint_points(p)
+        self.measure_tool.paint(p)
         self._paint_labels(p, rect)
         p.end()
 
@@ -250,6 +256,8 @@ class SliceView(QWidget):
         if self.geometry_ is None:
             return
         x, y = event.position().x(), event.position().y()
+        if self.pick_mode is None and self.measure_tool.press(x, y, event.button()):
+            return
         if event.button() == Qt.LeftButton:
             edge = self._crop_edge(x, y)
             if edge is not None:
@@ -265,6 +273,8 @@ class SliceView(QWidget):
 
     def mouseMoveEvent(self, event) -> None:  # noqa: N802 - Qt names the override
         x, y = event.position().x(), event.position().y()
+        if self.measure_tool.move(x, y):
+            return
         if self._drag is None:
             edge = self._crop_edge(x, y) if self.geometry_ else None
             col_ax = DISPLAY_AXES[self.plane][0]
@@ -292,6 +302,8 @@ class SliceView(QWidget):
             self.state.update_scene(clipping=replace(clip, crop=tuple(c)))
 
     def mouseReleaseEvent(self, event) -> None:  # noqa: N802 - Qt names the override
+        if self.measure_tool.release():
+            return
         if self._drag is not None and self._drag[0] == "crop":
             self.state.interacting = False
             self.state.emit("scene")

@@ -7,7 +7,7 @@ read it and change it through its methods; every change is announced to the
 listeners of a *topic* (a plain observer list, so the model never imports Qt):
 
 ``volume``, ``scene``, ``camera``, ``crosshair``, ``window``, ``mask``,
-``seeds``, ``mesh``, ``display``, ``selection``, ``crop``, ``endoscopy``.
+``seeds``, ``mesh``, ``display``, ``selection``, ``crop``, ``endoscopy``, ``measurements``.
 """
 
 from __future__ import annotations
@@ -19,12 +19,13 @@ from dataclasses import replace
 import numpy as np
 
 from ..core import Camera, Scene, Window, canonical, default_camera, default_iso, default_window, is_color_slab
+from ..measure import Measurements, check_scan
 from ..render import Technique, resolve_device
 
 __all__ = ["AppState", "TOPICS", "PICTURE_TOPICS", "MESH_DISPLAYS"]
 
 TOPICS = ("volume", "scene", "camera", "crosshair", "window", "mask", "seeds", "mesh", "display", "selection",
-          "crop", "endoscopy")
+          "crop", "endoscopy", "measurements")
 #: topics whose change needs a new 3D picture
 PICTURE_TOPICS = ("volume", "scene", "camera", "mesh", "display")
 #: how an extracted mesh is shown in the 3D view
@@ -59,6 +60,8 @@ class AppState:
     mask : Volume or None
         Segmentation mask (uint8 0/1) on the volume's grid; ``mask_canonical`` reoriented.
     seeds : list of (3,) float, world mm
+    measurements : volumen.measure.Measurements
+        Rulers and regions placed on the slice views (world mm, on :attr:`volume`'s scan).
     mesh : volumen.surface.Mesh or None; ``mesh_display`` one of :data:`MESH_DISPLAYS`.
     selected_light : int or None
         Index into ``scene.lights``.
@@ -83,6 +86,7 @@ class AppState:
         self.mask = None
         self.mask_canonical = None
         self.seeds: list[np.ndarray] = []
+        self.measurements = Measurements()
         self.mesh = None
         self.mesh_display = "hidden"
         self.selected_light: int | None = None
@@ -152,10 +156,11 @@ class AppState:
             self.window = default_window(volume)
             self.mask = self.mask_canonical = None
             self.seeds = []
+            self.measurements = Measurements()
             self.mesh = None
             self.selected_light = None
             self.emit("volume", "scene", "camera", "crosshair", "window", "mask", "seeds", "mesh", "selection",
-                      "crop")
+                      "crop", "measurements")
 
     # -- scene and camera ---------------------------------------------------
     def update_scene(self, **changes) -> None:
@@ -233,6 +238,33 @@ class AppState:
     def clear_seeds(self) -> None:
         self.seeds = []
         self.emit("seeds")
+
+    def set_measurements(self, items) -> None:
+        """Replace the measurements (a session's); each must have been made on :attr:`volume`'s scan.
+
+        Raises
+        ------
+        volumen.errors.MeasurementError
+            A measurement of another scan (nothing is changed).
+        """
+        items = Measurements(items)
+        check_scan(items, self.volume)
+        self.measurements = items
+        self.emit("measurements")
+
+    def put_measurement(self, index: int | None, m) -> int:
+        """Replace measurement ``index`` by ``m`` (``None``: add it); returns its index."""
+        if index is None:
+            self.measurements.append(m)
+            index = len(self.measurements) - 1
+        else:
+            self.measurements[index] = m
+        self.emit("measurements")
+        return index
+
+    def remove_measurement(self, index: int) -> None:
+        del self.measurements[index]
+        self.emit("measurements")
 
     def set_mesh(self, mesh, display: str | None = None) -> None:
         self.mesh = mesh

@@ -20,6 +20,7 @@ from PySide6.QtWidgets import QWidget
 
 from ..core import gestures
 from ._overlays import crosshair_lines, light_cone, pick_light, project_polyline
+from ._ruler3d import Ruler3D
 
 __all__ = ["View3D"]
 
@@ -51,12 +52,13 @@ class View3D(QWidget):
         self.blocked_marker = False
         self.status_text = ""
         self._drag: tuple | None = None
+        self.ruler3d = Ruler3D(self)
         self._blocked_timer = QTimer(self, singleShot=True, interval=800)
         self._blocked_timer.timeout.connect(self._clear_blocked)
         self.setMinimumSize(160, 160)
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.StrongFocus)
-        for topic in ("camera", "scene", "selection", "crosshair", "endoscopy"):
+        for topic in ("camera", "scene", "selection", "crosshair", "endoscopy", "measurements"):
             state.subscribe(topic, self.update)
 
     @property
@@ -66,7 +68,7 @@ class View3D(QWidget):
 
     # -- frames ---------------------------------------------------------------
     def show_frame(self, frame) -> None:
-        """Display a finished :class:`~volumen.app._frame.Frame`."""
+        """Display a finished :class:`~volumen.app._view_picture.ViewPicture`."""
         self.frame = frame
         rgb = np.ascontiguousarray(frame.rgb)
         self._rgb = rgb
@@ -106,6 +108,7 @@ class View3D(QWidget):
                 for run in project_polyline(self.centerline.points, cam, size):
                     p.drawPolyline(QPolygonF([QPointF(x, y) for x, y in run]))
             self._paint_lights(p, cam, size)
+            self.ruler3d.paint(p, cam, size)
         self._paint_text(p)
         p.end()
 
@@ -153,6 +156,8 @@ class View3D(QWidget):
         button = event.button()
         if self.flying and button == Qt.LeftButton:
             self._drag = ("fly", pos)
+            return
+        if button == Qt.LeftButton and self.ruler3d.press(*pos):
             return
         if button == Qt.LeftButton:
             hit = pick_light(self.state.scene.lights, cam, self.view_size, self.light_length(), pos)

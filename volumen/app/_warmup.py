@@ -20,7 +20,7 @@ from dataclasses import replace
 from ..core import is_chunked
 from ..render import resolve_device
 from ..render._warm import COMMON_KERNELS
-from ._frame import raycast_device
+from ._view_picture import raycast_device
 
 __all__ = ["Warmup", "VARIANTS", "NICE", "ENV", "variants"]
 

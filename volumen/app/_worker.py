@@ -1,7 +1,7 @@
 """The render worker: a thread that turns :class:`FrameJob` requests into frames, newest first.
 
 The interface thread only posts requests (:meth:`RenderWorker.submit`) and
-receives finished :class:`~volumen.app._frame.Frame` objects through the
+receives finished :class:`~volumen.app._view_picture.ViewPicture` objects through the
 ``frame_ready`` signal (queued into the interface thread), so it never waits
 on a renderer. Only the newest request is kept: a request posted while a
 picture is being made replaces any older one still waiting.
@@ -9,7 +9,7 @@ picture is being made replaces any older one still waiting.
 * ``interactive=True`` (the user drags): rendered at a reduced viewport --
   half the size, or a quarter when half took longer than
   :attr:`RenderWorker.budget` seconds -- and upscaled (``final`` False);
-* otherwise the full picture (:func:`~volumen.app._frame.progressive_frames`;
+* otherwise the full picture (:func:`~volumen.app._view_picture.progressive_frames`;
   path tracing refines while idle and stops as soon as a new request comes); after the first one of a kind of
   volume, the other modes' kernels compile in a background process (:class:`~volumen.app._warmup.Warmup`);
 * either way, while the CPU kernel a picture needs is not compiled yet, its compile starts in a child process
@@ -17,7 +17,7 @@ picture is being made replaces any older one still waiting.
   CPU once the kernel is in the cache, unless a newer request came first.
 
 OpenGL techniques (texture slicing, meshes) run on the process's one OpenGL
-thread (``_frame.on_gl_thread``); the worker probes once whether they are
+thread (``_view_picture.on_gl_thread``); the worker probes once whether they are
 available (``raster_status``).
 """
 
@@ -31,7 +31,7 @@ from dataclasses import replace
 from PySide6.QtCore import QObject, Signal
 
 from ..render import _standin
-from ._frame import FrameJob, progressive_frames, raycast_device, render_frame
+from ._view_picture import FrameJob, progressive_frames, raycast_device, render_frame
 from ._warmup import Warmup
 
 __all__ = ["RenderWorker"]
@@ -42,7 +42,7 @@ class RenderWorker(QObject):
 
     Signals
     -------
-    frame_ready(Frame)
+    frame_ready(ViewPicture)
     failed(int token, str message)
     raster_status(bool available, str reason)
     """
@@ -109,7 +109,7 @@ class RenderWorker(QObject):
             return self._pending is not None or self._stop
 
     def _probe_raster(self) -> None:
-        from ._frame import on_gl_thread
+        from ._view_picture import on_gl_thread
 
         def probe():
             from ..render.raster import gl_renderer

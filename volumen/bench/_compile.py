@@ -7,7 +7,7 @@ cache then shows the cached start. Imports are timed apart. A third child, with 
 the notebook's viewer (``volumen.notebook.View``, whose render loop the desktop app's worker mirrors) on the same
 scene at 384x384: ``shown`` is the time to its first frame (OpenGL's stand-in while the kernel compiles aside,
 ``volumen.render._standin``), ``viewer CPU`` to its CPU-drawn final frame. Cases run one after another, so the machine's
-other load is the only noise; the bar is :data:`BAR_S` per mode (issue 27; issue 13 asked 15 s). Without
+other load is the only noise; the bar is :data:`BAR_S` per mode. Without
 ``--quick`` a last row times what ``make demo`` runs after installing, ``volumen demo``, from an empty cache and
 again from the cache it filled (its gallery's kernels compile side by side, ``volumen.render.warm``; bar
 :data:`DEMO_BAR_S`).
@@ -32,9 +32,9 @@ __all__ = ["bench_compile", "CASES"]
 #: (mode, shading) of each first picture
 CASES = COMMON_KERNELS
 QUICK = (("mip", "none"),)
-#: a mode's first picture from a cold cache, seconds (issue 27)
+#: a mode's first picture from a cold cache, seconds: the bar
 BAR_S = 5.0
-#: ``make demo`` from a cold cache after installation, seconds (issue 27)
+#: ``make demo`` from a cold cache after installation, seconds: the bar
 DEMO_BAR_S = 40.0
 
 #: the scene every child draws: the head phantom at 48^3 in the (mode, shading) of its arguments

@@ -10,10 +10,10 @@
 * ``scan``: a file of the user's (``--scan``: any file or DICOM folder :func:`volumen.io.load` opens), turned to
   RAS+ axis order on an axis-aligned grid (:func:`read_scan`) and resampled to the benchmark's sizes
   (:data:`SCAN_SIZES`, :func:`scan_at`), so a scan the benchmark has not seen gets the same rows and ratios as
-  its own CTs (issue 27's check).
+  its own CTs (the speed bars' check).
 
 :func:`ray_shares` says what share of a picture's rays cross the body and soft tissue: the quantity that
-decides how much of a translucent preset's work is shaded samples (issue 27: a whole-abdomen CT has soft
+decides how much of a translucent preset's work is shaded samples (a whole-abdomen CT has soft
 tissue in 35-43 % of the picture, the aorta in a few per cent).
 """
 

@@ -21,12 +21,12 @@ warm-up frame (which compiles the kernels and builds the volumes).
 Last, CTs (:func:`real_ct_rows`): the VMTK aorta resampled to about
 366x303x336, and the whole-abdomen CT built for the purpose at that size, at 782x415
 with the default sample rate, in two presets: the command line's default for a CT (``ct-skin-bone``,
-translucent skin and soft tissue) and the sweeps' ``ct-bone`` (the seeds' preset: issue 27 gives its baseline,
+translucent skin and soft tissue) and the sweeps' ``ct-bone`` (the seeds' preset: the bars give its baseline,
 15.0 / 8.3 / 5.1 fps, at the seeds' viewport without naming a preset, and asks for twice that). Phong and shadows with
 one light and scattering with three, the camera orbiting, from the default
 view and zoomed until the scan fills the picture (the phantom is mostly
 empty space and flatters), each at full rate and with adaptive sampling
-(``Sampling.adaptive``), beside the frame rates issue 27 asks for. The
+(``Sampling.adaptive``), beside the frame rates asked for. The
 default step is the smallest voxel spacing: on the aorta's slab, resampled
 from 34 slices to 336, that is 0.15 mm, which a CT acquired at that size
 would not have; the rows say the step they ran at. And per CT and preset, from the default view, shadows with
@@ -56,7 +56,7 @@ FULL = {
     "direct_max_voxels": 200 * 200 * 100,
     "scatter_volume": ("512x512x256", (256, 512, 512)),
 }
-#: the CT rows: data set kinds, size (x, y, z voxels; quick), viewport, frame rates asked for on 2 cores (issue 27)
+#: the CT rows: data set kinds, size (x, y, z voxels; quick), viewport, frame rates asked for on 2 cores
 REAL_CT = {"kinds": ("aorta", "abdomen"), "presets": ("ct-skin-bone", "ct-bone"),
            "size": (366, 303, 336), "quick_size": (46, 38, 42), "viewport": (782, 415), "quick_viewport": (98, 52),
            "bars": {"phong": 30.0, "shadows": 16.0, "scattering": 10.0}}

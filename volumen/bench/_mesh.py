@@ -5,7 +5,7 @@ Cases (data set, level):
 - the VMTK aorta CTA (``../shared/data/vmtk-aorta/aorta.mha``, scanner units 0..2570:
   soft tissue 200-300, contrast lumen 1600-2200; no bone in this crop) upsampled with
   ``scipy.ndimage.zoom`` (order 1) to 244x202x224 and 366x303x336 voxels (x, y, z) int16,
-  the sizes of the abdominal CT of issue 13. Levels: 800, where the brightest structures
+  the sizes of a large abdominal CT. Levels: 800, where the brightest structures
   (contrast-filled vessels down to the smallest branches) come out as many small fragments
   the way bone does in CT at 300 HU (299 connected components in the original scan), and
   1100, the lumen wall (half-way between soft tissue and contrast);
@@ -37,7 +37,7 @@ from ._table import Table
 
 __all__ = ["bench_mesh", "AORTA_SIZES", "AORTA_LEVELS"]
 
-#: (nx, ny, nz) of the upsampled aorta, as in issue 13's abdominal CT
+#: (nx, ny, nz) of the upsampled aorta, as in a large abdominal CT
 AORTA_SIZES = {"aorta-244x202x224": (244, 202, 224), "aorta-366x303x336": (366, 303, 336)}
 #: level name -> scanner units (see the module docstring)
 AORTA_LEVELS = {"vessels (bone-like fragments)": 800.0, "lumen wall": 1100.0}

@@ -16,7 +16,7 @@ mean absolute error over the pixels the volume covers):
   (``raw same time``), and the ratio of the denoised error to it (``dn / raw``).
 
 Speed: samples per pixel per second on the 366x303x336 resampling of the aorta at 782x415 (``bench render``'s
-largest data set), the number issue 24 starts from (0.83 before its path tracer). Machine load (``os.getloadavg``)
+largest data set), the number before the path tracer (0.83). Machine load (``os.getloadavg``)
 is printed with the table: the machine is shared.
 """
 

@@ -39,12 +39,12 @@ import numpy as np
 from ..core import adaptive_on
 from ._datasets import CT_KINDS, SOFT_TISSUE_HU, aorta_path, load_dataset, ray_shares
 from ._table import WARMUP_FRAMES, Table, resolve_device
-from ._vtk import VtkScene, vtk_available
+from ._vtk_peer import VtkScene, vtk_available
 
 __all__ = ["bench_render", "CASES", "DATASETS", "IMAGES", "aorta_path", "load_dataset", "peak_memory"]
 
 IMAGES = {"512x512": (512, 512)}
-#: issue 27's bars on ours / VTK for every CT, by (shading, preset) of the composite cases
+#: the bars on ours / VTK for every CT, by (shading, preset) of the composite cases
 BARS = {("headlight", "ct-skin-bone"): 0.7, ("headlight", "ct-bone"): 0.5, ("none", "ct-bone"): 0.5}
 #: (mode, shading, preset, sampling: "full" (no adaptive sampling) or "default" (``Sampling()``: adaptive here))
 CASES = [
@@ -63,7 +63,7 @@ DATASETS = {f"{kind}-{s}": (kind, tuple(int(n) for n in s.split("x")))
             for kind in CT_KINDS for s in ("244x202x224", "366x303x336")}
 #: the MRI template (301x370x316 uint8 at 0.5 mm) as installed and at half the size
 DATASETS.update({"mri-template-151x185x158": ("mri", (151, 185, 158)), "mri-template-301x370x316": ("mri", None)})
-#: measured for peak memory only (issue 13's case: a 700x512x512 int16 CT, 0.37 GB, where the fixed baseline of
+#: measured for peak memory only (a large case: a 700x512x512 int16 CT, 0.37 GB, where the fixed baseline of
 #: imports and compiled kernels does not dominate), besides the aorta sizes timed
 MEMORY_DATASETS = {"aorta-512x512x700": ("aorta", (512, 512, 700))}
 QUICK = {"datasets": {"aorta-96x80x88": ("aorta", (96, 80, 88)), "abdomen-61x51x56": ("abdomen", (61, 51, 56))},
@@ -183,7 +183,7 @@ def _case(table, scene, camera, size, backend, rounds, threads, use_vtk, label):
 
 def _summary(table) -> None:
     """Notes: each case's ratio to VTK over the CT data sets, scans of the user's among them (lowest, median,
-    highest), and how many are within issue 27's bar (:data:`BARS`) as printed (two decimals)."""
+    highest), and how many are within the bar (:data:`BARS`) as printed (two decimals)."""
     by_case: dict = {}
     for r in table.rows:
         if "ratio_vtk" in r and r.get("ct"):

@@ -4,7 +4,7 @@ Both run in this process on the machine's OpenGL (Mesa llvmpipe without a GPU,
 through EGL for both): ours through ``volumen.render.render(device="gl")``
 (the frame packed by the shared Python code, one fragment-shader pass, float
 read-back), VTK's ``vtkGPUVolumeRayCastMapper`` (``vtkOpenGLGPUVolumeRayCastMapper``)
-drawing the same scene offscreen (:class:`~._vtk.VtkScene` with its mapper
+drawing the same scene offscreen (:class:`~._vtk_peer.VtkScene` with its mapper
 swapped: same volume, transfer function points, sample distance, trilinear
 interpolation, headlight Phong, camera, image size). Timings are medians of
 alternating rounds after a warm-up frame (textures uploaded, shaders compiled),
@@ -19,7 +19,7 @@ import numpy as np
 
 from ._render import _alternate, _scene, load_dataset
 from ._table import Table
-from ._vtk import VtkScene, vtk_available
+from ._vtk_peer import VtkScene, vtk_available
 
 __all__ = ["bench_render_gl", "GL_CASES", "GL_DATASETS", "vtk_gpu_scene"]
 

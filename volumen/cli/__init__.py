@@ -26,6 +26,7 @@ COMMANDS = {
     "view": "_view",
     "serve": "_serve",
     "pacs": "_pacs",
+    "measure": "_measure",
     "batch": "_batch",
     "bench": "_bench",
     "demo": "_demo",
@@ -55,7 +56,7 @@ def build_parser():
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (also used by ``python -m volumen``)."""
     from ._common import join_negative_values
-    from ._contract import FAILED, Outputs, explain
+    from ._contract import FAILED, OutputFiles, explain
 
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else list(argv)))
@@ -63,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
         from volumen.jit import announce
 
         announce()
-    outputs = Outputs(args, args._outputs)
+    outputs = OutputFiles(args, args._outputs)
     try:
         result = args._run(args)
     except KeyboardInterrupt:

@@ -130,7 +130,7 @@ def run(args):
 
         kw = dict(QUICK) if args.quick else {}
         _choose_data(args, scans, kw, DATASETS)
-        if scans and not args.data:  # the peak memory of issue 13's large aorta belongs to the whole benchmark
+        if scans and not args.data:  # the peak memory of the large aorta belongs to the whole benchmark
             kw["memory_datasets"] = {}
         table = bench_render(spv=args.spv, repeat=args.repeat, with_vtk=not args.no_vtk, backend=args.device, **kw)
     print()

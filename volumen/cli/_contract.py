@@ -8,7 +8,7 @@ import os
 import shutil
 from pathlib import Path
 
-__all__ = ["explain", "Outputs", "FAILED", "INTERNAL"]
+__all__ = ["explain", "OutputFiles", "FAILED", "INTERNAL"]
 
 #: exit status of an error volumen anticipated (a bad file, option, point, a missing optional package)
 FAILED = 1
@@ -47,7 +47,7 @@ def _gl_unavailable(exc: BaseException) -> bool:
     return isinstance(exc, RasterUnavailable)
 
 
-class Outputs:
+class OutputFiles:
     """The paths a command was asked to write (its ``OUTPUTS`` arguments) that did not exist before it ran;
     :meth:`discard` removes what of them a failed run left (from the first folder it created on the way).
 

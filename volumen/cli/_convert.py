@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from ._common import add_load_options, load_from_args
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("output",)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from ._common import WINDOW_HELP, _floats, add_load_options, count, load_from_args, parse_window
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 
 
@@ -44,7 +44,7 @@ def register(sub):
 def load_centerline(path):
     """The Centerline in a flight, centerline or keyframe-path JSON file; ValueError naming the file otherwise."""
     from volumen.endoscopy import Centerline, KeyframePath
-    from volumen.endoscopy._centerline import resample_polyline
+    from volumen.endoscopy.path._centerline import resample_polyline
 
     try:
         d = json.loads(Path(path).read_text())

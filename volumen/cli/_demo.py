@@ -19,7 +19,7 @@ DEMO_WINDOWS = {"head": "brain", "torso": "soft-tissue"}
 GALLERY_SIZE = (256, 256)
 
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from ._common import _floats, add_load_options, load_from_args, parse_point
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out", "save_path", "unfold")
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 from ._common import add_load_options, load_from_args
 from ._labels_opts import add_label_options, labels_from_args, shown_values
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 
 

@@ -21,7 +21,7 @@ from ._technique import add_technique_options, technique_from_args
 SETTINGS_VERSION = 1
 
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out", "save_settings")
 
 

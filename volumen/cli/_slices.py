@@ -9,7 +9,7 @@ import numpy as np
 from ._common import WINDOW_HELP, add_load_options, count, load_from_args, parse_point, parse_window
 from ._labels_opts import add_label_options, labels_from_args, shown_values
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("out",)
 #: default ``--size``: a small scan's planes (a 64-voxel MRI) are enlarged to be read on a screen
 PANEL_SIZE = 512

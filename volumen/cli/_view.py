@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import _floats
 
-#: the arguments naming what the command writes (removed again when it fails: ``_contract.Outputs``)
+#: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
 OUTPUTS = ("screenshot",)
 
 

@@ -8,7 +8,7 @@ from . import gestures
 from ._camera import FITS, SUBJECT_FILL, VIEWS, Camera, default_camera, default_view
 from ._ct import is_ct
 from ._display import default_iso, display_range, drawable_range, table_range
-from ._environment import ENVIRONMENTS, Environment, studio_lights, studio_sky
+from ._environment_light import ENVIRONMENTS, Environment, studio_lights, studio_sky
 from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color

@@ -209,7 +209,7 @@ class PathTraceSettings(JsonData):
     Parameters
     ----------
     samples : int >= 1
-        Samples per pixel of one ``render`` call (32: denoised, as clean as 256 raw ones, issue 24).
+        Samples per pixel of one ``render`` call (32: denoised, as clean as 256 raw ones).
     bounces : int >= 1
         Most scattering events per path (1 = single scattering, which converges
         to the ``scattering`` picture).

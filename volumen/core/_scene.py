@@ -16,7 +16,7 @@ from typing import Any, Literal, get_args
 
 import numpy as np
 
-from ._environment import Environment
+from ._environment_light import Environment
 from ._jsondata import JsonData, _choice, _vec
 from ._lighting import LIGHT_KINDS, SHADINGS, Light, LightKind, Shading, ShadingMode
 from ._tonemap import Display

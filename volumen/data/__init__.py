@@ -9,11 +9,11 @@ machine (``samples()`` lists it); ``shared_data(*parts)`` finds the shared data 
 field of view one fill value far below the rest.
 """
 
-from ..io._shared_data import shared_data, shared_data_candidates
 from ._fill import fill_outside_field
 from ._organs import ORGANS, organ_phantom
 from ._phantom import PHANTOMS, phantom
 from ._samples import sample, samples
+from ._shared_data import shared_data, shared_data_candidates
 from ._tubes import Tube
 
 __all__ = ["PHANTOMS", "phantom", "organ_phantom", "ORGANS", "sample", "samples", "Tube", "shared_data",

@@ -1,6 +1,6 @@
 """The abdomen CT: a whole-abdomen scan in the portal-venous phase, as a benchmark sees one.
 
-Built for speed measurements that must hold on scans like the ones people look at (issue 27): soft
+Built for speed measurements that must hold on scans like the ones people look at: soft
 tissue fills most of the picture, so almost every ray crosses centimetres of fat, muscle and organs
 at a low but non-zero opacity in the translucent presets. Head end toward +z, front toward +y, the
 patient's right toward +x, lying supine on the scanner's table; a square-ish field of view of 400 x
@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, Region, ellipsoid_sd, smooth_union
+from ._canvas import Canvas, Region, VoxelGrid, ellipsoid_sd, smooth_union
 from ._grain import texture_field
 from ._scanparts import CY, MUSCLE, angle_sin, body_sd, finish_scan, paint_ribs, paint_spine, paint_table, paint_wall
 from ._tubes import make_path, paint_tubes, tube_field
@@ -168,7 +168,7 @@ def _paint_pelvis(cv: Canvas) -> None:
 def abdomen(size=None, *, noise: float = 12.0, seed: int = 0, blur: float = 0.6) -> Volume:
     """Build the abdomen CT (see the module docstring); ``size`` defaults to (224, 202, 244) voxels (nz, ny, nx),
     1.64 mm."""
-    grid = Grid.centred(FOV, (224, 202, 244) if size is None else size)
+    grid = VoxelGrid.centred(FOV, (224, 202, 244) if size is None else size)
     half_z = FOV[2] / 2.0
     cv = Canvas(grid, AIR, blur)
     coarse = texture_field(grid, 24.0, seed + 2)

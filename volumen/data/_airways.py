@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, ellipse_cylinder_sd, sphere_sd
+from ._canvas import Canvas, VoxelGrid, ellipse_cylinder_sd, sphere_sd
 from ._texture import smooth_field
 from ._tubes import make_path, truth_tube, tube_field
 
@@ -95,7 +95,7 @@ def airways(size=None, *, noise: float = 20.0, seed: int = 0, blur: float = 0.5,
     axis (1 mm). ``fistula`` (mm, 0: none) is the width of the neck joining an air pocket to the trachea."""
     if not 0.0 <= fistula <= 8.0:
         raise ValueError(f"fistula must be within [0, 8] mm, got {fistula!r}")
-    grid = Grid.centred(FOV, 128 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 128 if size is None else size)
     reg = grid.region()
     texture = LUNG + 40.0 * smooth_field(grid, 12.0, seed + 1)
     cv = Canvas(grid, LUNG, blur)

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..core import Volume
 
-__all__ = ["Grid", "Region", "Canvas", "ellipsoid_sd", "ellipsoid_support", "sphere_sd", "ellipse_cylinder_sd",
+__all__ = ["VoxelGrid", "Region", "Canvas", "ellipsoid_sd", "ellipsoid_support", "sphere_sd", "ellipse_cylinder_sd",
            "box_sd", "coverage", "smooth_union", "surface_point"]
 
 
@@ -41,7 +41,7 @@ class Region:
 
 
 @dataclass(frozen=True)
-class Grid:
+class VoxelGrid:
     """An axis-aligned RAS grid: ``shape`` (nz, ny, nx), ``spacing`` (dz, dy, dx) mm, ``origin`` xyz mm of voxel 0."""
 
     shape: tuple[int, int, int]
@@ -49,7 +49,7 @@ class Grid:
     origin: tuple[float, float, float]
 
     @classmethod
-    def centred(cls, fov_xyz, size, center=(0.0, 0.0, 0.0)) -> Grid:
+    def centred(cls, fov_xyz, size, center=(0.0, 0.0, 0.0)) -> VoxelGrid:
         """A grid covering ``fov_xyz`` (x, y, z) mm around ``center``.
 
         ``size`` is the voxel count along the longest axis (isotropic voxels) or a
@@ -226,14 +226,14 @@ def _coverage_table(h: float, sigma: float, n: int = 4097):  # n odd: sd = 0 is 
 
 
 class Canvas:
-    """Float32 HU values on a :class:`Grid`, filled with ``background`` (air, -1000 HU).
+    """Float32 HU values on a :class:`VoxelGrid`, filled with ``background`` (air, -1000 HU).
 
     ``h`` (mm) is the width of a voxel across a surface in :meth:`paint` (the geometric mean of
     the spacing when it is anisotropic) and ``blur`` the scanner's point-spread sigma in voxels
     (Gaussian, ``blur * h`` mm) that :meth:`paint` builds into every edge.
     """
 
-    def __init__(self, grid: Grid, background: float = -1000.0, blur: float = 0.0):
+    def __init__(self, grid: VoxelGrid, background: float = -1000.0, blur: float = 0.0):
         if not blur >= 0:
             raise ValueError(f"blur must be >= 0 (voxels), got {blur!r}")
         self.grid = grid

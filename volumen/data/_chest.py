@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, ellipse_cylinder_sd, ellipsoid_sd
+from ._canvas import Canvas, VoxelGrid, ellipse_cylinder_sd, ellipsoid_sd
 from ._texture import smooth_field
 from ._tubes import Path, make_path, truth_tube, tube_field
 
@@ -74,7 +74,7 @@ def _paths(spec) -> Path:
     return make_path(*spec)
 
 
-def _union_sdf(grid: Grid, fields) -> np.ndarray:
+def _union_sdf(grid: VoxelGrid, fields) -> np.ndarray:
     """The smallest signed distance (mm) over tube fields, on the whole grid (+inf beyond their reach)."""
     out = np.full(grid.shape, np.inf, np.float32)
     for f in fields:
@@ -124,7 +124,7 @@ def arch(size=None, *, noise: float = 25.0, seed: int = 0, blur: float = 0.5, ga
     longest axis (1.5 mm). ``gap`` (mm, > 2.5) is how close the lungs come to each lumen."""
     if not gap > WALL + 0.5:
         raise ValueError(f"gap must exceed the {WALL:g} mm wall by 0.5 mm at least, got {gap!r}")
-    grid = Grid.centred(FOV, 112 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 112 if size is None else size)
     cv = Canvas(grid, TISSUE, blur)
     reg = grid.region()
     cv.paint(reg, ellipse_cylinder_sd(reg, *MEDIASTINUM, (-1e3, 1e3)), FAT)

@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._canvas import Grid
+from ._canvas import VoxelGrid
 
 __all__ = ["texture_field", "scanner_noise"]
 
 
-def texture_field(grid: Grid, scale: float, seed: int) -> np.ndarray:
+def texture_field(grid: VoxelGrid, scale: float, seed: int) -> np.ndarray:
     """float32 ``grid.shape`` field, mean ~0 and standard deviation ~1, varying over ``scale`` mm."""
     from scipy import ndimage
 
@@ -53,7 +53,7 @@ def _trilinear(c: np.ndarray, zz, yy, xx) -> np.ndarray:
     return np.ascontiguousarray(out, dtype=np.float32)
 
 
-def scanner_noise(grid: Grid, std: float, corr: float, seed: int) -> np.ndarray:
+def scanner_noise(grid: VoxelGrid, std: float, corr: float, seed: int) -> np.ndarray:
     """float32 ``grid.shape`` noise of ``std`` HU, correlated over ``corr`` mm (Gaussian kernel sigma)."""
     from scipy import ndimage
 

@@ -26,8 +26,8 @@ import numpy as np
 from ..core import Volume
 from ._canvas import (
     Canvas,
-    Grid,
     Region,
+    VoxelGrid,
     box_sd,
     ellipse_cylinder_sd,
     ellipsoid_sd,
@@ -158,7 +158,7 @@ def _paint_neck(cv: Canvas) -> None:
 
 def head(size=None, *, noise: float = 10.0, seed: int = 0, blur: float = 0.5, grey_white: bool = True) -> Volume:
     """Build the head phantom (see the module docstring); ``size`` defaults to 128 voxels along z (240 mm)."""
-    grid = Grid.centred(FOV, 128 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 128 if size is None else size)
     cv = Canvas(grid, -1000.0, blur)
     full = grid.region()
     body = _body_sd(full)

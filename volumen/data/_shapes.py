@@ -25,25 +25,25 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Grid
+from ._canvas import VoxelGrid
 
 __all__ = ["sphere", "ellipsoid", "slab"]
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
-def _grid(size, spacing) -> Grid:
+def _grid(size, spacing) -> VoxelGrid:
     h = np.broadcast_to(np.asarray(spacing, dtype=float), (3,))  # (dz, dy, dx)
     if np.any(h <= 0):
         raise ValueError(f"spacing must be positive mm (dz, dy, dx), got {spacing!r}")
     n = (size,) * 3 if np.ndim(size) == 0 else tuple(size)
-    return Grid.centred(np.array(n[::-1]) * h[::-1], tuple(n), (0.0, 0.0, 0.0))
+    return VoxelGrid.centred(np.array(n[::-1]) * h[::-1], tuple(n), (0.0, 0.0, 0.0))
 
 
 _SUB = 3  # anti-aliasing: sub-samples per axis in a voxel that the surface crosses
 
 
-def _render(grid: Grid, sd_fn, *, inside, outside, antialias, truth, name, edge=0.0) -> Volume:
+def _render(grid: VoxelGrid, sd_fn, *, inside, outside, antialias, truth, name, edge=0.0) -> Volume:
     """Values from ``sd_fn(x, y, z) -> (sd, w)``: the signed distance (mm, < 0 inside) of world
     points and the voxel width along the surface normal there; wrap with ``truth``. ``edge`` > 0 (mm): a
     logistic edge ``1 / (1 + exp(sd / edge))`` instead (a scanner's blur: band-limited, thin slices or thick)."""
@@ -75,7 +75,7 @@ def _render(grid: Grid, sd_fn, *, inside, outside, antialias, truth, name, edge=
     return Volume(data, spacing=grid.spacing, affine=grid.affine, modality="CT", units="HU", name=name, meta=meta)
 
 
-def _normal_width(grid: Grid, nx, ny, nz):
+def _normal_width(grid: VoxelGrid, nx, ny, nz):
     dz, dy, dx = grid.spacing
     return np.abs(nx) * dx + np.abs(ny) * dy + np.abs(nz) * dz
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, coverage, ellipse_cylinder_sd
+from ._canvas import Canvas, VoxelGrid, coverage, ellipse_cylinder_sd
 from ._colon import _folds
 from ._texture import smooth_field
 from ._tubes import make_path, truth_tube, tube_field
@@ -58,7 +58,7 @@ def _paint_background(cv: Canvas) -> None:
 def tagged_colon(size=None, *, noise: float = 20.0, seed: int = 0, blur: float = 0.5, level: float = LEVEL) -> Volume:
     """Build the tagged-colon phantom (see the module docstring); ``size`` defaults to 128 voxels along the longest
     axis (1.25 mm); ``level`` is the y (mm) of the fluid's surface."""
-    grid = Grid.centred(FOV, 128 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 128 if size is None else size)
     cv = Canvas(grid, FAT, blur)
     _paint_background(cv)
     path = make_path(PATH, RADIUS)

@@ -13,12 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._canvas import Grid
+from ._canvas import VoxelGrid
 
 __all__ = ["smooth_field"]
 
 
-def smooth_field(grid: Grid, sigma: float, seed: int) -> np.ndarray:
+def smooth_field(grid: VoxelGrid, sigma: float, seed: int) -> np.ndarray:
     """A zero-mean, unit-variance Gaussian random field on ``grid`` (float32 ``[z, y, x]``), correlated over
     ``sigma`` mm (the Gaussian filter's standard deviation); deterministic for a ``seed``."""
     from scipy import ndimage

@@ -1,6 +1,6 @@
 """The chest CT: a whole-thorax scan with contrast in the vessels, as a benchmark sees one.
 
-The second of the whole-region scans built for speed measurements (issue 27; the first is ``_abdomen``):
+The second of the whole-region scans built for speed measurements (the first is ``_abdomen``):
 here most rays cross the chest wall's fat and muscle, ribs and a great deal of air-filled lung whose
 vessels branch down to a few millimetres. Head end toward +z, front toward +y, the patient's right
 toward +x, supine on the table; field of view 400 x 331 x 367 mm from the shoulders to the upper
@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, Region, ellipsoid_sd
+from ._canvas import Canvas, Region, VoxelGrid, ellipsoid_sd
 from ._grain import texture_field
 from ._scanparts import angle_sin, body_sd, finish_scan, paint_ribs, paint_spine, paint_table, paint_wall
 from ._tubes import make_path, paint_tubes, tube_field
@@ -142,7 +142,7 @@ def _paint_abdomen_top(cv: Canvas, tex: np.ndarray) -> None:
 def chest(size=None, *, noise: float = 12.0, seed: int = 0, blur: float = 0.6) -> Volume:
     """Build the chest CT (see the module docstring); ``size`` defaults to (224, 202, 244) voxels (nz, ny, nx),
     1.64 mm."""
-    grid = Grid.centred(FOV, (224, 202, 244) if size is None else size)
+    grid = VoxelGrid.centred(FOV, (224, 202, 244) if size is None else size)
     cv = Canvas(grid, -1000.0, blur)
     coarse = texture_field(grid, 24.0, seed + 2)
     paint_table(cv)

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, Region, ellipse_cylinder_sd, ellipsoid_sd
+from ._canvas import Canvas, Region, VoxelGrid, ellipse_cylinder_sd, ellipsoid_sd
 from ._colon import paint_colon
 from ._tubes import make_path, paint_tubes, truth_tube
 
@@ -160,7 +160,7 @@ def _airway(cv: Canvas, wall: float):
 def torso(size=None, *, noise: float = 10.0, seed: int = 0, blur: float = 0.5, fold_depth: float = 0.4,
           polyp_radius: float = 6.0) -> Volume:
     """Build the torso phantom (see the module docstring); ``size`` defaults to 160 voxels along z (400 mm)."""
-    grid = Grid.centred(FOV, 160 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 160 if size is None else size)
     cv = Canvas(grid, AIR, blur)
     _paint_body(cv)
     _paint_bones(cv)

@@ -16,7 +16,7 @@ from functools import cache
 
 import numpy as np
 
-from ._canvas import Canvas, Grid, Region
+from ._canvas import Canvas, Region, VoxelGrid
 
 __all__ = ["Tube", "TubeField", "Path", "make_path", "tube_field", "paint_tubes", "truth_tube"]
 
@@ -107,7 +107,7 @@ class TubeField:
     arc: np.ndarray
 
 
-def tube_field(grid: Grid, path, reach: float) -> TubeField | None:
+def tube_field(grid: VoxelGrid, path, reach: float) -> TubeField | None:
     """Field of ``path`` on the voxels of ``grid`` within ``reach`` mm outside its surface.
 
     ``path`` may be a sequence of paths: the field is then their union (the smallest
@@ -135,12 +135,9 @@ def tube_field(grid: Grid, path, reach: float) -> TubeField | None:
 @cache
 def _compiled_kernel():
     """The kernel compiled by Numba (imported here, so ``import volumen.data`` stays light); cached in the
-    machine's kernel cache under this file's contents (``volumen.jit.stamp_sources``)."""
-    from numba import njit
+    machine's kernel cache under this file's contents (its group in ``volumen.jit.GROUPS``)."""
+    from ..jit import njit
 
-    from ..jit import stamp_sources
-
-    stamp_sources([__file__])
     return njit(cache=True)(_tube_kernel)
 
 
@@ -198,7 +195,7 @@ def paint_tubes(cv: Canvas, paths, layers) -> np.ndarray:
     return mask
 
 
-def truth_tube(name: str, mask: np.ndarray, path: Path, grid: Grid, radius=None, branches=()) -> Tube:
+def truth_tube(name: str, mask: np.ndarray, path: Path, grid: VoxelGrid, radius=None, branches=()) -> Tube:
     """The :class:`Tube` of a painted path: its centerline kept to the longest run of points
     inside the grid's voxel-centre box, with ``radius`` (default ``path.radius``) on those points."""
     radius = path.radius if radius is None else np.asarray(radius, float)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import Volume
-from ._canvas import Canvas, Grid, box_sd, ellipse_cylinder_sd
+from ._canvas import Canvas, VoxelGrid, box_sd, ellipse_cylinder_sd
 from ._texture import smooth_field
 from ._tubes import make_path, truth_tube, tube_field
 
@@ -61,7 +61,7 @@ def washout(size=None, *, noise: float = 20.0, seed: int = 0, blur: float = 0.5,
     ``fall`` is the fraction of the contrast lost from the artery's top to its bottom (0..0.6)."""
     if not 0.0 <= fall <= 0.6:
         raise ValueError(f"fall must be within [0, 0.6], got {fall!r}")
-    grid = Grid.centred(FOV, 128 if size is None else size)
+    grid = VoxelGrid.centred(FOV, 128 if size is None else size)
     cv = Canvas(grid, AIR, blur)
     _paint_leg(cv)
     artery, deep = make_path(*ARTERY), make_path(*DEEP)

@@ -24,29 +24,26 @@
 Numba kernels compile (or load from Numba's cache) on first use, not at import.
 """
 
-from ._stamp import stamped as stamped  # first: our kernels inline the ray caster's sampling, cached on its sources
-
-# isort: split
-from ._aim import aim_keyframes
-from ._centerline import Centerline, compute_centerline
-from ._collision import Collider, MoveResult
-from ._cpr import CPR, cpr_width, cross_section, curved_reformation
-from ._cpr_figure import cpr_figure, vessel_window
-from ._flight import Flight
-from ._flythrough import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
-from ._keyframes import Keyframe, KeyframePath, catmull_rom
-from ._lumen import AIR_RANGE, CONTRAST_RANGE, find_lumen, lumen_mask, lumen_voxel, nearest_voxel
-from ._lumen_file import check_points_in_mask, load_lumen_mask
-from ._lumen_wall import LumenWall
-from ._mask_estimate import estimate_from_mask
-from ._navigation import GuidedNavigator, ManualNavigator
-from ._plan import checked_centerline, lumen_wall, make_flight
-from ._polarity import LUMEN_KINDS, LumenEstimate, estimate_lumen
-from ._pose import Pose, slerp
-from ._scores import FlightScore, dice, keyframes_inside, look_down_ratio, score_flight, wall_offsets
-from ._unfold import Unfolded, WallLook, unfold
-from ._video import VideoWriter
-from ._wall import WallField
+from .flight._endoscope import ENDOSCOPY_PRESETS, Endoscope, FrameLog, endoscopy_transfer
+from .flight._from_points import checked_centerline, lumen_wall, make_flight
+from .flight._saved import Flight
+from .flight._scores import FlightScore, dice, keyframes_inside, look_down_ratio, score_flight, wall_offsets
+from .flight._video import VideoWriter
+from .lumen._drawn_wall import LumenWall
+from .lumen._find import AIR_RANGE, CONTRAST_RANGE, find_lumen, lumen_mask, lumen_voxel, nearest_voxel
+from .lumen._mask_estimate import estimate_from_mask
+from .lumen._point_estimate import LUMEN_KINDS, LumenEstimate, estimate_lumen
+from .lumen._segmentation import check_points_in_mask, load_lumen_mask
+from .path._aim import aim_keyframes
+from .path._centerline import Centerline, compute_centerline
+from .path._collision import Collider, MoveResult
+from .path._keyframes import Keyframe, KeyframePath, catmull_rom
+from .path._navigation import GuidedNavigator, ManualNavigator
+from .path._pose import Pose, slerp
+from .views._cpr import CPR, cpr_width, cross_section, curved_reformation
+from .views._cpr_figure import cpr_figure, vessel_window
+from .views._unfold import Unfolded, WallLook, unfold
+from .wall._field import WallField
 
 __all__ = [
     "lumen_mask",

@@ -20,7 +20,7 @@ from pydicom.errors import InvalidDicomError
 from pydicom.multival import MultiValue
 
 from ..errors import CorruptDataError, VolumeReadError
-from ._limits import open_bounded
+from ._header_limits import open_bounded
 
 __all__ = ["SliceHeader", "SeriesHeaders", "read_headers", "DICOM_SUFFIXES", "PIXEL_TAGS"]
 

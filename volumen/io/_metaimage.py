@@ -1,7 +1,7 @@
 """MetaImage (``.mha``, ``.mhd`` with ``.raw``/``.zraw`` or a list of files), parsed here.
 
 The header is ``Key = Value`` text ending with ``ElementDataFile``; every value is
-validated (:mod:`volumen.io._limits`) before it is used, so no header can crash,
+validated (:mod:`volumen.io._header_limits`) before it is used, so no header can crash,
 hang or exhaust memory: native readers are never handed the file. Data: binary
 (either byte order) or ASCII, zlib-compressed or not, ``LOCAL`` (after the header),
 one detached file, ``LIST [nD]`` (file names follow the header, one per line) or a
@@ -31,7 +31,7 @@ import numpy as np
 
 from ..core import Volume
 from ..errors import CorruptDataError, DataSizeError, VolumeWriteError
-from . import _limits as lim
+from . import _header_limits as lim
 from ._numpy import apply_record, geometry_record, native, parse_record
 
 __all__ = ["read", "write"]

@@ -19,7 +19,7 @@ import zlib
 import numpy as np
 
 from ..errors import CorruptDataError, DataSizeError
-from . import _limits as lim
+from . import _header_limits as lim
 
 __all__ = ["read_npy", "read_npz"]
 

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..core import Volume
 from ..errors import CorruptDataError, DataSizeError, VolumeWriteError
-from . import _limits as lim
+from . import _header_limits as lim
 from ._numpy import apply_record, geometry_record, native, parse_record, spacing_of
 
 __all__ = ["read", "write"]

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..core import Volume
 from ..errors import CorruptDataError, DataSizeError, UnknownFormatError
-from . import _limits as lim
+from . import _header_limits as lim
 from ._numpy import native
 
 __all__ = ["read"]

@@ -3,9 +3,12 @@
 * :func:`run_parts`, :func:`run_claiming`, :func:`claim`, :func:`fetch_add`: the one thread driver of every
   compiled pass (ray casting, marching cubes, per-volume precomputation);
 * :func:`prefetch`: a hint that an array element will be read soon (nothing on the GPU);
+* :func:`njit`: Numba's decorator, taken from here by every compiled module, so that this package's set-up
+  (below) has run before any kernel is defined;
 * :func:`stamp_sources`, :func:`source_stamp`: the groups of sources a cached kernel is compiled from, and their
-  content key; :mod:`._locate` keeps each group's kernels in one folder per key that every checkout on this
-  machine shares (:func:`kernel_folder`, installed on import);
+  content key; :data:`GROUPS` declares every group once, all registered on import; :mod:`._locate` keeps each
+  group's kernels in one folder per key that every checkout on this machine shares (:func:`kernel_folder`,
+  installed on import);
 * :mod:`._savelock`: one process at a time writes a cache index (installed on import);
 * :data:`NUMBA_TESTED`, :func:`patches_allowed` (numba-cuda's: :data:`NUMBA_CUDA_TESTED`,
   :func:`cuda_patches_allowed`): the fence around the patches to Numba's internals;
@@ -14,6 +17,10 @@
 Importing this package imports Numba; ``import volumen`` does not import it.
 """
 
+from numba import njit
+
+from ._groups import GROUPS, group_files
+from ._groups import register as _register_groups
 from ._guard import (
     ENV,
     NUMBA_CUDA_TESTED,
@@ -33,8 +40,9 @@ from ._threads import claim, fetch_add, run_claiming, run_parts
 
 _lock_cache_saves()
 _locate_kernels()
+_register_groups()
 
-__all__ = ["run_parts", "run_claiming", "claim", "fetch_add", "prefetch", "stamp_sources", "stamped_with",
-           "source_stamp", "machine", "kernel_folder", "group_folder", "NUMBA_TESTED",
+__all__ = ["njit", "GROUPS", "group_files", "run_parts", "run_claiming", "claim", "fetch_add", "prefetch",
+           "stamp_sources", "stamped_with", "source_stamp", "machine", "kernel_folder", "group_folder", "NUMBA_TESTED",
            "NUMBA_CUDA_TESTED", "ENV", "numba_version", "in_tested_range", "patches_allowed", "cuda_patches_allowed",
            "announce"]

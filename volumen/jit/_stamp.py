@@ -4,9 +4,10 @@ A cached kernel inlines (or links) functions of other files: the ray caster's sk
 of ``_composite`` / ``_iso`` / ..., the lighting of ``_shade`` and the thread counter of
 :mod:`volumen.jit._threads`; endoscopy's collision march calls the ray caster's sampling; marching cubes
 calls ``_mc_rows``' word helpers and freezes the tables of ``_mc_tables`` into its code. Numba checks only
-the calling function's own file, so a change to one of those would leave the cached kernel stale. A package
-registers its kernels' files with :func:`stamp_sources` *before defining them* (its ``__init__`` does it
-first); every registered file then carries the key of its whole group (:func:`source_stamp`).
+the calling function's own file, so a change to one of those would leave the cached kernel stale. Each group
+is declared in :mod:`._groups` and registered with :func:`stamp_sources` when :mod:`volumen.jit` is imported,
+before any module that takes its decorator from it defines a kernel; every registered file then carries the key
+of its whole group (:func:`source_stamp`).
 
 What a kernel compiles to depends on its sources' contents, Numba's and LLVM's releases and the CPU, and on
 nothing else: the key is a hash of exactly these (each file's path inside the package and the SHA-256 of its

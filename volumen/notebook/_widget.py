@@ -18,10 +18,10 @@ from ..core import Camera, Scene
 from . import pictures
 from ._view import View
 
-__all__ = ["Canvas", "Viewer"]
+__all__ = ["ViewCanvas", "Viewer"]
 
 
-class Canvas(RemoteFrameBuffer):
+class ViewCanvas(RemoteFrameBuffer):
     """The remote frame buffer of a :class:`View`: browser events in, the view's newest frame out.
 
     Frames are rendered on the view's thread; when one is done the canvas asks jupyter-rfb to draw on
@@ -62,7 +62,7 @@ class Viewer(widgets.VBox):
     ----------
     view : View
         The scene, camera and render loop (``viewer.view.wait()`` blocks until the final frame).
-    canvas : Canvas
+    canvas : ViewCanvas
     controls : Controls
     slices : SliceViews or None
     """
@@ -72,7 +72,7 @@ class Viewer(widgets.VBox):
         from ._slices import SliceViews
 
         self.view = View(scene, camera, size, **how)
-        self.canvas = Canvas(self.view)
+        self.canvas = ViewCanvas(self.view)
         self.controls = Controls(self)
         self.slices = SliceViews(scene.volume) if slices and scene.volume is not None else None
         children = [self.controls.box, self.canvas] + ([self.slices.box] if self.slices else [])

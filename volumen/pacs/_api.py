@@ -19,10 +19,11 @@ from ..errors import (
     MultipleSeriesError,
     RetrieveCancelled,
 )
-from ._cache import SeriesCache
+from ._client import ArchiveClient
 from ._config import Server, resolve_server
 from ._credentials import Prompt
 from ._records import Query, Series, Studies, check_uid
+from ._series_cache import SeriesCache
 
 __all__ = ["echo", "find", "series", "retrieve", "load", "send", "parse_ref", "make_ref", "connect", "REF_SCHEMES"]
 
@@ -32,7 +33,7 @@ REF_SCHEMES = {"dicomweb": "dicomweb", "dimse": "dimse"}
 Progress = Callable[[int, int], None]
 
 
-def _archive_class(kind: str):
+def _archive_class(kind: str) -> type[ArchiveClient]:
     if kind == "dicomweb":
         from ._dicomweb import DicomWebArchive
 
@@ -44,7 +45,8 @@ def _archive_class(kind: str):
 
 @contextmanager
 def connect(server: str | Server, *, protocol: str | None = None, ask: Prompt | None = None):
-    """The protocol client of ``server`` (``DicomWebArchive`` or ``DimseArchive``), closed after the block."""
+    """The protocol client of ``server`` (an :class:`ArchiveClient`: ``DicomWebArchive`` or ``DimseArchive``),
+    closed after the block."""
     srv = resolve_server(server, protocol=protocol)
     archive = _archive_class(srv.kind)(srv, ask)
     try:

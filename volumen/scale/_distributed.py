@@ -29,7 +29,7 @@ from ..render.bricked import (
     source_of,
     whole_geometry,
 )
-from ._outofcore import open_volume
+from ._pyramid_levels import open_volume
 
 __all__ = ["render_distributed"]
 

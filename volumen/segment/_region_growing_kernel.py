@@ -5,14 +5,10 @@ is a ring buffer of flat indices that doubles when full, so memory follows the
 front, not the volume.
 """
 
-from pathlib import Path
 
 import numpy as np
-from numba import njit
 
-from ..jit import stamp_sources
-
-stamp_sources([Path(__file__)])  # kept in the machine's kernel cache under this file's contents
+from ..jit import njit
 
 
 @njit(cache=True)

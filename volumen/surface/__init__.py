@@ -6,14 +6,14 @@ Nothing heavy is imported here: Numba, SciPy and trimesh load on first use.
 """
 
 from ._check import MeshCheck, check_mesh
-from ._components import largest_component, mesh_components, submesh
 from ._decimate import decimate
 from ._extract import extract_mesh, is_mask
 from ._files import MESH_FORMATS, read_mesh, write_mesh
-from ._labels import SCENE_FORMATS, label_areas, label_meshes, write_label_scene
+from ._label_meshes import SCENE_FORMATS, label_areas, label_meshes, write_label_scene
 from ._marching_cubes import marching_cubes
 from ._measure import enclosed_volume, surface_area
 from ._mesh import Mesh, vertex_normals
+from ._mesh_components import largest_component, mesh_components, submesh
 from ._orient import orient_outward
 from ._smooth import laplacian_smooth, taubin_smooth
 

@@ -15,8 +15,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ._components import mesh_components
 from ._mesh import Mesh
+from ._mesh_components import mesh_components
 
 __all__ = ["MeshCheck", "check_mesh"]
 

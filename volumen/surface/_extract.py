@@ -7,10 +7,10 @@ from collections.abc import Callable
 import numpy as np
 
 from ..core import Volume
-from ._components import largest_component
 from ._decimate import decimate
 from ._marching_cubes import marching_cubes
 from ._mesh import Mesh
+from ._mesh_components import largest_component
 from ._smooth import taubin_smooth
 
 __all__ = ["extract_mesh", "is_mask"]

@@ -25,12 +25,8 @@ from __future__ import annotations
 
 import numba
 import numpy as np
-from numba import njit
 
-from ._sources import SOURCES as SOURCES  # first: the Numba cache stamp, before any kernel is defined
-
-# isort: split
-from ..jit import run_parts
+from ..jit import njit, run_parts
 
 U0 = np.uint64(0)
 U1 = np.uint64(1)

@@ -1,13 +1,9 @@
 """Compiled breadth-first walk over a mesh's faces for ``_orient.py`` (arrays and scalars only)."""
 
-from pathlib import Path
 
 import numpy as np
-from numba import njit
 
-from ..jit import stamp_sources
-
-stamp_sources([Path(__file__)])  # kept in the machine's kernel cache under this file's contents
+from ..jit import njit
 
 
 @njit(cache=True)

@@ -17,7 +17,7 @@ Layer: beside ``app`` and ``notebook``; it imports the renderers' packing code a
 from ._browser import BrowserUnavailable, Chromium, find_chromium
 from ._certificate import certificate_names
 from ._frames import decode, encode, web_frame
-from ._limits import ServeLimits
+from ._serve_limits import ServeLimits
 from ._served import ServedVolume
 from ._server import ViewerServer, is_loopback, new_token
 

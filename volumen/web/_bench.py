@@ -47,7 +47,7 @@ def iwer_script() -> str | None:
 def _dataset(kind, shape):
     from volumen.bench._render import load_dataset
 
-    if kind == "aorta":  # as measured before the render bench took it in HU: its own units, the presets +1000
+    if kind == "aorta":  # the aorta read as stored, the presets moved +1000 onto its units
         from volumen.data import shared_data
         from volumen.io import load
 

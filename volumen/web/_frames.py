@@ -21,6 +21,11 @@ import numpy as np
 
 from volumen.core import Camera, Scene
 from volumen.errors import DeviceLimitError
+from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES, frame_uniforms, variant
+from volumen.render.raycast import pack_frame
+from volumen.render.raycast._lightvol import light_volumes, plan_lattice
+from volumen.render.raycast._octants import tiled
+from volumen.render.raycast._params import LV_NK, LV_NU, LV_NV
 
 __all__ = ["web_frame", "encode", "decode", "FrameBudgetError", "FRAME_ARRAYS", "MAGIC"]
 
@@ -38,8 +43,6 @@ def _budgeted(budget_bytes: float):
     """``raycast``'s light-volume builder that first sums the illumination volumes the frame's lights would
     need (``plan_lattice``, 4 bytes a node) and raises :class:`FrameBudgetError` past ``budget_bytes``,
     before allocating any."""
-    from volumen.render.raycast._lightvol import light_volumes, plan_lattice
-    from volumen.render.raycast._params import LV_NK, LV_NU, LV_NV
 
     def build(prep, keys, positions_index, box_lo, box_hi, *rest):
         scale, method = rest[-2], rest[-1]
@@ -59,7 +62,6 @@ def _budgeted(budget_bytes: float):
 
 
 def _check(scene: Scene) -> None:
-    from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
 
     if scene.shading.mode == "pathtrace" and scene.mode == "composite":
         raise DeviceLimitError("path tracing is not drawn by the browser viewer (it runs on the cpu and cuda "
@@ -92,9 +94,6 @@ def web_frame(volume, scene_dict: dict, camera_dict: dict, size, budget_bytes: f
         For what the viewer does not draw (path tracing, more lights or clip planes than a pass takes);
         :class:`FrameBudgetError` for illumination volumes past ``budget_bytes``.
     """
-    from volumen.render.raster._rc_uniforms import frame_uniforms, variant
-    from volumen.render.raycast import pack_frame
-    from volumen.render.raycast._octants import tiled
 
     w, h = (int(v) for v in size)
     if not (1 <= w <= 8192 and 1 <= h <= 8192):

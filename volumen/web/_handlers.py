@@ -4,7 +4,7 @@ Everything that costs more than a dictionary look-up (resampling the volume for 
 fitting the presets, encoding the volume, packing a frame, drawing a slice) runs in a pool of
 ``ServeLimits.workers`` threads, never on the event loop, with at most ``ServeLimits.queue`` requests waiting
 (then 429), and at most as many large answers (frames, the volume) are being made or sent at once. Served
-volumes are made per power-of-two texture size (:func:`~._limits.cache_size`) and the
+volumes are made per power-of-two texture size (:func:`~._serve_limits.cache_size`) and the
 ``ServeLimits.cached_volumes`` most recently used are kept, each with its ``volume.bin`` message.
 """
 
@@ -21,20 +21,55 @@ from importlib import resources
 import numpy as np
 from aiohttp import web
 
-from ._limits import ServeLimits, cache_size
+from volumen.core import PRESETS, fitted_preset
+from volumen.core._tonemap import shader_constants
+from volumen.errors import VolumenError
+from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
+from volumen.render.raster._shaders import STAGES, stage_parts
+
+from ._frames import FrameBudgetError, encode, web_frame
+from ._measure_routes import pick_answer, region_answer
 from ._requests import BadRequest, frame_request
+from ._serve_limits import ServeLimits, cache_size
 from ._served import DEFAULT_MAX_3D, ServedVolume
+from ._slices import slice_png
 
-__all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY"]
+__all__ = ["Handlers", "ROUTES", "STATIC_FILES", "MAX_BODY", "static_folder", "static_files", "routes"]
 
-#: the page's files (package data under ``volumen/web/static``), served at ``/`` and ``/static/NAME``
-STATIC_FILES = ("index.html", "style.css", "main.js", "api.js", "gl.js", "program.js", "camera.js", "linalg.js",
-                "xr.js", "ui.js", "overlay.js", "slices.js", "viewer.js", "display.js")
+#: the content type of each kind of file the page is made of
 _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
-#: route -> (method, handler name of :class:`Handlers`)
-ROUTES = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
-          "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
-          **{f"static/{name}": ("GET", "static_file") for name in STATIC_FILES}}
+#: route -> (method, handler name of :class:`Handlers`), besides the page's files
+_ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
+            "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
+            "region.json": ("POST", "region"), "pick.json": ("POST", "pick")}
+
+
+def static_folder():
+    """The page's folder: package data under ``volumen/web/static``."""
+    return resources.files(__package__).joinpath("static")
+
+
+def static_files(folder=None) -> tuple[str, ...]:
+    """The page's files: the names of the files directly in ``folder`` (default :func:`static_folder`) whose
+    suffix is a type the page is made of (html, css, js), sorted."""
+    root = static_folder() if folder is None else folder
+    return tuple(sorted(p.name for p in root.iterdir()
+                        if p.is_file() and not p.name.startswith(".") and _suffix(p.name) in _TYPES))
+
+
+def _suffix(name: str) -> str:
+    return "." + name.rsplit(".", 1)[-1] if "." in name else ""
+
+
+def routes(static_names) -> dict[str, tuple[str, str]]:
+    """Route -> (method, handler name of :class:`Handlers`): the answers and ``static/NAME`` for each page file."""
+    return {**_ANSWERS, **{f"static/{name}": ("GET", "static_file") for name in static_names}}
+
+
+#: the page's files, found in its folder, served at ``/`` and ``/static/NAME``
+STATIC_FILES = static_files()
+#: the routes of a server of the installed page
+ROUTES = routes(STATIC_FILES)
 #: largest request body (a frame request is a few KiB): past it, 413
 MAX_BODY = 1 << 20
 #: routes whose answers are large (up to a frame's budget, the volume's texture budget)
@@ -42,12 +77,9 @@ _LARGE = ("frame.bin", "volume.bin")
 
 
 def _static() -> dict[str, tuple[bytes, str]]:
-    root = resources.files(__package__).joinpath("static")
-    out = {}
-    for name in STATIC_FILES:
-        data = root.joinpath(name).read_bytes()
-        out[name] = (data, _TYPES["." + name.rsplit(".", 1)[1]])
-    return out
+    """The page's files read into memory: name -> (bytes, content type)."""
+    root = static_folder()
+    return {name: (root.joinpath(name).read_bytes(), _TYPES[_suffix(name)]) for name in static_files(root)}
 
 
 def _query_int(request, name: str, default: int) -> int:
@@ -140,10 +172,6 @@ class Handlers:
         return body, "application/json"
 
     def _info(self, max_3d: int) -> bytes:
-        from volumen.core import PRESETS, fitted_preset
-        from volumen.core._tonemap import shader_constants
-        from volumen.render.raster._rc_uniforms import MAX_LIGHTS, MAX_PLANES
-
         served = self.served(max_3d)
         transfers = {name: fitted_preset(name, served.volume).to_dict() for name in PRESETS}
         scene = self.scene.to_dict()
@@ -156,8 +184,6 @@ class Handlers:
         return json.dumps(body).encode()
 
     async def shaders(self, request):
-        from volumen.render.raster._shaders import STAGES, stage_parts
-
         body = {name: {stage: list(stage_parts(name, stage, "es300")) for stage in STAGES}
                 for name in ("raycast", "display")}
         return json.dumps(body).encode(), "application/json"
@@ -166,8 +192,6 @@ class Handlers:
         return await self.work(self._volume, _query_int(request, "max3d", DEFAULT_MAX_3D)), "application/octet-stream"
 
     def _volume(self, max_3d: int) -> bytes:
-        from ._frames import encode
-
         served, size = self.served(max_3d), cache_size(max_3d)
         with self._served_lock:
             if size in self._messages:
@@ -181,10 +205,11 @@ class Handlers:
                 self._messages[size] = message
         return message
 
-    async def frame(self, request):
+    async def body(self, request) -> bytes:
+        """A POST's body, within ``limits.body_timeout`` and :data:`MAX_BODY` (408, 413, 400 otherwise)."""
         try:
             async with asyncio.timeout(self.limits.body_timeout):
-                body = await request.read()   # past MAX_BODY: 413
+                return await request.read()   # past MAX_BODY: 413
         except TimeoutError:
             raise web.HTTPRequestTimeout(text=f"408: the body did not arrive within {self.limits.body_timeout:g} s"
                                          ) from None
@@ -192,6 +217,27 @@ class Handlers:
             raise
         except Exception as exc:  # noqa: BLE001 - a payload aiohttp cannot read: bad gzip, broken chunks
             raise web.HTTPBadRequest(text=f"the body could not be read ({type(exc).__name__})") from None
+
+    async def region(self, request):
+        """A region's statistics over the scan's own voxels (not the served, maybe coarser, copy):
+        ``{"plane": {"origin", "u", "v"}, "shape": {...}}`` (``volumen.measure``) -> numbers and units only."""
+
+        body = await self.body(request)
+        return await self.work(region_answer, self.source, body), "application/json"
+
+    async def pick(self, request):
+        """The first visible surface under a point of the 3-D picture, in the served volume (the page's)."""
+
+        body = await self.body(request)
+        try:
+            max3d = int(json.loads(body)["frame"].get("max3d", DEFAULT_MAX_3D))
+        except (ValueError, KeyError, TypeError, AttributeError):
+            max3d = DEFAULT_MAX_3D  # pick_answer says what is wrong with the body
+        served = self.served(max(1, min(max3d, DEFAULT_MAX_3D)))
+        return await self.work(pick_answer, served.volume, body), "application/json"
+
+    async def frame(self, request):
+        body = await self.body(request)
         try:
             req = frame_request(body)
         except BadRequest as exc:
@@ -199,10 +245,6 @@ class Handlers:
         return await self.work(self._frame, req), "application/octet-stream"
 
     def _frame(self, req) -> bytes:
-        from volumen.errors import VolumenError
-
-        from ._frames import FrameBudgetError, encode, web_frame
-
         served = self.served(req.max3d if req.max3d is not None else DEFAULT_MAX_3D)
         try:
             header, arrays = web_frame(served.volume, req.scene, req.camera, req.size,
@@ -215,8 +257,6 @@ class Handlers:
         return encode(header, arrays)
 
     async def slice(self, request):
-        from ._slices import slice_png
-
         max_3d = _query_int(request, "max3d", DEFAULT_MAX_3D)
         plane = request.query.get("plane", "")
         world = tuple(_query_float(request, a) for a in "xyz")

@@ -25,6 +25,8 @@ from functools import cached_property
 
 import numpy as np
 
+from volumen.render.raycast._cache import prepare
+
 __all__ = ["ServedVolume", "fit_volume", "encode_half", "DEFAULT_BUDGET_MB", "DEFAULT_MAX_3D", "HALF_EXACT"]
 
 #: default memory budget of the volume texture on the client (MiB; 2 bytes per voxel)
@@ -134,7 +136,6 @@ class ServedVolume:
     @cached_property
     def encoded(self) -> tuple[np.ndarray, tuple[float, float], bool]:
         """:func:`encode_half` of the volume's samples as the ray caster prepares them."""
-        from volumen.render.raycast._cache import prepare
 
         prep = prepare(self.volume)
         texels, vol_map, exact = encode_half(prep.u, prep.u0, prep.ufac)

@@ -10,7 +10,7 @@ Privacy and access (the scan is a patient's):
   the token. Compared in constant time; without it every route answers 403;
 * a ``Host`` that is not an IP address, ``localhost``, this machine's name or one of ``names`` (the
   certificate's) answers 403 (DNS rebinding), and so does a POST from another site's page (``Origin``);
-* routes are a fixed table (:data:`ROUTES`, the static files of the package read into memory at start): no
+* routes are a fixed table (:data:`ROUTES`; the page's files, found in its folder, read into memory at start): no
   part of a request reaches the file system, and anything not in the table (``..``, encoded ``..``,
   absolute paths) answers 404;
 * nothing served or logged names the patient: the volume's geometry, modality, units and values only
@@ -18,8 +18,8 @@ Privacy and access (the scan is a patient's):
   route, the status and the time, never the query (the token) or a path the client sent, and a filter on
   every logger the server uses removes what might (``_redact``).
 
-Limits (connections, deadlines, workers, memory per frame) are :class:`~._limits.ServeLimits`, enforced by
-``_guard`` (connections) and ``_handlers`` (work and answers).
+Limits (connections, deadlines, workers, memory per frame) are :class:`~._serve_limits.ServeLimits`, enforced by
+``_connection_guard`` (connections) and ``_handlers`` (work and answers).
 """
 
 from __future__ import annotations
@@ -36,11 +36,11 @@ import time
 
 from aiohttp import web
 
-from ._guard import GuardedServer, quiet_loop_errors
-from ._handlers import MAX_BODY, ROUTES, STATIC_FILES, Handlers
-from ._limits import ServeLimits, connection_cap
+from ._connection_guard import GuardedServer, quiet_loop_errors
+from ._handlers import MAX_BODY, ROUTES, STATIC_FILES, Handlers, routes
 from ._redact import REDACTOR, install
 from ._requests import host_allowed, origin_allowed
+from ._serve_limits import ServeLimits, connection_cap
 from ._served import DEFAULT_BUDGET_MB
 
 __all__ = ["ViewerServer", "new_token", "is_loopback", "ROUTES", "STATIC_FILES", "log"]
@@ -104,6 +104,7 @@ class ViewerServer:
         self.host, self.token, self.ssl_context = host, token or new_token(), ssl_context
         self.limits = limits or ServeLimits.from_env()
         self.handlers = Handlers(volume, scene, camera, budget_mb, shift, self.limits)
+        self.routes = routes(self.handlers.static)  # the page's files as read at start
         self.names = {*_machine_names(), *names}
         if not is_loopback(host) and host not in ("0.0.0.0", "::"):
             self.names.add(host)
@@ -164,7 +165,7 @@ class ViewerServer:
             return web.Response(status=403, text="403: forbidden (a request from another site)")
         if not self._authorized(request)[0]:
             return web.Response(status=403, text="403: forbidden (this viewer needs the token of its URL)")
-        entry = ROUTES.get(request.path.removeprefix("/"))
+        entry = self.routes.get(request.path.removeprefix("/"))
         if entry is None:
             return web.Response(status=404, text="404: not found")
         if request.method != entry[0]:
@@ -200,7 +201,7 @@ class ViewerServer:
         route = request.path.removeprefix("/")
         _, ok_by_query = self._authorized(request)
         with self.handlers.sending(route):
-            body, ctype, *extra = await getattr(self.handlers, ROUTES[route][1])(request)
+            body, ctype, *extra = await getattr(self.handlers, self.routes[route][1])(request)
             headers = {"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff",
                        **(extra[0] if extra else {})}
             resp = web.StreamResponse(headers=headers)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from raster_helpers import blob_volume
+
+from tests.render.raster.raster_helpers import blob_volume
 
 
 @pytest.fixture(scope="session")

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from raster_helpers import save_row
 
+from tests.render.raster.raster_helpers import save_row
 from volumen.core import Camera, Isosurface, Light, Sampling, Scene, Shading
 from volumen.render import render
 from volumen.render.raster import MeshOptions, isosurface_mesh, render_isosurface_mesh, render_mesh

@@ -6,18 +6,14 @@ outputs; the documented limits (a volume past the 3-D texture size, path tracing
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from tests.render import reference_scenes
 from volumen.core import Camera, Clipping, ClipPlane, Shading, Volume
 from volumen.errors import DeviceLimitError
 from volumen.render import render, resolve_device
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/render: the reference scenes
-import reference_scenes
 
 #: the issue's bar, per picture: mean |RGBA diff| and its 99th percentile
 MEAN_TOL, P99_TOL = 0.01, 0.05

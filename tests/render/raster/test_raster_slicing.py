@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from raster_helpers import homogeneous_volume, save_row
 
+from tests.render.raster.raster_helpers import homogeneous_volume, save_row
 from volumen.core import Camera, Clipping, Sampling, Scene, Shading, TransferFunction
 from volumen.render import render
 from volumen.render.raster import ADAPTIVE, SlicingOptions, render_slicing
@@ -145,7 +145,7 @@ def test_uint8_blending_bands_and_float_does_not(gl, raster_dir):
     assert errs["float32"] < 2e-3, errs
     assert errs["uint8"] > 3 * errs["float32"] and errs["uint8"] > 3 * errs["float16"], errs
     # the blob with faint opacity shows the banding as a picture (brightness x4)
-    from raster_helpers import blob_volume
+    from tests.render.raster.raster_helpers import blob_volume
 
     blob = blob_volume(40)
     faint = _scene(blob, spv=4.0, tf=TF.with_opacity_scale(0.15))

@@ -167,7 +167,7 @@ def test_a_newer_request_during_the_compile_is_the_one_drawn(gl, head, stand_ins
 
 def test_the_app_worker_emits_the_stand_in_then_the_cpu_frame(gl, head, stand_ins, qtbot):
     pytest.importorskip("PySide6.QtCore", reason="the app's worker needs PySide6 (extra 'gui')")
-    from volumen.app._frame import FrameJob
+    from volumen.app._view_picture import FrameJob
     from volumen.app._worker import RenderWorker
 
     scene, cam = _scene(head), Camera.orbit(head)

@@ -42,6 +42,13 @@ export async function postBinary(route, body) {
   return decode(await (await checked(r)).arrayBuffer());
 }
 
+/** @param {string} route @param {unknown} body sent as JSON @returns {Promise<any>} the parsed JSON answer */
+export async function postJSON(route, body) {
+  const r = await fetch(route, { method: 'POST', headers: { ...HEADERS, 'Content-Type': 'application/json' },
+    body: JSON.stringify(body) });
+  return (await checked(r)).json();
+}
+
 // a slice picture (an object URL of the PNG), its pixel -> world map and where the other planes cut it
 /**
  * @typedef {object} Slice

@@ -8,6 +8,9 @@ import { DisplayPass } from './display.js';
 import { createContext, limits, Textures } from './gl.js';
 import { drawOverlay, lightLength, pickLight } from './overlay.js';
 import { RaycastProgram } from './program.js';
+import { SliceMeasures } from './measure.js';
+import { PictureRuler } from './ruler3d.js';
+import { XRRuler } from './xrruler.js';
 import { SliceViews } from './slices.js';
 import { Panel, shifted } from './ui.js';
 import { Viewer } from './viewer.js';
@@ -61,6 +64,9 @@ async function boot() {
   const xr = new XRView(viewer, { onPreset: (step) => panel.cyclePreset(step), onChange: () => panel.refresh('xr') });
   const slices = new SliceViews(element('slices', HTMLElement), { info, max3d,
     onCrosshair: () => viewer.redraw() });
+  const measures = new SliceMeasures(slices);
+  const ruler3d = new PictureRuler(viewer, measures, /** @type {HTMLElement} */ (canvas.parentElement));
+  const xrRuler = new XRRuler(xr, ruler3d);
   const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });
   for (const n of [...info.notices, ...volumeHeader.notices]) panel.notice(n);
 
@@ -108,7 +114,12 @@ async function boot() {
    * @property {{width: number, height: number, rgba: string, float: boolean}} [linear]
    */
   const volumen = {
-    viewer, xr, info, limits: lim, shifted,
+    viewer, xr, info, limits: lim, shifted, measures, ruler3d, xrRuler,
+    // the slice views' rulers and regions as volumen.measure's JSON (`volumen measure export` reads it)
+    measurements() { return { version: 1, measurements: measures.toDicts() }; },
+    // put back what `measurements()` gave (the page's state): how many were added
+    /** @param {{measurements: Record<string, any>[]}} state */
+    loadMeasurements(state) { return measures.fromDicts(state.measurements); },
     // fix the picture's size (pixels) and show `scene` / `camera` (JSON); resolves once it is drawn
     /** @param {{scene?: Scene, camera?: Camera, size?: number[]}} view */
     async show({ scene, camera, size: wh }) {

@@ -24,7 +24,7 @@ export const PLANE_COLOURS = { axial: 'rgb(60, 120, 255)', coronal: 'rgb(230, 60
 // the picture's box inside its element (object-fit: contain): [left, top, scale] in CSS pixels, and the
 // element's box
 /** @param {HTMLImageElement} img @returns {[number, number, number, DOMRect]} */
-function fitted(img) {
+export function fitted(img) {
   const box = img.getBoundingClientRect();
   const s = Math.min(box.width / img.naturalWidth, box.height / img.naturalHeight);
   return [(box.width - s * img.naturalWidth) / 2, (box.height - s * img.naturalHeight) / 2, s, box];
@@ -48,6 +48,9 @@ export class SliceViews {
     /** @type {Record<string, View>} by plane */
     this.views = {};
     this.seq = 0;
+    this.suppressClick = false;   // set by a measurement drag (measure.js): its click leaves the crosshair
+    /** @type {() => void} called after the pictures or their lines are drawn (the measurements follow) */
+    this.onDrawn = () => {};
     for (const plane of PLANES) {
       const fig = document.createElement('figure');
       const img = document.createElement('img');
@@ -69,6 +72,7 @@ export class SliceViews {
   /** @param {string} plane @param {MouseEvent} e */
   click(plane, e) {
     const { img, map } = this.views[plane];
+    if (this.suppressClick) { this.suppressClick = false; return; }
     if (!map) return;
     const [x0, y0, s, box] = fitted(img);
     const col = (e.clientX - box.left - x0) / s - 0.5, row = (e.clientY - box.top - y0) / s - 0.5;
@@ -110,5 +114,6 @@ export class SliceViews {
       Object.assign(v.colLine.style, { left: `${x0 + (v.cross.col + 0.5) * s}px`, top: `${y0}px`,
         height: `${s * v.img.naturalHeight}px`, background: PLANE_COLOURS[v.cross.col_plane] });
     }
+    this.onDrawn();
   }
 }

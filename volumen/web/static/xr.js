@@ -6,8 +6,9 @@
 // seen from the volume is model^-1 * view.transform, so the ray caster marches in mm as everywhere else.
 // Controllers (xr-standard gamepads): squeeze (grip) grabs the volume and moves and turns it with the hand,
 // both grips scale it; the trigger places a spot light at the controller, pointing along its ray, and drags
-// it while held; A / X deletes the light nearest the controller; the thumbstick pushed left or right cycles
-// the presets. Governor: past the display's frame time the step grows (samples per voxel halve, down to a
+// it while held; A / X deletes the light nearest the controller; B / Y hands the controller's ray to `onRay`
+// (the ruler's pick: xrruler.js); the thumbstick pushed left or right cycles the presets. What `overlays` draw
+// goes over each eye's picture. Governor: past the display's frame time the step grows (samples per voxel halve, down to a
 // quarter), then the resolution drops (to half); well under it, they come back.
 
 import { eyeCamera } from './camera.js';
@@ -36,7 +37,7 @@ import { readRGBA } from './gl.js';
  */
 /** @typedef {Eye & {rgba: Uint8Array}} Shot  an eye's picture (RGBA8, rows from the top) */
 
-const BUTTON = { trigger: 0, squeeze: 1, a: 4 };
+const BUTTON = { trigger: 0, squeeze: 1, a: 4, b: 5 };
 // volume axes (RAS) -> room axes (x right, y up, z toward the viewer)
 const TABLE_TOP = [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1];   // lying: anterior up, superior away
 const LIFE_SIZE = [-1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 1];    // standing, facing the viewer
@@ -81,6 +82,10 @@ export class XRView {
     this.lastEyes = undefined;
     /** @type {{n: number, ms: number[], resolve: (ms: number) => void} | null} timeFrames' measure in progress */
     this.timing = null;
+    /** @type {(ray: {position: Vec3, direction: Vec3}) => void} a B / Y press: the controller's ray, volume mm */
+    this.onRay = () => {};
+    /** @type {((gl: WebGL2RenderingContext, eye: Eye, shift: number[]) => void)[]} drawn over each eye */
+    this.overlays = [];
   }
 
   // model matrix: table-top, the volume 0.4 m across (its diagonal), its centre 0.6 m ahead of the viewer and
@@ -157,7 +162,9 @@ export class XRView {
       const s = this.governor ? GOVERNOR_LEVELS[this.level][1] : 1;
       stops = viewer.drawView(layer.framebuffer, [vp.x, vp.y, vp.width, vp.height],
         (w, h) => ({ ...packed, u_wh: [w, h] }), camera, s, shift, true, stops);
-      eyes.push({ eye: view.eye, viewport: [vp.x, vp.y, vp.width, vp.height], camera, shown: viewer.shown });
+      const eye = { eye: view.eye, viewport: [vp.x, vp.y, vp.width, vp.height], camera, shown: viewer.shown };
+      this.overlays.forEach((draw) => draw(gl, eye, shift));
+      eyes.push(eye);
     }
     const waiting = this.captures.splice(0);
     if (waiting.length) {
@@ -226,6 +233,7 @@ export class XRView {
         this.viewer.setScene({ ...this.viewer.scene });   // the illumination volumes of the new position
       }
       if (b[BUTTON.a] && !was[BUTTON.a]) this.deleteNearest(ray.transform.matrix);
+      if (b[BUTTON.b] && !was[BUTTON.b]) this.onRay(this.toVolume(ray.transform.matrix));
       const x = src.gamepad.axes[2] ?? 0;
       if (Math.abs(x) > 0.7 && !hand.stick) this.onPreset(Math.sign(x));
       hand.stick = Math.abs(x) > 0.3 ? (hand.stick || Math.abs(x) > 0.7) : false;

@@ -1,0 +1,2 @@
+"""The path through the lumen: the centerline, poses and keyframes, manual and guided navigation, where the camera
+looks, and collisions with the wall."""

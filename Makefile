@@ -2,6 +2,7 @@
 #   make demo   - create .venv, install with every extra a user command needs, write the phantoms' pictures into out/
 #   make test   - create .venv, install with test extras, lint (ruff), run the whole suite
 #   make fuzz   - a long seeded fuzz campaign over every reader (table per format), then over the network surfaces
+#   make pictures - the README's pictures (docs/*.png) from the README's own commands (docs/pictures.py)
 #   make huge   - an 8 GiB OME-Zarr drawn out of core with a 1 GiB cache: peak RSS vs its bound (minutes)
 PYTHON ?= python3
 VENV   := .venv
@@ -9,14 +10,14 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 # the demo installs every extra a command of the README needs (the application, OpenGL, out of core and batch, the
 # notebook viewer, MP4 video), not the test-only tools (VTK, pytest, the CUDA compiler's libraries)
-DEMO_EXTRAS := gui,gl,scale,notebook,video
+DEMO_EXTRAS := gui,gl,scale,notebook,video,report
 DEMO_STAMP := $(VENV)/.installed-demo
 # two workers on the two cores, each given one contiguous half of the tests, then stealing from the other's end
 # (neighbouring tests share kernel variants: on a cold checkout round-robin made both workers compile the same
 # kernels side by side; whole files per worker left one long file running alone); Numba caches them beside the sources
 PYTEST_ARGS ?= -n 2 --dist worksteal
 
-.PHONY: demo test fuzz fuzz-net huge install system-data system-libs browser pacs-server web-deps lint-web readme-venv clean
+.PHONY: demo test pictures fuzz fuzz-net huge install system-data system-libs browser pacs-server web-deps lint-web readme-venv clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -148,6 +149,11 @@ lint-web: web-deps
 demo: $(DEMO_STAMP)
 	$(VENV)/bin/volumen demo --out out
 	@echo "the other modes' kernels compile on first use (cached once per machine); to compile them all now: $(VENV)/bin/volumen warm"
+
+# the README's pictures, each from the README lines that write it (their outputs side by side; a video's frames);
+# tests/test_readme.py compares them with those lines' outputs at a small size
+pictures: $(DEMO_STAMP)
+	$(PY) docs/pictures.py
 
 # a lint finding fails the build before any test runs (rules in pyproject.toml, [tool.ruff]); the test extra installs
 # the CUDA compiler's libraries, so the CUDA kernels' PTX check must run, not skip (VOLUMEN_REQUIRE_PTX)

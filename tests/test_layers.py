@@ -31,6 +31,21 @@ def test_import_volumen_is_light():
     assert out == "", f"import volumen loaded: {out}"
 
 
+def test_the_layer_contract_is_the_floors_of_docs_design():
+    """pyproject.toml's layers contract lists the floors of docs/design.md section 1's floor line, in its order."""
+    import re
+    import tomllib
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    layers = next(c["layers"] for c in config["tool"]["importlinter"]["contracts"] if c["type"] == "layers")
+    contract = [re.sub(r"\s+", "", layer.replace("volumen.", "")) for layer in layers]
+    design = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    line = next(ln for ln in design.splitlines() if ln.startswith("cli  >"))
+    floors = [re.sub(r"\s+", "", f) for f in line.split(">")]
+    assert contract == floors
+    assert next(k for k, f in enumerate(floors) if "analysis" in f.split("|")) == floors.index("endoscopy") - 1
+
+
 def test_import_volumen_measure_is_light():
     """The measurement model is numpy only at import: a notebook measuring a distance loads no DICOM or SR
     machinery (highdicom and pydicom come with the SR's reader and writer, when used)."""

@@ -12,7 +12,7 @@ from volumen.errors import EXTRAS, MissingExtraError
 ROOT = Path(__file__).resolve().parents[1]
 #: the extras behind the README's user commands: view (gui), --device gl and the slicing and mesh techniques (gl),
 #: OME-Zarr and batch (scale), volumen.show (notebook), fly -o x.mp4 (video)
-USER_EXTRAS = {"gui", "gl", "scale", "notebook", "video"}
+USER_EXTRAS = {"gui", "gl", "scale", "notebook", "video", "report"}
 
 
 def _optional_dependencies() -> dict[str, list[str]]:

@@ -243,7 +243,7 @@ class ModalityError(VolumenError, ValueError):
 EXTRAS: dict[str, str] = {
     "PySide6": "gui", "shiboken6": "gui", "moderngl": "gl", "distributed": "scale", "dask": "scale",
     "zarr": "scale", "ipywidgets": "notebook", "jupyter_rfb": "notebook", "simplejpeg": "notebook",
-    "imageio_ffmpeg": "video", "numba_cuda": "cuda", "vtk": "bench",
+    "imageio_ffmpeg": "video", "numba_cuda": "cuda", "vtk": "bench", "matplotlib": "report",
 }
 
 

@@ -48,7 +48,8 @@ def _fails_in_one_line(argv, work, capsys, *needles):
     err = capsys.readouterr().err
     assert code == 1, err
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"volumen {argv[0]}: error: "), err
+    named = (f"volumen {argv[0]}", f"volumen {' '.join(argv[:2])}")  # a pacs action's own parser names the action
+    assert len(lines) == 1 and ": error: " in lines[0] and lines[0].split(": error: ")[0] in named, err
     assert "Traceback" not in err and "internal error" not in err
     for needle in needles:
         assert needle in err, err
@@ -115,6 +116,30 @@ def test_a_missing_manifest_or_path_file_is_one_line(work, capsys):
 ])
 def test_a_point_outside_is_said_in_millimetres_with_the_extent(work, capsys, argv, needles):
     _fails_in_one_line(argv, work, capsys, *needles)
+
+
+@pytest.mark.parametrize("argv, needles", [
+    (["pacs", "fnd", "archive"], ["command 'fnd' is not one of echo, find, get, send", "did you mean 'find'?"]),
+    (["pacs", "find", "archive", "--protocol", "dicomwb"], ["--protocol 'dicomwb'", "did you mean 'dicomweb'?"]),
+    (["pacs", "echo", "nosuch"], ["server nosuch: is not a configured server", "servers.toml"]),
+    (["pacs", "get", "nosuch", "1.2.3", "-o", "fetched"], ["server nosuch: is not a configured server"]),
+    (["pacs", "send", "http://127.0.0.1:9/dicom-web", "no-such.dcm"], ["no-such.dcm", "No such file"]),
+    (["pacs", "send", "http://127.0.0.1:9/dicom-web", "--scan", "no-such", "--picture", "x.png", "--save", "c.dcm"],
+     ["no-such: no such file"]),
+    (["pacs", "send", "http://127.0.0.1:9/dicom-web", "--picture", "x.png"], ["--picture need --scan"]),
+])
+def test_pacs_refuses_in_one_line_before_it_writes_or_connects(work, capsys, monkeypatch, argv, needles):
+    """A wrong action or protocol, a server name servers.toml does not hold (an empty configuration folder), a
+    missing file: one line, exit 1, no fetched/ or SEG written (the address on port 9 is never reached)."""
+    monkeypatch.setenv("VOLUMEN_CONFIG_DIR", str(work / "config"))
+    _fails_in_one_line(argv, work, capsys, *needles)
+
+
+def test_serve_takes_the_browser_window_as_size_as_window_is_level_width_elsewhere():
+    from volumen.cli import build_parser
+
+    args = build_parser().parse_args(["serve", "ct.nrrd", "--screenshot", "s.png", "--size", "320x200"])
+    assert args.size == "320x200" and not hasattr(args, "window")
 
 
 def test_slice_image_outside_raises_the_typed_error():

@@ -28,9 +28,10 @@ def _world_of(vol, mask) -> np.ndarray:
 
 def test_registry_names_and_errors():
     assert PHANTOMS == ("head", "mr_head", "torso", "abdomen", "chest", "sphere", "ellipsoid", "slab", "arch",
-                        "airways", "tagged_colon", "washout", "terraces")
+                        "airways", "tagged_colon", "washout", "terraces", "stenosis",
+                        "layered_aorta")
     with pytest.raises(ValueError, match="head, mr_head, torso, abdomen, chest, sphere, ellipsoid, slab, arch, "
-                                         "airways, tagged_colon, washout, terraces"):
+                                         "airways, tagged_colon, washout, terraces, stenosis, layered_aorta"):
         phantom("brain")
     with pytest.raises(TypeError, match="takes noise, seed, blur, grey_white"):
         phantom("head", radius=3)

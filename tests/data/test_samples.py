@@ -8,6 +8,7 @@ import nibabel as nib
 import numpy as np
 import pytest
 
+import volumen
 from volumen.data import _samples, sample, samples
 from volumen.errors import SampleDataMissingError, VolumeReadError
 
@@ -94,3 +95,9 @@ def test_left_handed_template_keeps_left_and_right(mricron):
     if las is None:
         pytest.skip("no LAS template installed")
     _assert_same_as_nibabel(sample(las.name.removesuffix(".nii.gz")), las)
+
+
+def test_an_mricron_atlas_is_read_with_the_names_beside_it(mricron):
+    """``aal.nii.gz`` with ``aal.nii.txt`` (116 regions of the AAL atlas, ``1 Precentral_L 2001``)."""
+    labels = volumen.load_labels(mricron / "aal.nii.gz")
+    assert len(labels.names) == 116 and labels.names[1] == "Precentral_L" and labels.names[116] == "Vermis_10"

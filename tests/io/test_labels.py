@@ -40,6 +40,17 @@ def test_label_map_with_json_names_beside_it(tmp_path, organs):
     assert ml[1] == pytest.approx(truth.counts()[1] * 8 / 1000)
 
 
+def test_mricron_names_table_beside_an_atlas_is_read(tmp_path, organs):
+    """MRIcron names an atlas's table after the image less ``.gz`` (``aal.nii.txt``): ``value name [group]``,
+    space or tab separated, with a row for 0."""
+    vol, truth = organs
+    _nifti(tmp_path / "atlas.nii.gz", truth.data, truth.affine)
+    rows = [f"{v}\t{n}\t{2000 + v}" for v, n in truth.names.items()]
+    (tmp_path / "atlas.nii.txt").write_text("0\tUnclassified\n" + "\n".join(rows) + "\n")
+    got = volumen.load_labels(tmp_path / "atlas.nii.gz")
+    assert got.names == truth.names and got.meta["names_table"].endswith("atlas.nii.txt")
+
+
 @pytest.mark.parametrize("text,suffix", [
     ("# ITK-SnAP Label Description File\n    0     0    0    0        0  0  0    \"Clear Label\"\n"
      "    1   255    0    0        1  1  1    \"liver\"\n    2     0  255    0        1  1  1    \"spleen\"\n", ".txt"),

@@ -21,6 +21,8 @@ naming the leak and the flags to try, and nothing is written.
 For a phantom without ``--seed`` or ``--start``, the seed is the first
 centerline point of its colon ground truth (the rectum), or of its first tube.
 
+``--report FOLDER`` also writes the profile along the centerline (``volumen measure vessel``'s report).
+
 Writes the video (MP4 by default, GIF by suffix), and beside it
 ``OUT.timing.json`` with the per-frame render times, their mean and their
 frame-time-weighted mean (``sum t^2 / sum t``), both also printed. Nothing is
@@ -35,9 +37,10 @@ from pathlib import Path
 import numpy as np
 
 from ._common import _floats, add_load_options, load_from_args, parse_point
+from ._measure_vessel import flight_profile, write_flight_report
 
 #: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
-OUTPUTS = ("out", "save_path", "unfold")
+OUTPUTS = ("out", "save_path", "unfold", "report")
 
 
 def register(sub):
@@ -82,6 +85,8 @@ def register(sub):
                    help="fly to the end, then back to the start looking the other way")
     p.add_argument("--save-path", help="write the flight (keyframes, endoscope settings, centerline) to this JSON")
     p.add_argument("--unfold", help="also write the unfolded view of the wall along the centerline (PNG)")
+    p.add_argument("--report", help="also write the profile along the centerline into this folder (profile.csv, "
+                                    "report.json, profile.png: diameters, areas, stenosis, length)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_load_options(p)
     return p
@@ -221,6 +226,7 @@ def run(args):
         raise ValueError("--label needs --lumen-mask")
     volume = load_from_args(args)
     flight, est = _flight(args, volume)
+    profile = flight_profile(args, flight, volume)
     unfolded = None
     if args.unfold:
         wall = WallField.from_threshold(flight.endoscope.volume, flight.endoscope.threshold, est.lumen_side)
@@ -235,4 +241,5 @@ def run(args):
     if unfolded is not None:
         unfolded.save(args.unfold)
         print(f"unfolded view: {args.unfold}")
+    write_flight_report(args, profile, volume)
     return 0

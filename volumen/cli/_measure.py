@@ -15,6 +15,7 @@ __all__ = ["register", "run", "ACTIONS", "OUTPUTS"]
 ACTIONS = {
     "export": "_measure_export",
     "volumes": "_measure_volumes",
+    "vessel": "_measure_vessel",
 }
 
 

@@ -36,8 +36,8 @@ def register(sub):
     p.add_argument("--screenshot", metavar="PNG", help="open the page in headless Chromium, save it to PNG and exit")
     p.add_argument("--vr", action="store_true", help="with --screenshot: the two eyes of an emulated headset "
                    "(iwer, `make web-deps`)")
-    p.add_argument("--window", default="1280x800", metavar="WxH", help="with --screenshot: the window's size "
-                   "in CSS pixels (default 1280x800)")
+    p.add_argument("--size", default="1280x800", metavar="WxH", help="with --screenshot: the browser window's "
+                   "size in CSS pixels (default 1280x800)")
     p.add_argument("--settings", help="scene and camera to open with (a `volumen render --save-settings` file)")
     p.add_argument("--preset", choices=PRESETS, help="transfer function preset to open with")
     p.add_argument("--shift", type=float, default=0.0, help="move the preset along the values by this much (data "
@@ -117,7 +117,7 @@ def _ssl(args):
 def _screenshot(server, args) -> int:
     from volumen.web._screenshot import screenshot
 
-    w, h = (int(v) for v in _floats(args.window, 2, "--window"))
+    w, h = (int(v) for v in _floats(args.size, 2, "--size"))
     server.start()
     try:
         out = screenshot(server, args.screenshot, (w, h), vr=args.vr)

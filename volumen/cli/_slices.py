@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ._common import WINDOW_HELP, add_load_options, count, load_from_args, parse_point, parse_window
+from ._label_tags import place_tags
 from ._labels_opts import add_label_options, labels_from_args, shown_values
 
 #: the arguments naming what the command writes (removed again when it fails: ``_contract.OutputFiles``)
@@ -30,7 +31,8 @@ def register(sub):
 
 
 def _named_outlines(gray, lab, labels, values):
-    """RGB PIL image: the slice with each structure's outline in its colour and its name at its centre."""
+    """RGB PIL image: the slice with each structure's outline in its colour and its name inside it where there is
+    room (``_label_tags.place_tags``: no name over another)."""
     from PIL import Image as PILImage
     from PIL import ImageDraw
 
@@ -38,10 +40,12 @@ def _named_outlines(gray, lab, labels, values):
 
     img = PILImage.fromarray(outline_overlay(gray, lab, labels, values, fill=0.15))
     draw = ImageDraw.Draw(img)
+    sizes = {}
     for v in values:
-        rows, cols = np.nonzero(lab == v)
-        if len(rows):
-            draw.text((float(cols.mean()), float(rows.mean())), labels.names[v], fill=(255, 255, 255), anchor="mm")
+        x0, y0, x1, y1 = draw.textbbox((0, 0), labels.names[v], anchor="mm")
+        sizes[int(v)] = (x1 - x0, y1 - y0)
+    for v, centre, _ in place_tags(lab, values, sizes):
+        draw.text(centre, labels.names[v], fill=(255, 255, 255), anchor="mm")
     return img
 
 

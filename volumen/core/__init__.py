@@ -13,6 +13,7 @@ from ._image import Image
 from ._label_slices import label_slice, outline_overlay
 from ._labels import LabelLayer, LabelMap, default_color
 from ._lighting import FACING
+from ._projection import projection_window
 from ._scene import (
     ADAPTIVE_SHADINGS,
     INTERPOLATIONS,
@@ -67,6 +68,7 @@ __all__ = [
     "default_camera",
     "FITS",
     "SUBJECT_FILL",
+    "projection_window",
     "subject_corners",
     "subject_level",
     "TransferFunction",

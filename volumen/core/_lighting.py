@@ -160,7 +160,9 @@ class ShadowSettings(JsonData):
     light_volume_scale : float in [0.05, 4]
         Resolution of the illumination volumes: light rays per voxel along each
         axis of the slices they are stored on (2: half-voxel spacing). Lowered
-        automatically so one light's volume holds at most 2**26 values (256 MB).
+        automatically so one light's volume holds at most 1/8 value a voxel of
+        the volume (a quarter of an int16 volume's bytes), or 2**22 values
+        (16 MiB) where that is more.
     """
 
     method: Literal["fast", "direct"] = "fast"

@@ -20,8 +20,10 @@ from typing import Literal
 import numpy as np
 
 from ..errors import ModalityError, OutsideVolumeError, UnknownChoiceError
-from ._ct import hu_offset, is_ct
-from ._display import display_range
+from ._ct import hu_offset
+from ._display import LABEL_VALUES, display_range
+from ._subject import subject_values
+from ._values import strided_values
 from ._volume import Volume, axis_codes, is_chunked
 
 __all__ = ["Window", "WINDOW_PRESETS", "PLANES", "canonical", "default_window", "montage", "named_window", "slice_at",
@@ -51,6 +53,8 @@ class Window:
         return self.level - self.width / 2, self.level + self.width / 2
 
 
+#: the percentiles of a scan's subject values (not a CT's) its first slice window spans (:func:`default_window`)
+SLICE_PERCENTILES = (1.0, 99.5)
 #: CT window presets in HU (level, width), as commonly used in radiology.
 WINDOW_PRESETS: dict[str, Window] = {
     "bone": Window(level=400.0, width=1800.0),
@@ -90,13 +94,27 @@ def named_window(name: str, volume: Volume | None = None) -> Window:
 def default_window(volume: Volume) -> Window:
     """The window a volume is first shown with: ``soft-tissue`` (L 40, W 400 HU) for a CT (:func:`is_ct`,
     also one read without a modality; on its stored values: ``hu_offset``), else its display range (its value
-    range, less far outliers: ``_display``)."""
+    range, less far outliers: ``_display``) narrowed to the subject's values (``subject_values``) from their
+    :data:`SLICE_PERCENTILES` first to last: a skull-stripped brain or a template lies far above its background,
+    and windowed from the background its darkest tissue was mid-grey (milky); the few brightest voxels (fat,
+    inflow) saturate. Not for a label map (its values are names, not tissue)."""
     offset = hu_offset(volume)
     if offset is not None:
         w = WINDOW_PRESETS["soft-tissue"]
         return Window(level=w.level + offset, width=w.width)
     lo, hi = display_range(volume)
+    inside = np.empty(0) if _few_values(volume) else subject_values(volume)
+    inside = inside[np.isfinite(inside)] if inside.size else inside
+    if inside.size:
+        bottom, top = (float(v) for v in np.percentile(inside, SLICE_PERCENTILES))
+        lo, hi = (bottom, top) if lo <= bottom < top <= hi else (lo, hi)
     return Window(level=(lo + hi) / 2, width=max(hi - lo, 1e-6))
+
+
+def _few_values(volume) -> bool:
+    """A label map or a colour volume: integers of at most ``LABEL_VALUES`` distinct values in the sample."""
+    s = strided_values(volume)
+    return bool(volume.is_color) or (np.issubdtype(s.dtype, np.integer) and np.unique(s).size <= LABEL_VALUES)
 
 
 def window_to_uint8(values: np.ndarray, window: Window | str | tuple[float, float] | None = None) -> np.ndarray:
@@ -249,20 +267,19 @@ def slice_image(volume: Volume, plane: Plane, index: int | None = None, world=No
     Returns a uint8 ``(rows, cols)`` array, row 0 at the top; a colour volume gives
     ``(rows, cols, 3)`` RGB, its three channels through one window (8-bit colour
     data with no window is shown as stored, 0..255). A window name is a CT window (:func:`named_window`: on a CT's
-    stored values; refused for another modality). With no window a CT (:func:`is_ct`) gets the
-    ``soft-tissue`` window (:func:`default_window`), anything else the slice's 1st..99th percentile, its values
-    below the display range (a resampler's fill outside the field of view: ``_display``) raised to it. A volume whose
+    stored values; refused for another modality). With no window the volume's first window
+    (:func:`default_window`: ``soft-tissue`` for a CT, else the display range from the subject's darkest tissue, as
+    the application's and the page's slice views open), the same in every slice; 8-bit colour as stored, other
+    colour the slice's 1st..99th percentile. A volume whose
     ``meta["display_inverted"]`` is true (DICOM MONOCHROME1) is shown inverted.
     """
     img, (sr, sc) = slice_at(volume, plane, index=index, world=world, canonical_volume=canonical_volume)
     if isinstance(window, str):
         window = named_window(window, volume)
-    if window is None and is_ct(volume):
-        window = default_window(volume)  # soft tissue, on the stored values
-    if window is None and volume.is_color and img.dtype == np.uint8:
+    if window is None and not volume.is_color:
+        window = default_window(volume)  # a CT's soft tissue, the display range from the subject's darkest tissue
+    if window is None and img.dtype == np.uint8:
         window = Window(level=127.5, width=255.0)
-    if window is None and not volume.is_color:  # a fill far below (``display_range``) is not in the percentiles
-        img = np.maximum(img, np.asarray(display_range(volume)[0], img.dtype))
     out = window_to_uint8(img, window)
     if volume.meta.get("display_inverted"):  # MONOCHROME1: low values are white
         out = 255 - out

@@ -19,7 +19,8 @@ from ._display import LABEL_VALUES, MR_CLEAR, display_range
 from ._values import SAMPLE, strided_values
 from ._volume import is_chunked
 
-__all__ = ["subject_level", "subject_corners", "subject_floor", "SUBJECT_HU", "TAIL", "FLOOR_PERCENTILE"]
+__all__ = ["subject_level", "subject_corners", "subject_floor", "subject_values", "SUBJECT_HU", "TAIL",
+           "FLOOR_PERCENTILE"]
 
 #: a CT's subject starts here (HU): above air and the inside of the lung, below fat and skin
 SUBJECT_HU = -500.0
@@ -40,12 +41,17 @@ def subject_level(volume) -> float:
     return lo + MR_CLEAR * (hi - lo)
 
 
-def subject_floor(volume) -> float | None:
-    """The :data:`FLOOR_PERCENTILE`-th percentile of the subject's values (those of the strided sample above
-    :func:`subject_level`): where its darkest tissue starts; None where no sampled voxel is above the level."""
+def subject_values(volume) -> np.ndarray:
+    """The subject's values: those of the strided sample (``_values``) above :func:`subject_level`, flat."""
     s = strided_values(volume)
     with np.errstate(invalid="ignore"):
-        inside = s[s > subject_level(volume)]
+        return s[s > subject_level(volume)]
+
+
+def subject_floor(volume) -> float | None:
+    """The :data:`FLOOR_PERCENTILE`-th percentile of the subject's values (:func:`subject_values`): where its
+    darkest tissue starts; None where no sampled voxel is above the level."""
+    inside = subject_values(volume)
     return float(np.percentile(inside, FLOOR_PERCENTILE)) if inside.size else None
 
 

@@ -18,6 +18,7 @@ from ..errors import UnknownChoiceError
 from ._ct import hu_offset
 from ._display import MR_CLEAR, display_range
 from ._jsondata import JsonData
+from ._projection import HEADROOM, SHOULDER, projection_window
 from ._subject import subject_floor
 
 __all__ = ["TransferFunction", "PRESETS", "Preset", "hu_offset", "default_preset", "fitted_preset", "is_color_slab"]
@@ -238,21 +239,33 @@ def default_preset(volume, mode: str | None = "composite") -> TransferFunction:
     return fitted_preset("ct-skin-bone" if hu_offset(volume) is not None else "mr-default", volume)
 
 
+def _projection_gray(black: float, knee: float, white: float) -> TransferFunction:
+    """``mip-gray`` over a projection's window (:func:`projection_window`): black, the knee's grey, white; opaque."""
+    g = 1.0 - SHOULDER
+    return TransferFunction(color=((black, 0.0, 0.0, 0.0), (knee, g, g, g), (white, 1.0, 1.0, 1.0)),
+                            opacity=((black, 1.0), (white, 1.0)), name="mip-gray")
+
+
 def fitted_preset(name: str, volume) -> TransferFunction:
     """Preset ``name`` for ``volume``: a Hounsfield-unit preset moved onto a CT's stored values (:func:`hu_offset`);
     ``mr-default`` over the volume's display range (:func:`display_range`: its data range, less far outliers);
-    ``mip-gray`` over the display range (a CT's and a PET's: the data range; a projection's brightest voxels are
-    often its finding, an angiogram's vessels, which the cut of far outliers leaves), from the subject's darkest
-    tissue (:func:`subject_floor`) in a scan that is not a CT: a projection shows the brightest voxel along each
-    ray, so through an MRI's subject never its background, and spanned from the background the subject took the
-    top third of the ramp (milky). Every place that names a preset for a volume asks here,
+    ``mip-gray`` over the values the volume's projections show (:func:`projection_window`: a projection shows
+    the brightest voxel along each ray, so never the background inside the subject; spanned over the voxels'
+    values an MRI's MIP took the top of the ramp, milky, its brightest tissue white), black to a shade below white
+    at the knee and on to white at the projections' maximum; where that window cannot be read (a chunked volume, a
+    label map) over the display range, from the subject's darkest tissue (:func:`subject_floor`) in a scan that
+    is not a CT, with the same shoulder above its top. Every place that names a preset for a volume asks here,
     so a preset picked again is the default it was."""
     if name in _CT_PRESETS:
         tf, offset = TransferFunction.preset(name), hu_offset(volume)
         return tf.shifted(offset) if offset else tf
     bottom, top = display_range(volume)
-    if name == "mip-gray" and not volume.is_color and hu_offset(volume) is None:
-        floor = subject_floor(volume)
+    if name != "mip-gray" or volume.is_color:
+        return TransferFunction.preset(name, value_range=(bottom, top))
+    window = projection_window(volume)
+    if window is None:  # the display range, from the subject's darkest tissue in a scan that is not a CT
+        floor = subject_floor(volume) if hu_offset(volume) is None else None
         bottom = bottom if floor is None or not floor < top else max(bottom, floor)
-    return TransferFunction.preset(name, value_range=(bottom, top))
+        window = (bottom, top, top + HEADROOM * (top - bottom)) if top > bottom else None
+    return _projection_gray(*window) if window else TransferFunction.preset(name, value_range=(bottom, top))
 

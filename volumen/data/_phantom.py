@@ -18,12 +18,14 @@ from ._abdomen import abdomen
 from ._airways import airways
 from ._chest import arch
 from ._head import head
+from ._layered import layered_aorta
 from ._mr import mr_head
 from ._shapes import ellipsoid, slab, sphere
 from ._tagged import tagged_colon
 from ._terraces import terraces
 from ._thorax import chest
 from ._torso import torso
+from ._vessel import stenosis_phantom
 from ._washout import washout
 
 __all__ = ["PHANTOMS", "phantom"]
@@ -42,6 +44,8 @@ _BUILDERS: dict[str, Callable[..., Volume]] = {
     "tagged_colon": tagged_colon,
     "washout": washout,
     "terraces": terraces,
+    "stenosis": stenosis_phantom,
+    "layered_aorta": layered_aorta,
 }
 
 PHANTOMS: tuple[str, ...] = tuple(_BUILDERS)
@@ -89,6 +93,16 @@ def phantom(name: str, size=None, **params) -> Volume:
             random field (``sigma`` voxels, ``seed``): a fifth of the samples exactly at the level, the
             failure class of meshes of integer CT at an integer level (default 24 voxels per axis at
             ``spacing`` 1 mm).
+        ``"stenosis"``
+            A curved contrast-filled artery (radius 5 mm) with a 50 % stenosis and a fusiform aneurysm
+            (18 mm across), contrast falling along it and layered across it, in soft tissue (default 176
+            voxels along z, 1 mm isotropic). Params: ``noise``, ``seed``, ``blur``, ``layering`` (HU).
+            ``meta["truth"]``: the ``vessel`` :class:`~volumen.data.Tube`, ``stenosis`` (%), ``max_diameter``.
+        ``"layered_aorta"``
+            A large contrast vessel (radius 13 mm) whose contrast is layered and mixed with a jet of
+            unopacified blood (100-480 HU), correlated noise (``noise`` 30-60 HU, default 40), lung ``gap`` mm
+            away, a bright neighbour touching it (default 100 voxels along z, 1.5 mm). Params: ``noise``,
+            ``seed``, ``blur``, ``layering`` (HU), ``gap`` (mm). ``meta["truth"]["landmarks"]["starts"]``: 20 starts.
     size : int or (nz, ny, nx), optional
         Voxel count along the longest axis (isotropic voxels over the phantom's field of
         view), or the three counts (the spacing then follows per axis). For the analytic

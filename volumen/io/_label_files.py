@@ -9,7 +9,8 @@ What is read (detected from the path):
   SEG (binary or fractional, read with highdicom): :mod:`._labels_seg`;
 * any integer volume :func:`volumen.load` reads (NIfTI, NRRD, MetaImage...) as a label
   map, its names from ``names=`` (a table :mod:`._labels_tables` reads) or a table
-  beside it with the same stem (``.json``, ``.csv``, ``.txt``, ``.ctbl``, ``.label``).
+  beside it with the same stem (``.json``, ``.csv``, ``.txt``, ``.ctbl``, ``.label``), or with the image's name
+  less ``.gz`` (MRIcron's ``aal.nii.txt`` beside ``aal.nii.gz``).
 
 ``like=volume`` resamples the labels onto the scan's grid (nearest voxel, through both
 affines) and refuses labels that do not overlap it.
@@ -80,8 +81,9 @@ def labels_on_grid(labels: LabelMap, volume: Volume) -> LabelMap:
 def _names(path: Path, names) -> tuple[dict | None, Path | None]:
     if names is not None:
         return read_names_table(names), Path(names)
-    for s in _TABLE_SUFFIXES:
-        f = path.with_name(_stem(path) + s)
+    # beside it with its stem (aal.txt) or, as MRIcron names its atlases' tables, its name less .gz (aal.nii.txt)
+    stems = dict.fromkeys((_stem(path), path.name.removesuffix(".gz")))
+    for f in (path.with_name(stem + s) for stem in stems for s in _TABLE_SUFFIXES):
         if f.exists():
             return read_names_table(f), f
     return None, None

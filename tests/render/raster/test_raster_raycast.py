@@ -206,8 +206,8 @@ def test_every_frame_field_reaches_the_shader():
     packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "light_meta": "u_lvm",
               "env_sh": "u_envsh", "gradient_matrix": "u_nmat"}
     not_on_gl = {"label_map", "label_lut",  # label maps: DeviceLimitError on gl
-                 # normal codes: the shader computes normals from the volume (u_nmat)
-                 "normal_codes", "gradient_codes", "normal_dirs",
+                 # normal codes: the shader's normals are the volume's (u_nmat)
+                 "normal_codes", "normal_slots", "gradient_codes", "normal_dirs",
                  "whole", "carry",  # bricks: cpu only
                  "env", "env_basis", "env_cdf", "majorant",  # the path tracer's environment map and majorant grid
                  "coarse_flags",  # adaptive sampling: cpu and cuda

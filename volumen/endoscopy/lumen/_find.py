@@ -193,7 +193,7 @@ def find_lumen(volume, start, end=None, *, kind: str = "auto", value_range=None,
     try:
         est, rays = probe_lumen(volume, voxels["start"], kind)
     except ValueError as exc:
-        raise LumenError(f"the start point {_fmt(start)} is in no lumen: {exc}") from None
+        raise LumenError(f"the start point {_fmt(start)} is in no lumen: {exc}; {FLAGS}") from None
     if threshold is not None:
         est = est.with_threshold(threshold)
     if value_range is not None:

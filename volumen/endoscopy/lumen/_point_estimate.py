@@ -25,7 +25,14 @@ colon, bone) cannot take the place of the wall:
 5. The lumen's and the wall's values must stand :data:`SEPARATION` noise deviations
    apart (a point in tissue has neighbours of other values too, but no wall round it
    that stands out of its own texture).
-6. **The wall threshold** lies half-way between the lumen's and the wall's values:
+6. **Settled at the vessel's scale** (:func:`probe_lumen`): the lumen's value and spread are read again
+   from the hundreds of voxels the rays crossed inside it, and the rays cast again, while that spread grows
+   (by at most :data:`SETTLE_GROWTH` a step); the last estimate that passes 5. is kept. Contrast layered
+   across a vessel or mixed with unopacified blood is the lumen's own variation, which the ball of 1. does
+   not show: read as noise, the rays left the lumen at its darker layers and took them for its wall. A point
+   refused so, whose rays meet one class in most directions (a pocket of unopacified blood), is estimated
+   from that class, and kept when its own value lies in that lumen's range.
+7. **The wall threshold** lies half-way between the lumen's and the wall's values:
    where a blurred edge between the two is crossed, the partial-volume boundary.
    The lumen's values run from the threshold to the scan's far end.
 
@@ -56,6 +63,15 @@ DEPARTURE = 3.0
 #: of the values met, the quartile nearest the lumen's stands for its wall (see the module docstring)
 WALL_QUANTILE = 0.25
 REACH = (50.0, 100.0)  # mm: the rays' reach, tried in turn
+#: the lumen's value and spread are read again from the voxels the rays crossed inside it, and the rays cast
+#: again with that spread, at most this many times (until the spread grows no more)
+SETTLE = 4
+#: ... when they crossed this many voxels at least
+SETTLE_VOXELS = 200
+#: ... and while the spread grows by at most this factor a step
+SETTLE_GROWTH = 2.0
+#: a refused point whose rays meet one class in more than this share of directions is a pocket inside it
+POCKET = 0.5
 
 
 @dataclass(frozen=True)
@@ -193,16 +209,92 @@ def lumen_class(volume, zyx) -> tuple[float, float]:
     return med, max(float(widths[k]) / 1.349, 1e-3 * max(abs(med), 1.0))
 
 
-def probe_lumen(volume, zyx, kind: str = "auto"):
-    """:func:`estimate_lumen` and the :class:`~volumen.endoscopy._rays.RayProbe` it was made from."""
-    from ._rays import cast_rays
+def _spread_inside(volume, rays):
+    """``(value, spread)`` of the voxels the rays crossed inside the lumen (the median, and the middle half's
+    width / 1.349), or None when they are fewer than :data:`SETTLE_VOXELS`: the lumen's own variation at the
+    vessel's scale (layered or mixed contrast), which the handful of voxels round the point does not show."""
+    if len(rays.inside) < SETTLE_VOXELS:
+        return None
+    vals = np.asarray(volume.data[tuple(rays.inside.T)], np.float64)
+    q1, med, q3 = np.quantile(vals, [0.25, 0.5, 0.75])
+    return float(med), float(q3 - q1) / 1.349
 
+
+def probe_lumen(volume, zyx, kind: str = "auto"):
+    """:func:`estimate_lumen` and the :class:`~volumen.endoscopy._rays.RayProbe` it was made from.
+
+    The estimate is made from the point's own class (:func:`lumen_class`), then again (up to :data:`SETTLE`
+    times) from the lumen's value and spread over the voxels the rays crossed inside it, while that spread
+    grows, by at most :data:`SETTLE_GROWTH` a step (more is the rays escaping into another class); the last
+    estimate whose lumen and wall stand apart is kept, so a point in a layered lumen is neither refused nor
+    given a wall read off the lumen's own darker layers. A point refused so whose rays meet one class in
+    most directions (a pocket of unopacified blood in a contrast lumen) is estimated again from that class,
+    and kept when its own value lies in that lumen's range."""
     if kind not in LUMEN_KINDS:
         raise ValueError(f"lumen kind must be one of {', '.join(LUMEN_KINDS)}; got {kind!r}")
     z, y, x = (int(v) for v in zyx)
-    lumen, noise = lumen_class(volume, (z, y, x))
+    own, noise = lumen_class(volume, (z, y, x))
+    try:
+        return _settled(volume, (z, y, x), own, noise, kind)
+    except ValueError as exc:
+        found = _from_surroundings(volume, (z, y, x), own, noise, kind)
+        if found is None:
+            raise exc from None
+        return found
+
+
+def _settled(volume, zyx, lumen: float, noise: float, kind: str):
+    """``(LumenEstimate, RayProbe)`` settled on the lumen's spread (see :func:`probe_lumen`); the first
+    refusal's ValueError when none stands."""
+    kept, first_error = None, None
+    for _ in range(SETTLE):
+        try:
+            kept = _probe(volume, zyx, lumen, noise, kind)
+        except ValueError as exc:
+            first_error = first_error or exc
+            break
+        wider = _spread_inside(volume, kept[1])
+        if wider is None or not noise * 1.1 < wider[1] <= SETTLE_GROWTH * noise:
+            break
+        lumen, noise = wider
+    if kept is None:
+        raise first_error
+    return kept
+
+
+def _from_surroundings(volume, zyx, own: float, noise: float, kind: str):
+    """The estimate of the class that rays from ``zyx`` meet in more than :data:`POCKET` of the directions, from
+    the voxel a voxel past where the median such ray met it; None unless ``own`` (the point's value) lies in
+    that lumen's range."""
+    from ._rays import cast_rays
+
+    rays = cast_rays(volume, zyx, own, DEPARTURE * noise, REACH[0])
+    for sign in (1, -1):
+        meets = rays.hit & (rays.sign == sign)
+        if meets.sum() <= POCKET * len(rays.hit):
+            continue
+        k = np.flatnonzero(meets)[np.argsort(rays.met[meets])[meets.sum() // 2]]
+        step = rays.distance[k] + float(max(volume.spacing))
+        point = volume.index_to_world(np.asarray(zyx, float)[::-1]) + step * rays.directions[k]
+        there = tuple(int(v) for v in np.rint(volume.world_to_index(point)[::-1]))
+        if not all(0 <= v < n for v, n in zip(there, volume.shape, strict=True)):
+            continue
+        try:
+            est, found = _settled(volume, there, *lumen_class(volume, there), kind)
+        except ValueError:
+            continue
+        lo, hi = est.value_range
+        if lo <= own <= hi:
+            return est, found
+    return None
+
+
+def _probe(volume, zyx, lumen: float, noise: float, kind: str):
+    """The estimate from rays cast with the lumen's ``value`` and ``noise``: ``(LumenEstimate, RayProbe)``."""
+    from ._rays import cast_rays
+
     for reach in REACH:
-        rays = cast_rays(volume, (z, y, x), lumen, DEPARTURE * noise, reach)
+        rays = cast_rays(volume, zyx, lumen, DEPARTURE * noise, reach)
         if rays.hit.any():
             break
     else:

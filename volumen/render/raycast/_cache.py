@@ -16,7 +16,7 @@ import numpy as np
 
 from ...core import drawable_range, table_range
 from ._color import NO_RGB, luminance_samples, rgb8
-from ._normals import encode_normals
+from ._normals import NO_CODES, NO_SLOTS, brick_codes, covers, encode_normals
 from ._precompute import NLUT, build_blocks, int16_samples, normal_params
 
 __all__ = ["Prepared", "prepare", "clear_cache", "prepared_volumes", "shared_table"]
@@ -86,16 +86,23 @@ class Prepared:
             self.timings["normals"] = time.perf_counter() - t
         return self._normals[sobel, magnitude]
 
-    def codes(self, sobel: bool, directions: bool, magnitudes: bool) -> tuple[np.ndarray, np.ndarray]:
-        """``(direction codes, magnitude codes)`` per voxel (``_normals.encode_normals``); only the last asked
-        for are kept (a volume's codes are as large as its data)."""
+    def codes(self, sobel: bool, directions: bool, magnitudes: bool, keep=None) -> tuple:
+        """``(direction codes' pool, their bricks' slots, magnitude codes)`` (``_normals.brick_codes`` of the bricks
+        ``keep``, None: every brick; ``_normals.encode_normals``' magnitudes); placeholders where not asked for. Only
+        the last asked for are kept (a volume's codes are as large as its data), and built again where they lack a
+        brick of ``keep`` or hold many more (``_normals.covers``)."""
         key = (sobel, directions, magnitudes)
-        if key not in self._codes:
+        kept = self._codes.get(key)
+        if kept is None or (directions and not covers(kept[0], keep)):
             nrm = self.normals(sobel, magnitudes)[0]  # 1 / gmax only for the magnitude codes
+            self._codes = {}  # the old codes go before the new ones are built
             t = time.perf_counter()
-            self._codes = {key: encode_normals(self.u, nrm, sobel, directions=directions, magnitudes=magnitudes)}
+            bricks = brick_codes(self.u, nrm, sobel, keep) if directions else None
+            mags = encode_normals(self.u, nrm, sobel, directions=False, magnitudes=magnitudes)[1]
+            self._codes = {key: (bricks, mags)}
             self.timings["normal codes"] = time.perf_counter() - t
-        return self._codes[key]
+        bricks, mags = self._codes[key]
+        return (NO_CODES, NO_SLOTS, mags) if bricks is None else (bricks.pool, bricks.slots, mags)
 
     def memo(self, key, build):
         """``build()``, kept for the next frames asking with the same ``key`` (the last :data:`MEMO` kept):
@@ -129,9 +136,10 @@ class Prepared:
         if block not in self._blocks:
             t = time.perf_counter()
             bmin, bmax = build_blocks(self.u, block)
-            if self.u0 != 0.0 or self.ufac != 1.0:  # in table units
-                bmin = ((bmin - self.u0) * self.ufac).astype(np.float32)
-                bmax = ((bmax - self.u0) * self.ufac).astype(np.float32)
+            if self.u0 != 0.0 or self.ufac != 1.0:  # in table units, in place a slab at a time (no grid-sized copy)
+                for grid in (bmin, bmax):
+                    for k in range(grid.shape[0]):
+                        grid[k] = (grid[k] - self.u0) * self.ufac
             self._blocks[block] = bmin, bmax
             self.timings["blocks"] = time.perf_counter() - t
         return self._blocks[block]

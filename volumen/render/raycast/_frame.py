@@ -43,7 +43,8 @@ class Arrays(NamedTuple):
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
     vol: np.ndarray  #: int16 samples [z, y, x]: the data itself or an int16 copy (``_precompute.int16_samples``)
     gradient_matrix: np.ndarray  #: gradient matrix and 1 / gmax (4, 3) float64 (``_precompute.normal_params``)
-    normal_codes: np.ndarray  #: normal direction code per voxel [z, y, x] uint16 (``_normals``), (1, 1, 1) when unused
+    normal_codes: np.ndarray  #: normal direction codes, a pool of bricks uint16 (``_normals``), (1, 1, 1) when unused
+    normal_slots: np.ndarray  #: each brick's slot in ``normal_codes`` int32 (``_normals``), (1, 1, 1) when unused
     gradient_codes: np.ndarray  #: gradient-magnitude code per voxel [z, y, x] uint8, (1, 1, 1) when unused
     normal_dirs: np.ndarray  #: direction code -> unit vector, packed in a uint32 (``_normals.DIRS``)
     lut: np.ndarray  #: colour / opacity table (NLUT, 4) (``_tables``)
@@ -74,8 +75,8 @@ class Arrays(NamedTuple):
 #: fields of :class:`Arrays` that belong to the volume, or to it and a transfer function (cached objects, never
 #: changed in place): a device keeps its copy while the object is the same, without comparing contents (``skip_flags``
 #: is 4.7 MB at 366 x 303 x 336: comparing it took 1 ms of a 7.6 ms CUDA frame)
-PER_VOLUME = ("vol", "gradient_matrix", "normal_codes", "gradient_codes", "normal_dirs", "bmin", "bmax", "skip_flags",
-              "label_map", "rgb", "cells")
+PER_VOLUME = ("vol", "gradient_matrix", "normal_codes", "normal_slots", "gradient_codes", "normal_dirs", "bmin",
+              "bmax", "skip_flags", "label_map", "rgb", "cells")
 
 
 class Settings(NamedTuple):

@@ -22,7 +22,9 @@ ou + u h)`` on the far slice ``kfar``, and crosses slice ``k`` at
 ``h`` voxels on the far slice (finer on nearer slices) and covers every point
 of the region; ``h = 1 / light_volume_scale``, coarser when the light is so
 near that the lattice would fan out past ``BUDGET`` times the region's nodes, or
-past ``MAX_NODES``. Lights inside the region's box on every axis have no
+past ``NODE_SHARE`` nodes a voxel of the volume (:func:`light_nodes`: float32 nodes, a quarter of an int16
+volume's bytes a light; the light varies slowly across the coarser spacing this gives a large volume, whose
+voxels are small against its shadows). Lights inside the region's box on every axis have no
 lattice: their visibility falls back to direct shadow rays (``LV_KIND = DIRECT``).
 
 Near the sample, surfaces lie within one lattice spacing of the path to the
@@ -61,7 +63,7 @@ from ._lightsweep import (
 )
 
 __all__ = ["LV_KIND", "LATTICE", "DIRECT", "NMETA", "NEAR_STEPS", "NO_SITE", "plan_lattice", "build_lattice",
-           "lattice_site", "lattice_read", "lattice_ahead", "light_volumes",
+           "lattice_site", "lattice_read", "lattice_ahead", "light_volumes", "light_nodes",
            "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
            "lattice_transmittance_of"]
 
@@ -85,9 +87,10 @@ from ._params import (
     LV_PA,
     LV_PB,
     LV_PC,
-    MAX_NODES,
+    MIN_NODES,
     NEAR_STEPS,
     NMETA,
+    NODE_SHARE,
 )
 
 
@@ -102,12 +105,14 @@ def _pick(ax, x, y, z):
 
 
 @njit(cache=True, fastmath=True)
-def _slice_node(nv, nu, q, ub, uc, cb, cc, pb, pc):
-    """``(index in the slice of the lower node, fu, fv)`` where the ray through (cb, cc) crosses a slice, in node
-    units ``u = uc + (cc - pc) q``, ``v = ub + (cb - pb) q`` (:func:`lattice_site`); index -1 outside the lattice
-    (transmittance 1 there)."""
-    u = uc + (cc - pc) * q
-    v = ub + (cb - pb) * q
+def _slice_node(grid, q, at):
+    """``(index in the slice of the lower node, fu, fv)`` where the ray through the position crosses a slice, in node
+    units ``u = uc + dc q``, ``v = ub + db q`` (:func:`lattice_site`; ``grid = (nv, nu)``, ``at = (ub, uc, db, dc)``,
+    ``db``, ``dc`` the position less the light along b, c); index -1 outside the lattice (transmittance 1 there)."""
+    nv, nu = grid
+    ub, uc, db, dc = at
+    u = uc + dc * q
+    v = ub + db * q
     if not (u >= 0.0 and v >= 0.0 and u <= nu - 1 and v <= nv - 1):
         return -1, 0.0, 0.0
     u0 = min(int(u), nu - 2)
@@ -165,10 +170,11 @@ def lattice_site(lvm, li, x, y, z):
     ub = (pb - ov) * ih
     uc = (pc - ou) * ih
     ph = (kfar - pa) * ih
-    n0, fu0, fv0 = _slice_node(nv, nu, ph / (k0 + i0 - pa), ub, uc, cb, cc, pb, pc)
+    at = (ub, uc, cb - pb, cc - pc)
+    n0, fu0, fv0 = _slice_node((nv, nu), ph / (k0 + i0 - pa), at)
     if w <= 0.0 or i1 == i0:
         return (n0 + off + i0 * nv * nu if n0 >= 0 else -1), fu0, fv0, -1, 0.0, 0.0, 0.0, nu
-    n1, fu1, fv1 = _slice_node(nv, nu, ph / (k0 + i1 - pa), ub, uc, cb, cc, pb, pc)
+    n1, fu1, fv1 = _slice_node((nv, nu), ph / (k0 + i1 - pa), at)
     return ((n0 + off + i0 * nv * nu if n0 >= 0 else -1), fu0, fv0, (n1 + off + i1 * nv * nu if n1 >= 0 else -1),
             fu1, fv1, w, nu)
 
@@ -219,6 +225,7 @@ def plan_lattice(light_index, box_lo, box_hi, shape, scale: float):
     lo = np.asarray(box_lo, float)[::-1]
     hi = np.asarray(box_hi, float)[::-1]
     best = None
+    top = light_nodes(shape)
     for a in range(3):
         b, c = [d for d in range(3) if d != a]
         k0 = max(int(math.floor(lo[a] + 1e-9)), 0)
@@ -241,8 +248,8 @@ def plan_lattice(light_index, box_lo, box_hi, shape, scale: float):
         if area / h ** 2 > BUDGET * region * scale ** 2:
             h *= math.sqrt(area / h ** 2 / (BUDGET * region * scale ** 2))
         nk = k1 - k0 + 1
-        if nk * area / h ** 2 > MAX_NODES:
-            h = math.sqrt(nk * area / MAX_NODES)
+        if nk * area / h ** 2 > top:
+            h = math.sqrt(nk * area / top)
         nv = int(math.ceil((ext[0][1] - ext[0][0]) / h)) + 3
         nu = int(math.ceil((ext[1][1] - ext[1][0]) / h)) + 3
         rank = (round(h, 6), nk * nv * nu)  # the finest lattice, then the smallest
@@ -256,6 +263,12 @@ def plan_lattice(light_index, box_lo, box_hi, shape, scale: float):
             m[LV_OV], m[LV_OU], m[LV_H] = ext[0][0] - h, ext[1][0] - h, h
             best = (rank, m)
     return None if best is None else best[1]
+
+
+def light_nodes(shape) -> float:
+    """The most nodes one light's lattice may hold for a volume of ``shape``: :data:`NODE_SHARE` a voxel, and
+    never fewer than :data:`MIN_NODES`."""
+    return max(NODE_SHARE * float(np.prod(shape)), float(MIN_NODES))
 
 
 class _Set:

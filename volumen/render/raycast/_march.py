@@ -43,6 +43,7 @@ from ...jit import claim, fetch_add, run_claiming
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
 from ._cells import cell_visible
 from ._frame import FAR
+from ._normals import prefetch_codes
 from ._pieces import Pixel, RayEnd, Sample, finish, init, step, uses_normals
 from ._ray import begin_ray, sample_at
 from ._sample import prefetch_cell
@@ -70,7 +71,7 @@ def _ahead(r, a, s, t, light):
     x, y, z = r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk
     prefetch_cell(a.vol, x, y, z)
     if uses_normals(light):
-        prefetch_cell(a.normal_codes, x, y, z)
+        prefetch_codes(a, x, y, z)
     if s.gradient_opacity:
         prefetch_cell(a.gradient_codes, x, y, z)
 

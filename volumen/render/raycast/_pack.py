@@ -21,7 +21,7 @@ from ._geometry import G_BOX, pack_camera, pack_geometry, pack_planes
 from ._labelled import label_blocks, label_table, packed_labels, solid_rows
 from ._lightvol import NMETA, light_volumes
 from ._medium import Medium, label_scale
-from ._normals import DIRS, NO_CODES
+from ._normals import BRICK, DIRS, NO_CODES, NO_SLOTS
 from ._octants import octant_sides
 from ._pieces import LIGHT_TAGS, MODE_TAGS, PROJECTIONS, RECON_TAGS, label_tag
 from ._precompute import NLUT
@@ -112,6 +112,16 @@ def _skip_tables(scene, prep, lut, u_iso, lab):
     return True, bflag, bmin, bmax
 
 
+def _shown(scene, prep, lut, preint):
+    """The bricks whose normal codes a frame reads (``_normals``): those a post-classified composite picture without
+    labels can show, kept while the visible table entries are the same; None (every brick) where
+    what is shown is not known from the table alone (isosurfaces, labels, pre-integration)."""
+    if scene.mode != "composite" or preint or scene.labels is not None:
+        return None
+    seen = (lut[:, 3] > 0).tobytes()
+    return prep.memo(("shown", seen), lambda: block_visibility(lut[:, 3], *prep.blocks(BRICK)) > 0)
+
+
 def _coarse_table(scene, prep, lut, lab):
     """``Arrays.coarse_flags``: the blocks adaptive sampling takes longer steps in (post-classified composite without
     labels, with skipping), else a (1, 1, 1, 1) zero placeholder."""
@@ -160,12 +170,13 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     pre = _range_table(preintegrated_table, prep, tf, ratio * kext) if preint else _NO_PRE
     gradop = tf.gradient_opacity is not None and mode == "composite"
     shaded = model != "unlit" and not medium_model
-    ncode, gcode = NO_CODES, _NO_MAGS
+    ncode, nslot, gcode = NO_CODES, NO_SLOTS, _NO_MAGS
     if shaded or gradop:
         sobel = sh.phong.gradient == "sobel"
         nrm, gmax = prep.normals(sobel, magnitude=gradop)
         if scene.sampling.interpolation != "bspline":  # the B-spline's gradients are its own (``_bspline.normal``)
-            ncode, gcode = prep.codes(sobel, shaded, gradop)
+            keep = _shown(scene, prep, lut, preint) if shaded else None
+            ncode, nslot, gcode = prep.codes(sobel, shaded, gradop, keep)
     else:
         nrm, gmax = np.zeros((4, 3), np.float64), 0.0
     glut = gradient_table(tf, gmax) if gradop else np.ones(128, np.float32)
@@ -180,8 +191,9 @@ def _tables(scene, prep, ratio, kext, model, medium_model, u_iso) -> dict:
     else:
         sig = extinction_table(tf, prep.vmin, prep.vmax)
     lab, llut = lab if lab is not None else (_NO_LAB, _NO_LLUT)
-    return dict(lut=lut, pre=pre, nrm=nrm, ncode=ncode, gcode=gcode, glut=glut, bflag=bflag, bmin=bmin, bmax=bmax,
-                bcoarse=bcoarse, cells=cells, sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab, llut=llut)
+    return dict(lut=lut, pre=pre, nrm=nrm, ncode=ncode, nslot=nslot, gcode=gcode, glut=glut, bflag=bflag, bmin=bmin,
+                bmax=bmax, bcoarse=bcoarse, cells=cells, sig=sig, skip=skip, gradop=gradop, preint=preint, lab=lab,
+                llut=llut)
 
 
 #: the label arrays of a scene without labels: one object, so a device keeps it between frames (PER_VOLUME)
@@ -251,6 +263,7 @@ def _light_volumes(scene, prep, t, st, lights, model, build):
     path_traced = sh.mode == "pathtrace" and scene.mode == "composite"  # ratio tracking, no light volumes
     nlights, kext = st.nlights, st.extinction_scale
     if model in ("unlit", "phong") or path_traced or not nlights:
+        prep.light_set = None  # nothing reads the volume's light volumes now: they go (built again when asked for)
         return np.zeros((1, NMETA)), np.ones(1, np.float32), 0
     geo, planes = t["geo"], t["planes"]
     inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
@@ -313,7 +326,8 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     lvm, lvd, built = _light_volumes(scene, prep, t, st, lights, model, build_light_volumes)
     timings.update(prep.timings)
     arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u,
-                    gradient_matrix=t["nrm"], normal_codes=t["ncode"], gradient_codes=t["gcode"], normal_dirs=DIRS,
+                    gradient_matrix=t["nrm"], normal_codes=t["ncode"], normal_slots=t["nslot"],
+                    gradient_codes=t["gcode"], normal_dirs=DIRS,
                     lut=t["lut"], preintegrated=t["pre"], gradient_lut=t["glut"], skip_flags=t["bflag"],
                     bmin=t["bmin"], bmax=t["bmax"], coarse_flags=t["bcoarse"], cells=t["cells"], lights=lights,
                     light_meta=lvm, light_data=lvd, extinction=t["sig"], label_map=t["lab"], label_lut=t["llut"],

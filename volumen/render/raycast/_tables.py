@@ -123,11 +123,16 @@ def entry_prefix(marked: np.ndarray) -> np.ndarray:
 
 
 def _entries_in_range(marked: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:
-    """Per block, how many ``marked`` table entries lie in ``[floor(bmin), ceil(bmax)]`` (a prefix sum)."""
+    """Per block, how many ``marked`` table entries lie in ``[floor(bmin), ceil(bmax)]`` (a prefix sum), int32; a
+    slab of blocks at a time, so the temporaries are a slab's (the whole grid's were 0.3x an int16 volume's bytes)."""
     prefix = entry_prefix(marked)
-    lo = np.clip(np.floor(bmin).astype(np.int64), 0, NLUT - 1)
-    hi = np.clip(np.ceil(bmax).astype(np.int64), 0, NLUT - 1)
-    return prefix[hi + 1] - prefix[lo]
+    bmin, bmax = np.atleast_1d(bmin), np.atleast_1d(bmax)
+    out = np.empty(bmin.shape, np.int32)
+    for k in range(bmin.shape[0]):
+        lo = np.clip(np.floor(bmin[k]).astype(np.int64), 0, NLUT - 1)
+        hi = np.clip(np.ceil(bmax[k]).astype(np.int64), 0, NLUT - 1)
+        out[k] = prefix[hi + 1] - prefix[lo]
+    return out
 
 
 def block_visibility(lut_alpha: np.ndarray, bmin: np.ndarray, bmax: np.ndarray) -> np.ndarray:

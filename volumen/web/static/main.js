@@ -68,7 +68,8 @@ async function boot() {
   const ruler3d = new PictureRuler(viewer, measures, /** @type {HTMLElement} */ (canvas.parentElement));
   const xrRuler = new XRRuler(xr, ruler3d);
   const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });
-  for (const n of [...info.notices, ...volumeHeader.notices]) panel.notice(n);
+  // the volume's header repeats the notices info.json already gave where the volume was packed before it answered
+  for (const n of new Set([...info.notices, ...volumeHeader.notices])) panel.notice(n);
 
   /** @returns {Size} */
   const size = () => [canvas.width, canvas.height];

@@ -51,6 +51,8 @@ export class SliceViews {
     this.suppressClick = false;   // set by a measurement drag (measure.js): its click leaves the crosshair
     /** @type {() => void} called after the pictures or their lines are drawn (the measurements follow) */
     this.onDrawn = () => {};
+    /** @type {Promise<void>} */
+    this.latest = Promise.resolve();
     for (const plane of PLANES) {
       const fig = document.createElement('figure');
       const img = document.createElement('img');
@@ -87,12 +89,19 @@ export class SliceViews {
     this.update();
   }
 
-  async update() {
-    const seq = ++this.seq;
+  // resolves once the slices of the latest state are shown (an update overtaken by a newer one waits for it)
+  /** @returns {Promise<void>} */
+  update() {
+    this.latest = this.show(++this.seq);
+    return this.latest;
+  }
+
+  /** @param {number} seq @returns {Promise<void>} */
+  async show(seq) {
     const [x, y, z] = this.crosshair;
     const shots = await Promise.all(PLANES.map((plane) => getSlice({ plane, x, y, z, level: this.window.level,
       width: this.window.width, max3d: this.max3d })));
-    if (seq !== this.seq) { shots.forEach((s) => URL.revokeObjectURL(s.url)); return; }
+    if (seq !== this.seq) { shots.forEach((s) => URL.revokeObjectURL(s.url)); return this.latest; }
     await Promise.all(PLANES.map((plane, i) => {
       const v = this.views[plane];
       if (v.img.src) URL.revokeObjectURL(v.img.src);

@@ -62,9 +62,9 @@ def main() -> int:
     g = pt.frame
     sig_paths = (numba.int64, numba.int64, ty(g.arrays), ty(g.settings), ty(pt.acc), ty(pt.coverage), ty(pt.features))
     a = f.arrays
-    m = a.lvm[0]
+    m = a.light_meta[0]
     axes = tuple(int(m[j]) for j in (LV_AXA, LV_AXB, LV_AXC))
-    med = Medium(a.vol, a.sig, 0.0, 1.0, a.lab, a.llut, a.lut, 1.0, 0)
+    med = Medium(a.vol, a.extinction, 0.0, 1.0, a.label_map, a.label_lut, a.lut, 1.0, 0)
     sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
     sig_sweep = (ty(sw), ty(np.zeros((2, 2, 2), np.float32)))
     from volumen.render.raycast import _inlining

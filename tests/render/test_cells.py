@@ -115,7 +115,7 @@ def test_headlight_terms_are_phongs_for_the_normal_turned_to_the_viewer():
         v = rng.normal(size=3)
         v /= np.linalg.norm(v)
         nx, ny, nz, flat = _unit_facing((g[0], g[1], g[2]), (v[0], v[1], v[2]))
-        want = (1.0, 0.0) if flat else phong_terms(nx, ny, nz, *v, *v, 20.0)
+        want = (1.0, 0.0) if flat else phong_terms((nx, ny, nz), tuple(v), tuple(v), 20.0)
         got = _headlight_terms((g[0], g[1], g[2]), (v[0], v[1], v[2]), 20.0)
         assert abs(got[0] - want[0]) <= 1e-12 and abs(got[1] - want[1]) <= 1e-12
 
@@ -160,13 +160,13 @@ def test_a_shadow_ray_reads_no_sample_in_a_closed_cell(abdomen):
                   lights=(Light(kind="point", position=abdomen.center),))
     f = _frame_with_cells(scene, (16, 16))
     a, s = f.arrays, f.settings
-    med = Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, 1.0, 0, s.recon)
+    med = Medium(a.vol, a.extinction, s.sample_offset, s.sample_scale, a.label_map, a.label_lut, a.lut, 1.0, 0, s.recon)
     closed = np.zeros_like(a.cells)
     rng = np.random.default_rng(11)
     got = []
     for d in rng.normal(size=(200, 3)):
         d /= np.linalg.norm(d)
-        args = (a.geo, a.planes, 0, *abdomen.center, *d, abdomen.diagonal, s.ds0, s.ds0, 1.0)
+        args = ((a.geo, a.planes, 0), tuple(abdomen.center), tuple(d), abdomen.diagonal, (s.ds0, s.ds0, 1.0))
         plain = shadow_transmittance(med, a.cells, False, *args)
         assert shadow_transmittance(med, a.cells, True, *args) == plain
         assert shadow_transmittance(med, closed, True, *args) == 1.0

@@ -93,13 +93,13 @@ def test_lit_models_differ_so_the_comparison_means_something(simulated):
 def test_device_cache_uploads_only_what_changed(simulated):
     log = {label: (set(up), built) for label, up, built in json.loads(str(simulated["uploads"]))}
     first, built = log["first"]
-    assert {"vol", "lut", "sig", "cam", "lights"} <= first and built == 1  # settings go by value, not uploaded
+    assert {"vol", "lut", "extinction", "cam", "lights"} <= first and built == 1  # settings go by value, not uploaded
     # the same frame again sweeps nothing and sends only the transparent cells, built from a transfer function's
     # second frame on (``raycast._cells``)
     assert log["same"] == ({"cells"}, 0)
     assert log["camera"] == ({"cam"}, 0)  # world-fixed lights: their illumination volume is kept
     up, built = log["transfer"]
-    assert {"lut", "sig"} <= up and built == 1  # new tables, the light volume swept again
-    assert not up & {"vol", "nrm", "bmin", "bmax"}  # the volume stays on the device
+    assert {"lut", "extinction"} <= up and built == 1  # new tables, the light volume swept again
+    assert not up & {"vol", "gradient_matrix", "bmin", "bmax"}  # the volume stays on the device
     assert log["light-intensity"] == ({"lights", "cells"}, 0)  # intensity is not in the illumination volume (the
     # cells of the new transfer function: its second frame)

@@ -39,7 +39,7 @@ def test_a_frame_carries_the_label_tag_of_its_label_map(organs):
     plain, labelled = organs
     for scene, tag in ((plain, ScanOnly), (labelled, WithLabels)):
         s = pack_frame(scene, Camera.orbit(scene.volume), (16, 16)).settings
-        assert type(s.labels) is tag and (s.nlab > 0) == (tag is WithLabels)
+        assert type(s.labels) is tag and (s.nlabels > 0) == (tag is WithLabels)
     assert label_tag(0) == ScanOnly() and label_tag(3) == WithLabels()
 
 
@@ -51,7 +51,8 @@ def _compiled_shadow_ray(scene) -> str:
     med = njit(lambda a, s: frame_medium(a, s))(a, s)
     assert isinstance(med, Medium) and type(med.labels) is type(s.labels)
     fresh = njit(fastmath=True)(shadow_transmittance.py_func)
-    t = fresh(med, a.cells, False, a.geo, a.planes, 0, *scene.volume.center, 1.0, 0.0, 0.0, 5.0, s.ds0, s.ds0, 1.0)
+    t = fresh(med, a.cells, False, (a.geo, a.planes, 0), tuple(scene.volume.center), (1.0, 0.0, 0.0), 5.0,
+              (s.ds0, s.ds0, 1.0))
     assert 0.0 <= t <= 1.0
     return fresh.inspect_llvm(fresh.signatures[0])
 

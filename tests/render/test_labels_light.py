@@ -105,7 +105,8 @@ def test_path_tracing_labels_drawn_with_the_scan_transfer_function_trace_the_sam
     sh = Shading(mode="scattering", sigma_a=0.2, sigma_s=1.0, phase_g=0.3, pt_bounces=4, ambient=0.2)
     a = PathTracer(plain.with_(shading=sh), cam, (32, 32))
     b = PathTracer(labelled.with_(shading=sh), cam, (32, 32))
-    np.testing.assert_array_equal(a.frame.arrays.maj, b.frame.arrays.maj)  # the same majorants: the same decisions
+    # the same majorants: the same decisions
+    np.testing.assert_array_equal(a.frame.arrays.majorant, b.frame.arrays.majorant)
     ia, ib = a.step(16), b.step(16)
     d = np.abs(ia.rgba - ib.rgba)
     print(f"path tracing, labels with the scan's rows vs none: mean |d| {d.mean():.2e}, max {d.max():.2e}, "

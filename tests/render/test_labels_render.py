@@ -208,9 +208,9 @@ def test_skip_flags_of_a_labelled_scene_are_kept_while_only_the_camera_moves(org
     def flags(sc, azimuth):
         f = pack_frame(sc, Camera.orbit(vol, azimuth=azimuth), (64, 64))
         a, bs = f.arrays, f.settings.block
-        fresh = octant_sides(block_visibility(a.lut[:, 3], a.bmin, a.bmax) | label_blocks(a.lab, a.llut, bs))
-        np.testing.assert_array_equal(a.bflag, fresh)
-        return a.bflag
+        fresh = octant_sides(block_visibility(a.lut[:, 3], a.bmin, a.bmax) | label_blocks(a.label_map, a.label_lut, bs))
+        np.testing.assert_array_equal(a.skip_flags, fresh)
+        return a.skip_flags
 
     first = flags(scene, 0.0)
     assert flags(scene, 30.0) is first

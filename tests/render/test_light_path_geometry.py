@@ -38,8 +38,8 @@ def test_a_short_path_gets_the_region_interval_and_inside_the_whole_path(clippin
         d = rng.normal(size=3)
         d /= np.linalg.norm(d)
         t1 = rng.uniform(0.5, 8.0)
-        want = region_interval(geo, planes, n, *o, *d, 0.0, t1)
-        got = segment_interval(geo, planes, n, *o, *d, t1)
+        want = region_interval(geo, planes, n, tuple(o), tuple(d), 0.0, t1)
+        got = segment_interval(geo, planes, n, tuple(o), tuple(d), t1)
         if want[1] >= want[0]:
             np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
             whole += want == (0.0, t1) or np.allclose(want, (0.0, t1), rtol=0, atol=1e-12)

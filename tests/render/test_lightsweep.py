@@ -9,6 +9,7 @@ import numpy as np
 from volumen.core import Camera, Scene, Shading, TransferFunction
 from volumen.data import phantom
 from volumen.render.raycast._lightsweep import (
+    LatticeRay,
     lattice_frame,
     lattice_offsets,
     lattice_ray,
@@ -30,7 +31,7 @@ def _one_ray(med, aff, geo, meta, v, u, kext, ds0):
     out = np.empty(nk, np.float32)
     for st in range(nk):
         i, k, s = lattice_slice(st, nk, k0, pa, dsl, fwd)
-        acc, sp = lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, sub, acc, sp)
+        acc, sp = lattice_step(med, k, s, dsl, LatticeRay(pa, pb, pc, da, db, dc, t0, t1, length, sub), acc, sp)
         out[i] = lattice_transmittance_of(acc, kext / ds0)
     return out
 
@@ -45,18 +46,18 @@ def test_the_sweep_stores_what_each_ray_gives_on_its_own():
                   lights=(Light(kind="point", position=spot),))
     f = pack_frame(scene, Camera.orbit(vol), (8, 8))
     a, s = f.arrays, f.settings
-    meta = a.lvm[0]
+    meta = a.light_meta[0]
     assert meta[LV_KIND] == LATTICE
     nk, nv, nu = (int(meta[i]) for i in (LV_NK, LV_NV, LV_NU))
-    swept = a.lvd[int(meta[LV_OFF]):int(meta[LV_OFF]) + nk * nv * nu].reshape(nk, nv, nu)
+    swept = a.light_data[int(meta[LV_OFF]):int(meta[LV_OFF]) + nk * nv * nu].reshape(nk, nv, nu)
     axes = tuple(int(meta[i]) for i in (LV_AXA, LV_AXB, LV_AXC))  # the sweep reads the volume in its axes' order
-    med = Medium(np.transpose(a.vol, axes), a.sig, s.u0, s.ufac, np.transpose(a.lab, axes), a.llut, a.lut, 1.0, 0,
-                 s.recon)
+    med = Medium(np.transpose(a.vol, axes), a.extinction, s.sample_offset, s.sample_scale,
+                 np.transpose(a.label_map, axes), a.label_lut, a.lut, 1.0, 0, s.recon)
     aff = np.ascontiguousarray(np.asarray(vol.affine, float)[:3, :4])
     rng = np.random.default_rng(5)
     shadowed = 0
     for v, u in zip(rng.integers(0, nv, 60), rng.integers(0, nu, 60), strict=True):
-        want = _one_ray(med, aff, a.geo, meta, int(v), int(u), s.kext, s.ds0)
+        want = _one_ray(med, aff, a.geo, meta, int(v), int(u), s.extinction_scale, s.ds0)
         np.testing.assert_array_equal(swept[:, v, u], want)
         shadowed += bool((want < 0.5).any())
     assert shadowed >= 10  # rays that cross the skull, and keep its shadow over the slices past it

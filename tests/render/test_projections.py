@@ -72,7 +72,7 @@ def test_crop_box_in_voxels_and_world(noise):
 
 
 def test_the_three_projections_are_one_kernel(noise):
-    """mip, minip and average run one compiled kernel (``Settings.proj`` picks the projection): after a MIP the
+    """mip, minip and average run one compiled kernel (``Settings.projection`` picks the projection): after a MIP the
     other two compile nothing, and ``warm`` takes them for one job."""
     from volumen.render._warm import kernel_key
     from volumen.render.raycast._march import _trace_tiles

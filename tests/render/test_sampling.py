@@ -85,8 +85,8 @@ def test_preintegrated_table_is_kept_while_only_the_camera_moves():
     def table(sc, azimuth):
         f = pack_frame(sc, Camera.orbit(vol, azimuth=azimuth), (16, 16))
         fresh = preintegrated_table(sc.transfer, f.prep.vmin, f.prep.vmax, f.settings.ds / f.settings.ds0)
-        np.testing.assert_array_equal(f.arrays.pre, fresh)
-        return f.arrays.pre
+        np.testing.assert_array_equal(f.arrays.preintegrated, fresh)
+        return f.arrays.preintegrated
 
     first = table(scene, 0.0)
     assert table(scene, 40.0) is first

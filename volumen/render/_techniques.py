@@ -202,7 +202,7 @@ def resolve_device(device: str | None, technique: str = "raycast") -> str:
     return choose_device(device, technique)[0]
 
 
-#: the backend names before devices and techniques were separated -> (device, technique name, options)
+#: the deprecated ``backend=`` names of volumen 0.1 -> (device, technique name, options)
 _LEGACY = {
     "cpu": ("cpu", "raycast", {}), "cuda": ("cuda", "raycast", {}), "auto": ("auto", "raycast", {}),
     "slicing": ("gl", "slicing", {}), "slicing-front-to-back": ("gl", "slicing", {"order": "front-to-back"}),

@@ -88,14 +88,14 @@ def power(x, e):
 
 
 @njit(cache=True, fastmath=True)
-def phong_terms(nx, ny, nz, lx, ly, lz, vx, vy, vz, shininess):
+def phong_terms(n, light, view, shininess):
     """Diffuse and specular factors of one light.
 
     Parameters
     ----------
-    nx, ny, nz : unit normal, already flipped toward the viewer (two-sided lighting)
-    lx, ly, lz : unit vector from the sample toward the light
-    vx, vy, vz : unit vector from the sample toward the viewer
+    n : (nx, ny, nz) unit normal, already flipped toward the viewer (two-sided lighting)
+    light : (lx, ly, lz) unit vector from the sample toward the light
+    view : (vx, vy, vz) unit vector from the sample toward the viewer
     shininess : specular exponent
 
     Returns
@@ -103,6 +103,9 @@ def phong_terms(nx, ny, nz, lx, ly, lz, vx, vy, vz, shininess):
     (diffuse, specular) : ``max(N.L, 0)`` and ``max(R.V, 0) ** shininess`` (0 when N.L <= 0),
     ``R = 2 (N.L) N - L``.
     """
+    nx, ny, nz = n
+    lx, ly, lz = light
+    vx, vy, vz = view
     ndl = nx * lx + ny * ly + nz * lz
     if ndl <= 0.0:
         return 0.0, 0.0

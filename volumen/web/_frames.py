@@ -31,7 +31,7 @@ __all__ = ["web_frame", "encode", "decode", "FrameBudgetError", "FRAME_ARRAYS", 
 
 MAGIC = b"VOLW"
 #: the frame's arrays the page uploads as textures (``FrameTextures.FIELDS`` without the volume's own)
-FRAME_ARRAYS = ("lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd")
+FRAME_ARRAYS = ("lut", "preintegrated", "gradient_lut", "extinction", "skip_flags", "bmin", "bmax", "light_data")
 _DTYPES = {"float32": np.float32, "uint8": np.uint8, "float16": np.float16, "int32": np.int32}
 
 
@@ -103,8 +103,8 @@ def web_frame(volume, scene_dict: dict, camera_dict: dict, size, budget_bytes: f
     _check(scene)
     f = pack_frame(scene, camera, (w, h), build_light_volumes=_budgeted(budget_bytes))
     arrays = {name: np.ascontiguousarray(getattr(f.arrays, name)) for name in FRAME_ARRAYS}
-    arrays["lvd"] = arrays["lvd"].astype(np.float32, copy=False).ravel()
-    arrays["bflag"] = tiled(arrays["bflag"])  # the octants' grids side by side, as the gl device's texture
+    arrays["light_data"] = arrays["light_data"].astype(np.float32, copy=False).ravel()
+    arrays["skip_flags"] = tiled(arrays["skip_flags"])  # the octants' grids side by side, as the gl device's texture
     header = {"defines": variant(f), "uniforms": {k: _plain(v) for k, v in frame_uniforms(f).items()},
               "display": scene.display.resolved(scene.shading.mode, scene.mode).to_dict(),
               "lights_built": int(f.light_volumes_built),

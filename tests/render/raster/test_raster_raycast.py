@@ -190,25 +190,27 @@ def test_every_frame_field_reaches_the_shader():
     from volumen.render.raycast import Arrays, Settings
 
     src = shader_source("raycast") + shader_source("raycast_modes")
-    elsewhere = {"u0": "upload", "ufac": "upload", "vmin": "value read-back", "vscale": "value read-back",
-                 "bounces": "path tracing (not on gl)", "iso_r": "u_iso_rgb", "iso_g": "u_iso_rgb",
-                 "iso_b": "u_iso_rgb", "nlab": "label maps (not on gl: DeviceLimitError)",
+    elsewhere = {"sample_offset": "upload", "sample_scale": "upload", "value_min": "value read-back",
+                 "value_scale": "value read-back", "bounces": "path tracing (not on gl)", "iso_red": "u_iso_rgb",
+                 "iso_green": "u_iso_rgb", "iso_blue": "u_iso_rgb",
+                 "nlabels": "label maps (not on gl: DeviceLimitError)",
                  "labels": "label maps' tag of the light paths (not on gl)",
-                 "lsolid": "label maps (not on gl)",
+                 "solid_labels": "label maps (not on gl)",
                  "lattice": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
                  "part": "bricked out-of-core rendering (volumen.render.bricked, cpu only)",
-                 "env_power": "path tracing (not on gl)", "mblock": "path tracing (not on gl)",
+                 "env_power": "path tracing (not on gl)", "majorant_block": "path tracing (not on gl)",
                  "stride": "adaptive sampling (cpu and cuda; gl samples at full rate)",
                  "cells": "transparent cells (cpu and cuda; gl takes every sample)",
-                 "proj": "the shader's MODE define (raster._rc_uniforms.variant)"}
+                 "projection": "the shader's MODE define (raster._rc_uniforms.variant)"}
     missing = [f for f in Settings._fields if f"u_{f}" not in src and f not in elsewhere]
-    packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "lvm": "u_lvm",
-              "envsh": "u_envsh", "nrm": "u_nmat"}
-    not_on_gl = {"lab", "llut",  # label maps: DeviceLimitError on gl
-                 "ncode", "nslot", "gcode", "ndir",  # normal codes: the shader's normals are the volume's (u_nmat)
+    packed = {"cam": "u_eye", "geo": "u_to_index", "planes": "u_pp", "lights": "u_lpos", "light_meta": "u_lvm",
+              "env_sh": "u_envsh", "gradient_matrix": "u_nmat"}
+    not_on_gl = {"label_map", "label_lut",  # label maps: DeviceLimitError on gl
+                 # normal codes: the shader's normals are the volume's (u_nmat)
+                 "normal_codes", "normal_slots", "gradient_codes", "normal_dirs",
                  "whole", "carry",  # bricks: cpu only
-                 "env", "envbasis", "envcdf", "maj",  # the path tracer's environment map and majorant grid
-                 "bcoarse",  # adaptive sampling: cpu and cuda
+                 "env", "env_basis", "env_cdf", "majorant",  # the path tracer's environment map and majorant grid
+                 "coarse_flags",  # adaptive sampling: cpu and cuda
                  "cells"}  # transparent cells (raycast._cells): cpu and cuda
     missing += [f for f in Arrays._fields
                 if f not in FrameTextures.FIELDS and not (f in packed and packed[f] in src) and f not in not_on_gl]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -122,6 +123,23 @@ def test_shader_files_ship_and_import_stays_light():
     code = "import sys, volumen.render.raster; print([m for m in ('moderngl', 'numba') if m in sys.modules])"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "[]"
+
+
+def test_shader_files_are_found_in_their_folder(tmp_path):
+    """The shader list is the ``.glsl`` files of the package's folder (by ``pathlib``, a second way of listing it),
+    and a ``.glsl`` file added to a folder is picked up with no list to edit; other files are not."""
+    import volumen.render.raster
+    from volumen.render.raster._shaders import SHADER_FILES, glsl_files
+
+    folder = Path(volumen.render.raster.__file__).parent / "shaders"
+    assert SHADER_FILES == tuple(sorted(p.stem for p in folder.glob("*.glsl")))
+    assert {"raycast", "raycast_modes", "display", "preamble", "lighting"} <= set(SHADER_FILES)
+    for name in ("b", "a"):
+        (tmp_path / f"{name}.glsl").write_text("void main() {}\n")
+    (tmp_path / "notes.txt").write_text("not a shader\n")
+    assert glsl_files(tmp_path) == ("a", "b")
+    (tmp_path / "added.glsl").write_text("void main() {}\n")
+    assert glsl_files(tmp_path) == ("a", "added", "b")
 
 
 @pytest.mark.parametrize("tonemap", ["aces", "linear"])

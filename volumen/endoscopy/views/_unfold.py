@@ -80,7 +80,7 @@ def _unfold_kernel(part, parts, w, r, look, rgb, radius):
                 nx, ny, nz = gx / g, gy / g, gz / g
                 if nx * dx + ny * dy + nz * dz > 0.0:  # face the centerline (two-sided)
                     nx, ny, nz = -nx, -ny, -nz
-                diff, spec = phong_terms(nx, ny, nz, -dx, -dy, -dz, -dx, -dy, -dz, look.shininess)
+                diff, spec = phong_terms((nx, ny, nz), (-dx, -dy, -dz), (-dx, -dy, -dz), look.shininess)
             rgb[j, i, 0] = min(color[0] * (ka + kd * diff) + ks * spec, 1.0)
             rgb[j, i, 1] = min(color[1] * (ka + kd * diff) + ks * spec, 1.0)
             rgb[j, i, 2] = min(color[2] * (ka + kd * diff) + ks * spec, 1.0)

@@ -24,7 +24,7 @@ import numpy as np
 from ...jit import njit
 
 # The renderer's sampling and crossing refinement, imported (not copied) as docs/design.md section 4 asks.
-from ...render.raycast import G_BOX, iso_refine, sample_value, to_index
+from ...render.raycast import G_BOX, G_INV, iso_refine, sample_value, to_index
 
 __all__ = ["NO_HIT", "Wall", "first_hit", "wall_gradient", "probe", "fibonacci_directions"]
 
@@ -85,7 +85,7 @@ def first_hit(w, o, d, tmax):
             return tp
         v = sample_value(field, i, j, k, False)
         if v >= level:
-            return iso_refine(field, False, level, tp, vp, t, v, oi, oj, ok, di, dj, dk)
+            return iso_refine(field, False, level, (tp, vp), (t, v), (oi, oj, ok), (di, dj, dk))
         tp = t
         vp = v
     return NO_HIT
@@ -96,7 +96,7 @@ def wall_gradient(w, p):
     """World-space gradient (field units per mm) of the wall's trilinear field at the world point ``p`` (tuple).
 
     Central differences of half a voxel in index space, mapped to world space
-    through the transpose of the inverse affine (``geo[0:12]``, rows of the
+    through the transpose of the inverse affine (``geo[G_INV:G_INV + 12]``, rows of the
     world -> index matrix). Points into the wall (toward larger values).
     """
     field, geo = w.field, w.geo
@@ -105,9 +105,9 @@ def wall_gradient(w, p):
     gi = (sample_value(field, i + h, j, k, False) - sample_value(field, i - h, j, k, False)) / (2 * h)
     gj = (sample_value(field, i, j + h, k, False) - sample_value(field, i, j - h, k, False)) / (2 * h)
     gk = (sample_value(field, i, j, k + h, False) - sample_value(field, i, j, k - h, False)) / (2 * h)
-    gx = geo[0] * gi + geo[4] * gj + geo[8] * gk
-    gy = geo[1] * gi + geo[5] * gj + geo[9] * gk
-    gz = geo[2] * gi + geo[6] * gj + geo[10] * gk
+    gx = geo[G_INV] * gi + geo[G_INV + 4] * gj + geo[G_INV + 8] * gk
+    gy = geo[G_INV + 1] * gi + geo[G_INV + 5] * gj + geo[G_INV + 9] * gk
+    gz = geo[G_INV + 2] * gi + geo[G_INV + 6] * gj + geo[G_INV + 10] * gk
     return gx, gy, gz
 
 

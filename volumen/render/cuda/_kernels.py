@@ -25,6 +25,7 @@ import warnings
 from numba import cuda
 
 from ..raycast import (
+    LatticeRay,
     coverage_pixel,
     for_cuda,
     lattice_frame,
@@ -91,12 +92,12 @@ def sweep(sw, out):
     if u < out.shape[2] and v < out.shape[1]:
         pa, pb, pc, da, k0, nk, dsl, fwd = _frame(sw.meta)
         db, dc, t0, t1, length, sub = _ray(sw.aff, sw.geo, sw.planes, sw.nplanes, sw.meta, v, u)
-        scale = sw.kext / sw.ds0
+        scale = sw.extinction_scale / sw.ds0
         acc = 0.0
         sp = -1.0
         for st in range(nk):
             i, k, s = _slice(st, nk, k0, pa, dsl, fwd)
-            acc, sp = _step(_medium(sw), k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, sub, acc, sp)
+            acc, sp = _step(_medium(sw), k, s, dsl, LatticeRay(pa, pb, pc, da, db, dc, t0, t1, length, sub), acc, sp)
             out[i, v, u] = _transmittance(acc, scale)
 
 

@@ -79,8 +79,10 @@ def device_light_volumes(prep, keys, positions_index, box_lo, box_hi, med, geo, 
     lvd = cuda.to_device(np.ones(1, np.float32)) if off == 0 else cuda.device_array(off, np.float32)
     built = 0
     t = time.perf_counter()
-    d_med = med._replace(vol=dev.put("vol", med.vol, same_object=True), sig=dev.put("sig", med.sig),
-                         lab=dev.put("lab", med.lab, same_object=True), llut=dev.put("llut", med.llut),
+    d_med = med._replace(vol=dev.put("vol", med.vol, same_object=True),
+                         extinction=dev.put("extinction", med.extinction),
+                         label_map=dev.put("label_map", med.label_map, same_object=True),
+                         label_lut=dev.put("label_lut", med.label_lut),
                          lut=dev.put("lut", med.lut))
     d_aff = dev.put("aff", np.ascontiguousarray(np.asarray(prep.affine, float)[:3, :4]))
     d_geo = dev.put("geo", geo)

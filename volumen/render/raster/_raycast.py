@@ -78,7 +78,7 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     try:
         for name, unit in tex.units.items():
             set_uniform(prog, f"u_{name}", unit)
-        set_uniform(prog, "u_lvd_w", tex.width)
+        set_uniform(prog, "u_light_data_w", tex.width)
         set_uniform(prog, "u_vol_map", (0.0, 1.0))  # the R32F volume holds table units
         set_uniform(prog, "u_origin", (0.0, 0.0))
         for name, value in frame_uniforms(f).items():
@@ -90,7 +90,7 @@ def render_raycast_gl(scene, camera, size: tuple[int, int]):
     s = f.settings
     value, depth = aux[..., 1].copy(), aux[..., 0].copy()
     hit = value < 0.5 * FAR
-    value[hit] = s.vmin + value[hit] * s.vscale
+    value[hit] = s.value_min + value[hit] * s.value_scale
     value[~hit] = np.nan
     depth[depth >= 0.5 * FAR] = np.inf
     out = Outputs(rgba, depth, value, np.rint(aux[..., 2]).astype(np.int32))

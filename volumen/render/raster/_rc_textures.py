@@ -1,21 +1,21 @@
 """Textures of the OpenGL ray caster: the fields of one packed frame (``raycast.Arrays``) on the GPU.
 
-* ``vol``: 3-D R32F of the samples in table units (``(u - u0) * ufac``, the
+* ``vol``: 3-D R32F of the samples in table units (``(u - sample_offset) * sample_scale``, the
   CPU's ``sample_table``), trilinear, clamped: texel centres are voxel centres;
 * no normals: the shader computes them from ``vol`` where it needs them, as the CPU does
   (``_sample.sample_normal``);
 * ``rgb``: 3-D RGB8 (normalized) of a colour volume's voxel colours (``raycast._color``), trilinear;
-* ``bflag`` (R8UI, the eight octants' skip sides side by side: ``raycast._octants.tiled``), ``bmin``, ``bmax``
+* ``skip_flags`` (R8UI, the eight octants' skip sides side by side: ``raycast._octants.tiled``), ``bmin``, ``bmax``
   (R32F): the block grids of empty-space skipping, read per texel;
-* ``lut``, ``sig``, ``glut``: one-row 2-D tables read at the nearest entry, ``pre``: the
+* ``lut``, ``extinction``, ``gradient_lut``: one-row 2-D tables read at the nearest entry, ``preintegrated``: the
   pre-integrated table (x: back value, y: front value);
-* ``lvd``: the illumination volumes' flat buffer (every light's lattice of light rays,
+* ``light_data``: the illumination volumes' flat buffer (every light's lattice of light rays,
   ``raycast._lightvol``) as rows of ``width`` values (R32F), read per texel: the shader
   interpolates the lattice exactly as the CPU does (bilinearly between four rays, linearly
   between two slices), which a 3-D texture's filtering could not (the lattice's slices are
   spaced along the light's rays, not on a grid), and any number of lights share one texture.
 
-The per-volume fields and ``lvd`` are kept while the same array objects come
+The per-volume fields and ``light_data`` are kept while the same array objects come
 back from the same precomputations (the CPU caches them on the volume), so a new frame of the same volume
 uploads only its small tables. :func:`check_limits` raises
 :class:`~volumen.errors.DeviceLimitError` for a volume past the context's 3-D texture size
@@ -34,7 +34,7 @@ from ...errors import DeviceLimitError
 __all__ = ["FrameTextures", "check_limits", "release_all"]
 
 #: fields kept between frames while their array object is the same
-_KEPT = ("vol", "bflag", "bmin", "bmax", "lvd", "rgb")
+_KEPT = ("vol", "skip_flags", "bmin", "bmax", "light_data", "rgb")
 _kept: dict = {}   # field -> (weakref to the array, texture)
 
 
@@ -73,12 +73,12 @@ def _table_units(u, u0: float, ufac: float) -> np.ndarray:
 def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     """A new texture holding field ``name`` = ``x`` of the frame."""
     if name == "vol":
-        d = _table_units(x, settings.u0, settings.ufac)
+        d = _table_units(x, settings.sample_offset, settings.sample_scale)
         return _filtered(ctx.texture3d(d.shape[::-1], 1, d.tobytes(), dtype="f4", alignment=1), True)
     if name == "rgb":  # uint8 read as normalized [0, 1]
         d = np.ascontiguousarray(x, np.uint8)
         return _filtered(ctx.texture3d(d.shape[2::-1], 3, d.tobytes(), dtype="f1", alignment=1), True)
-    if name == "bflag":  # the octants' grids side by side
+    if name == "skip_flags":  # the octants' grids side by side
         from ..raycast._octants import tiled  # the raycast package (Numba) loads with the frame
 
         x = tiled(x)
@@ -87,16 +87,16 @@ def _make(ctx, name: str, x: np.ndarray, settings, width: int):
     if name in ("bmin", "bmax"):
         return _filtered(ctx.texture3d(x.shape[::-1], 1, np.ascontiguousarray(x, np.float32).tobytes(),
                                        dtype="f4", alignment=1), False)
-    if name == "pre":
+    if name == "preintegrated":
         n = x.shape[0]
         return _filtered(ctx.texture((x.shape[1], n), 4, np.ascontiguousarray(x, np.float32).tobytes(),
                                      dtype="f4"), False)
-    if name == "lvd":
+    if name == "light_data":
         rows = -(-x.size // width)
         d = np.ones(rows * width, np.float32)
         d[:x.size] = x
         return _filtered(ctx.texture((width, rows), 1, d.tobytes(), dtype="f4"), False)
-    d = np.ascontiguousarray(x, np.float32)  # lut (n, 4), sig (n,), glut (128,)
+    d = np.ascontiguousarray(x, np.float32)  # lut (n, 4), extinction (n,), gradient_lut (128,)
     comps = d.shape[1] if d.ndim == 2 else 1
     return _filtered(ctx.texture((d.shape[0], 1), comps, d.tobytes(), dtype="f4"), False)
 
@@ -116,12 +116,13 @@ def _upload(ctx, name, x, settings, width):
 class FrameTextures:
     """The textures of one frame: ``units[name]`` its texture unit; :meth:`release` frees the per-frame ones."""
 
-    FIELDS = ("vol", "lut", "pre", "glut", "sig", "bflag", "bmin", "bmax", "lvd", "rgb")
+    FIELDS = ("vol", "lut", "preintegrated", "gradient_lut", "extinction", "skip_flags", "bmin", "bmax", "light_data",
+              "rgb")
 
     def __init__(self, ctx, arrays, settings, prep):
         self.width = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
-        if arrays.lvd.size > self.width ** 2:
-            raise DeviceLimitError(f"illumination volumes of {arrays.lvd.size} values are past this OpenGL "
+        if arrays.light_data.size > self.width ** 2:
+            raise DeviceLimitError(f"illumination volumes of {arrays.light_data.size} values are past this OpenGL "
                                    f"context's {self.width} x {self.width} 2-D texture limit; use a smaller "
                                    "light_volume_scale, fewer lights, or --device cpu")
         self.own = []

@@ -20,8 +20,10 @@ the sources :func:`stage_parts` writes). A stage's source is::
     the program's file
 
 A variant is the same file compiled with other ``#define`` lines. A line ``#include "name.glsl"`` is replaced
-by that file of the same folder (shared code such as ``lighting.glsl``, written once). Sources are read once
-(``importlib.resources``) and each (context, file, defines) program is compiled once and cached.
+by that file of the same folder (shared code such as ``lighting.glsl``, written once). The shader files are the
+``.glsl`` files of the folder (:data:`SHADER_FILES`, found there: a new file needs no list to be added to).
+Sources are read once (``importlib.resources``) and each (context, file, defines) program is compiled once and
+cached.
 """
 
 from __future__ import annotations
@@ -29,10 +31,19 @@ from __future__ import annotations
 import functools
 from importlib import resources
 
-__all__ = ["shader_source", "stage_parts", "stage_source", "program", "SHADER_FILES", "DIALECTS", "STAGES"]
+__all__ = ["shader_source", "stage_parts", "stage_source", "program", "glsl_files", "SHADER_FILES", "DIALECTS",
+           "STAGES"]
 
-#: the shader files of the package (without the ``.glsl`` suffix)
-SHADER_FILES = ("preamble", "slicing", "mesh", "lighting", "jitter", "raycast", "raycast_modes", "display")
+
+def glsl_files(folder) -> tuple[str, ...]:
+    """The names (without the suffix) of the ``.glsl`` files in ``folder`` (a path or an
+    ``importlib.resources`` traversable), sorted."""
+    return tuple(sorted(f.name.removesuffix(".glsl") for f in folder.iterdir()
+                        if f.name.endswith(".glsl") and f.is_file()))
+
+
+#: the shader files of the package (without the ``.glsl`` suffix): the ``.glsl`` files of its ``shaders`` folder
+SHADER_FILES = glsl_files(resources.files(__package__).joinpath("shaders"))
 #: dialect -> its #version line: desktop OpenGL 3.3 core, and WebGL2 (OpenGL ES 3.0)
 DIALECTS = {"gl330": "#version 330 core", "es300": "#version 300 es"}
 #: stage -> the macro its source is compiled with

@@ -25,9 +25,10 @@ from ._sources import SOURCES  # first: the Numba cache stamp, before any compil
 from ._cache import clear_cache, prepare, prepared_volumes
 from ._cpu import TILE, frame_image, render_cpu, render_part
 from ._frame import FAR, PER_VOLUME, Arrays, Frame, Outputs, Settings
-from ._geometry import G_BOX, pack_geometry, to_index
+from ._geometry import G_BOX, G_INV, pack_geometry, to_index
 from ._iso import iso_refine
 from ._lightsweep import (
+    LatticeRay,
     Sweep,
     lattice_frame,
     lattice_ray,
@@ -59,11 +60,11 @@ from ._progressive import PathTracer
 from ._sample import sample_value
 
 __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
-           "PathTracer", "G_BOX", "pack_geometry", "to_index", "sample_value",
+           "PathTracer", "G_BOX", "G_INV", "pack_geometry", "to_index", "sample_value",
            "iso_refine", "prepare", "prepared_volumes", "pack_frame", "scene_lights", "frame_image", "Frame", "Arrays",
            "Settings",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "coverage_pixel", "NACC",
-           "lattice_frame", "lattice_ray",
+           "lattice_frame", "lattice_ray", "LatticeRay",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
            "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "SOURCES",
            "sweep_medium", "Medium", "inlining_active", "for_cuda"]

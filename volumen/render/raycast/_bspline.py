@@ -122,10 +122,11 @@ def _trilinear_normal(a, x, y, z, nearest, want_dir, want_mag):
 @normal.register(BSpline)
 @njit(cache=True, fastmath=True, inline="always")
 def _bspline_normal(a, x, y, z, nearest, want_dir, want_mag):
-    """The B-spline's world gradient (``a.nrm``: index -> world gradient matrix, 1 / gmax) as a unit direction
-    (0 where it vanishes, as the codes' code 0) and its magnitude code ``127 sqrt(|g| / gmax)`` (``_normals``)."""
+    """The B-spline's world gradient (``a.gradient_matrix``: index -> world gradient matrix, 1 / gmax) as a unit
+    direction (0 where it vanishes, as the codes' code 0) and its magnitude code ``127 sqrt(|g| / gmax)``
+    (``_normals``)."""
     gi, gj, gk = bspline_gradient(a.vol, x, y, z)
-    m = a.nrm
+    m = a.gradient_matrix
     gx = m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk
     gy = m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk
     gz = m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk

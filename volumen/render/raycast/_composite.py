@@ -10,10 +10,12 @@ rate (in tissue that classifies below 0.1 opacity a step).
 Pre-integrated: sample ``k`` closes the segment ``[t_{k-1}, t_k]`` (from
 ``t0`` for k = 0); :func:`_finish_pre` adds the last segment, to ``t1``.
 Depth = where the accumulated opacity first reaches 0.5 (``DEPTH_OPACITY``),
-inf if never. State: ``(r, g, b, alpha, depth, previous value, previous t)``.
+inf if never. State: :class:`CompositeState`.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -26,9 +28,21 @@ from ._labelled import classify_sample
 from ._pieces import Composite, LabelledComposite, Preintegrated, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
 
-__all__ = ["DEPTH_OPACITY", "lit"]
+__all__ = ["DEPTH_OPACITY", "lit", "CompositeState"]
 
 DEPTH_OPACITY = 0.5
+
+
+class CompositeState(NamedTuple):
+    """What a composite ray carries from sample to sample."""
+
+    red: float         #: accumulated premultiplied colour
+    green: float
+    blue: float
+    alpha: float       #: accumulated opacity
+    depth: float       #: where ``alpha`` first reached :data:`DEPTH_OPACITY` (``FAR``: not yet)
+    prev_value: float  #: pre-integrated: the previous sample's value (table units)
+    prev_t: float      #: pre-integrated: the previous sample's ray parameter
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -44,7 +58,7 @@ def lit(light, r, a, s, t, c, gradop):
     if uses_normals(light) or gradop:
         gx, gy, gz, code = normal(s.recon, a, x, y, z, s.nearest, uses_normals(light), gradop)
     if gradop:
-        f = a.glut[min(int(code + 0.5), 127)]
+        f = a.gradient_lut[min(int(code + 0.5), 127)]
         cr, cg, cb, al = cr * f, cg * f, cb * f, al * f
     if al > 0.0:
         fr, fg, fb, sr, sg, sb = shade(light, a, s, (gx, gy, gz), (-r.dx, -r.dy, -r.dz),
@@ -79,49 +93,52 @@ def _merged(c, span):
 @njit(cache=True, fastmath=True, inline="always")
 def _accumulate(st, c, t, et):
     """Composite ``c`` under the state's colour; ``(state, done)``."""
-    ar, ag, ab, aa, dep, vp, tp = st
+    ar, ag, ab, aa, dep = st.red, st.green, st.blue, st.alpha, st.depth
     cr, cg, cb, al = c
     if al > 0.0:
         ar, ag, ab, aa = composite(ar, ag, ab, aa, cr, cg, cb, al)
         if dep == FAR and aa >= DEPTH_OPACITY:
             dep = t
-    return (ar, ag, ab, aa, dep, vp, tp), aa >= et
+    return CompositeState(ar, ag, ab, aa, dep, st.prev_value, st.prev_t), aa >= et
 
 
 @init.register(Composite, LabelledComposite, Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
 def _init(light, r, a, s):
-    return (0.0, 0.0, 0.0, r.a0, FAR, 0.0, r.t0), 0, r.a0 >= s.et, False
+    return CompositeState(0.0, 0.0, 0.0, r.a0, FAR, 0.0, r.t0), 0, r.a0 >= s.early_termination, False
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _post(light, r, a, s, st, k, t, c, span):
-    """Composite the classified sample ``c`` taken at ``t`` (sample ``k``, standing for ``span`` grid steps from
-    it: more than 1 only where adaptive sampling merges steps, ``_march``): ``(state, 0, done)``."""
+def _post(light, r, a, s, st, smp, c):
+    """Composite the classified colour ``c`` of sample ``smp`` (``_pieces.Sample``: sample ``k`` at ``t``,
+    standing for ``span`` grid steps from it: more than 1 only where adaptive sampling merges steps, ``_march``):
+    ``(state, 0, done)``."""
+    k, t, span = smp.k, smp.t, smp.span
     if k == 0 or k + span >= r.n:  # the end samples stand for less than a step (or a merged one's part)
         seg = (r.t1 if k + span >= r.n else t + (span - 0.5) * s.ds) - (r.t0 if k == 0 else t - 0.5 * s.ds)
         c = _corrected(c, seg, s.ds)
     elif span > 1:  # a merged sample inside the ray: ``span`` whole steps
         c = _merged(c, span)
     if c[3] > 0.0:
-        c = lit(light, r, a, s, t, c, s.gradop)
-    st, done = _accumulate(st, c, t, s.et)
+        c = lit(light, r, a, s, t, c, s.gradient_opacity)
+    st, done = _accumulate(st, c, t, s.early_termination)
     return st, 0, done
 
 
 @step.register(Composite)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_post(light, r, a, s, st, k, t, v, have, span):
-    idx = np.uintp(v + 0.5)  # v >= 0: the table spans the volume's whole range; unsigned: no wraparound code
+def _step_post(light, r, a, s, st, smp):
+    idx = np.uintp(smp.v + 0.5)  # v >= 0: the table spans the volume's whole range; unsigned: no wraparound code
     al = a.lut[idx, 3]
-    return _post(light, r, a, s, st, k, t, (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al), span)
+    return _post(light, r, a, s, st, smp, (a.lut[idx, 0] * al, a.lut[idx, 1] * al, a.lut[idx, 2] * al, al))
 
 
 @step.register(LabelledComposite)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_labelled(light, r, a, s, st, k, t, v, have, span):
-    c = classify_sample(a, s, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, np.uintp(v + 0.5))
-    return _post(light, r, a, s, st, k, t, c, span)
+def _step_labelled(light, r, a, s, st, smp):
+    t = smp.t
+    c = classify_sample(a, s, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, np.uintp(smp.v + 0.5))
+    return _post(light, r, a, s, st, smp, c)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -134,69 +151,73 @@ def _lookup_pre(pre, vf, vb, scale):
 
 @step.register(Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
-def _step_pre(light, r, a, s, st, k, t, v, have, span):
-    vp, tp = st[5], st[6]
+def _step_pre(light, r, a, s, st, smp):
+    k, t, v = smp.k, smp.t, smp.v
+    vp, tp = st.prev_value, st.prev_t
     extra = 0
     if k == 0:
         vp, tp = v, r.t0
-    elif not have:
+    elif not smp.have:
         tp = r.t0 + (k - 1 + r.jit) * s.ds
         vp = sample_at(r, a, s, tp)
         extra = 1
     seg = t - tp if (k == 0 or k == r.n - 1) else s.ds
-    c = _corrected(_lookup_pre(a.pre, vp, v, s.pre_scale), seg, s.ds)
+    c = _corrected(_lookup_pre(a.preintegrated, vp, v, s.pre_scale), seg, s.ds)
     if c[3] > 0.0:
-        c = lit(light, r, a, s, t, c, s.gradop)
-    st, done = _accumulate(st, c, t, s.et)
-    return st[:5] + (v, t), extra, done
+        c = lit(light, r, a, s, t, c, s.gradient_opacity)
+    st, done = _accumulate(st, c, t, s.early_termination)
+    return CompositeState(st.red, st.green, st.blue, st.alpha, st.depth, v, t), extra, done
 
 
 @njit(cache=True, fastmath=True)
 def _last_segment(light, r, a, s, st, have):
     """The pre-integrated segment from the last sample to the exit: ``(state, samples taken)``."""
-    vp, tp = st[5], st[6]
+    vp, tp = st.prev_value, st.prev_t
     taken = 0
     if not have:
         tp = min(r.t0 + (r.n - 1 + r.jit) * s.ds, r.t1)
         vp = sample_at(r, a, s, tp)
         taken += 1
     v = sample_at(r, a, s, r.t1)
-    c = _lookup_pre(a.pre, vp, v, s.pre_scale)
+    c = _lookup_pre(a.preintegrated, vp, v, s.pre_scale)
     if c[3] > 0.0:
         c = _corrected(lit(light, r, a, s, r.t1, c, False), r.t1 - tp, s.ds)
-        st = _accumulate(st, c, r.t1, s.et)[0]
+        st = _accumulate(st, c, r.t1, s.early_termination)[0]
     return st, taken + 1
 
 
 @njit(cache=True, fastmath=True)
-def _write(st, taken, out, px, py, hdr):
+def _write(st, taken, pix, hdr):
     """The pixel's outputs: colour at most 1 (unclipped when ``hdr``: for a tone curve), opacity at most 1."""
+    out, px, py = pix.out, pix.x, pix.y
     out.nsamp[py, px] = taken
-    for c in range(3):
-        out.rgba[py, px, c] = st[c] if hdr else min(st[c], 1.0)
-    out.rgba[py, px, 3] = min(st[3], 1.0)
-    out.depth[py, px] = st[4]
+    out.rgba[py, px, 0] = st.red if hdr else min(st.red, 1.0)
+    out.rgba[py, px, 1] = st.green if hdr else min(st.green, 1.0)
+    out.rgba[py, px, 2] = st.blue if hdr else min(st.blue, 1.0)
+    out.rgba[py, px, 3] = min(st.alpha, 1.0)
+    out.depth[py, px] = st.depth
 
 
 @finish.register(Composite, LabelledComposite)
 @njit(cache=True, fastmath=True)
-def _finish_post(light, r, a, s, st, taken, have, out, px, py):
-    _write(st, taken, out, px, py, s.hdr)
+def _finish_post(light, r, a, s, st, end, pix):
+    _write(st, end.taken, pix, s.hdr)
 
 
 @finish.register(Preintegrated)
 @njit(cache=True, fastmath=True)
-def _finish_pre(light, r, a, s, st, taken, have, out, px, py):
-    if st[3] < s.et and r.t1 - st[6] > 1e-6 * s.ds:
-        st, extra = _last_segment(light, r, a, s, st, have)
+def _finish_pre(light, r, a, s, st, end, pix):
+    taken = end.taken
+    if st.alpha < s.early_termination and r.t1 - st.prev_t > 1e-6 * s.ds:
+        st, extra = _last_segment(light, r, a, s, st, end.have)
         taken += extra
-    _write(st, taken, out, px, py, s.hdr)
+    _write(st, taken, pix, s.hdr)
 
 
 @radius.register(Composite, LabelledComposite, Preintegrated)
 @njit(cache=True, fastmath=True, inline="always")
 def _radius(a, s, st, o, bk, bj, bi):
-    return int(a.bflag[o, bk, bj, bi])
+    return int(a.skip_flags[o, bk, bj, bi])
 
 
 @eager.register(Composite, LabelledComposite)

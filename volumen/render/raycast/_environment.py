@@ -1,17 +1,17 @@
 """The environment light in the kernels: an equirectangular radiance map, its sampling tables, its SH projection.
 
 :func:`pack_environment` turns the scene's :class:`~volumen.core.Environment` (resolved: ``uniform``,
-``studio`` or ``map``) into the arrays below; ``Settings.envmode`` is 0 for ``uniform`` (the kernels use the
-ambient radiance ``Settings.ka`` exactly as before the environment existed) and 1 otherwise.
+``studio`` or ``map``) into the arrays below; ``Settings.env_mode`` is 0 for ``uniform`` (the kernels use the
+uniform ambient radiance ``Settings.ambient``, the same in every direction) and 1 otherwise.
 
 * ``env`` (He, We, 3) float32: radiance per pixel of the map, row 0 at the zenith of the map's frame, column
   ``c`` at azimuth ``phi = 2 pi (c + 0.5) / We`` from its x axis toward its y axis;
-* ``envbasis`` (3, 3) float64: the map frame's x, y, z axes (rows) in world space: the camera's (right, back,
+* ``env_basis`` (3, 3) float64: the map frame's x, y, z axes (rows) in world space: the camera's (right, back,
   up) for the studio sky, world (x, y, z) turned by ``rotation`` about z for a map;
-* ``envcdf`` (He + 1, We + 1) float64: the cumulative distributions of importance sampling
+* ``env_cdf`` (He + 1, We + 1) float64: the cumulative distributions of importance sampling
   (:func:`sampling_tables`; Pharr et al., PBRT 3rd ed. 14.2.4): over rows in row 0, over the columns of row i
   in row 1 + i, proportional to luminance x solid angle;
-* ``envsh`` (9, 3) float64: the map's real spherical-harmonic coefficients to order 2 in world space
+* ``env_sh`` (9, 3) float64: the map's real spherical-harmonic coefficients to order 2 in world space
   (Ramamoorthi and Hanrahan 2001): the ray-cast models' ambient term, the irradiance
   ``E(n) / pi = sum_lm A_l L_lm Y_lm(n) / pi`` (Phong) or the phase-weighted radiance
   ``sum_lm g^l L_lm Y_lm(d)`` (single scattering with Henyey-Greenstein's phase: its Legendre coefficients
@@ -145,16 +145,16 @@ def _pixel(env, b, dx, dy, dz):
 @njit(cache=True, fastmath=True)
 def env_radiance(a, dx, dy, dz):
     """Radiance ``(r, g, b)`` of the environment seen along world unit direction d."""
-    i, j, _ = _pixel(a.env, a.envbasis, dx, dy, dz)
+    i, j, _ = _pixel(a.env, a.env_basis, dx, dy, dz)
     return a.env[i, j, 0], a.env[i, j, 1], a.env[i, j, 2]
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def env_pdf(a, dx, dy, dz):
     """Density (per steradian) with which :func:`env_sample` draws world direction d."""
-    c = a.envcdf
+    c = a.env_cdf
     he, we = a.env.shape[0], a.env.shape[1]
-    i, j, st = _pixel(a.env, a.envbasis, dx, dy, dz)
+    i, j, st = _pixel(a.env, a.env_basis, dx, dy, dz)
     p = (c[0, i + 1] - c[0, i]) * (c[i + 1, j + 1] - c[i + 1, j])
     return p * he * we / (2.0 * math.pi * math.pi * max(st, 1e-6))
 
@@ -175,7 +175,7 @@ def _search(c, row, n, u):
 @njit(cache=True, fastmath=True, inline="always")
 def env_sample(a, u1, u2):
     """A world direction drawn proportionally to luminance x solid angle: ``(dx, dy, dz, pdf per sr)``."""
-    c = a.envcdf
+    c = a.env_cdf
     he, we = a.env.shape[0], a.env.shape[1]
     i = _search(c, 0, he, u1)
     fi = (u1 - c[0, i]) / max(c[0, i + 1] - c[0, i], 1e-300)
@@ -185,7 +185,7 @@ def env_sample(a, u1, u2):
     ph = (j + min(max(fj, 0.0), 1.0)) * 2.0 * math.pi / we
     st = math.sin(th)
     x, y, z = st * math.cos(ph), st * math.sin(ph), math.cos(th)
-    b = a.envbasis
+    b = a.env_basis
     dx = b[0, 0] * x + b[1, 0] * y + b[2, 0] * z
     dy = b[0, 1] * x + b[1, 1] * y + b[2, 1] * z
     dz = b[0, 2] * x + b[1, 2] * y + b[2, 2] * z
@@ -214,12 +214,12 @@ def sh_irradiance(a, nx, ny, nz):
     """``E(n) / pi``: the environment's irradiance on a surface of unit normal n over pi (its diffuse radiance for
     albedo 1); the mean radiance where the normal is (0, 0, 0)."""
     if nx == 0.0 and ny == 0.0 and nz == 0.0:
-        return _sh_sum(a.envsh, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0)
-    return _sh_sum(a.envsh, nx, ny, nz, 1.0, 2.0 / 3.0, 0.25)
+        return _sh_sum(a.env_sh, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+    return _sh_sum(a.env_sh, nx, ny, nz, 1.0, 2.0 / 3.0, 0.25)
 
 
 @njit(cache=True, fastmath=True)
 def sh_phase(a, dx, dy, dz, g):
     """``integral L(w) p_HG(w . d) dw``: the environment's light that a Henyey-Greenstein medium of anisotropy
     g scatters back toward an eye looking along unit direction d (eye -> sample), unshadowed."""
-    return _sh_sum(a.envsh, dx, dy, dz, 1.0, g, g * g)
+    return _sh_sum(a.env_sh, dx, dy, dz, 1.0, g, g * g)

@@ -45,13 +45,14 @@ def event_albedo(a, s, idx, w):
 @njit(cache=True, fastmath=True, inline="always")
 def medium_normal(a, s, w, d):
     """Unit normal of the medium at world point ``w`` (minus its density gradient, through the index -> world
-    gradient matrix ``Arrays.nrm``), turned toward the eye (against ``d``); (0, 0, 0) where the gradient vanishes."""
+    gradient matrix ``Arrays.gradient_matrix``), turned toward the eye (against ``d``); (0, 0, 0) where the gradient
+    vanishes."""
     x, y, z = to_index(a.geo, w[0], w[1], w[2], 1.0)
-    r, v, u0, f = s.recon, a.vol, s.u0, s.ufac
+    r, v, u0, f = s.recon, a.vol, s.sample_offset, s.sample_scale
     gi = reconstruct(r, v, u0, f, x + 1.0, y, z, False) - reconstruct(r, v, u0, f, x - 1.0, y, z, False)
     gj = reconstruct(r, v, u0, f, x, y + 1.0, z, False) - reconstruct(r, v, u0, f, x, y - 1.0, z, False)
     gk = reconstruct(r, v, u0, f, x, y, z + 1.0, False) - reconstruct(r, v, u0, f, x, y, z - 1.0, False)
-    m = a.nrm
+    m = a.gradient_matrix
     nx = -(m[0, 0] * gi + m[0, 1] * gj + m[0, 2] * gk)
     ny = -(m[1, 0] * gi + m[1, 1] * gj + m[1, 2] * gk)
     nz = -(m[2, 0] * gi + m[2, 1] * gj + m[2, 2] * gk)
@@ -64,8 +65,10 @@ def medium_normal(a, s, w, d):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _add_event(a, s, w, d, idx, p, feat, px, py):
-    """Add the albedo and normal of an event at ``w`` (table index ``idx``), weighted by probability ``p``."""
+def _add_event(a, s, w, d, idx, p, feat, pix):
+    """Add the albedo and normal of an event at ``w`` (table index ``idx``), weighted by probability ``p``, to
+    ``feat`` at pixel ``pix = (px, py)``."""
+    px, py = pix
     c = event_albedo(a, s, idx, w)
     for k in range(3):
         feat[py, px, k] += p * min(max(s.albedo * c[k], 0.0), 1.0)
@@ -76,12 +79,17 @@ def _add_event(a, s, w, d, idx, p, feat, px, py):
 
 
 @njit(cache=True, fastmath=True)
-def view_features(a, s, w, d, t0, t1, scale, h, wt, feat, px, py):
-    """March world ray ``w + t d`` from ``t0`` to ``t1``: add to ``feat[py, px]`` (:data:`NFEAT` channels) ``wt``
-    times the expected albedo and normal of its first event (premultiplied by the probability of one); returns the
-    optical depth ``integral sigma_t dt`` (``scale`` turns the table's depth per reference step into 1/mm)."""
-    g = a.maj
-    o, dv, c, st, nx, de = grid_walk(a, s, w, d, t0)
+def view_features(a, s, ray, span, wt, feat, pix):
+    """March world ray ``ray = (w, d)``, ``w + t d``, over ``span = (t0, t1)`` in steps of at most ``s.ds``: add to
+    ``feat[py, px]`` (:data:`NFEAT` channels, ``pix = (px, py)``) ``wt`` times the expected albedo and normal of
+    its first event (premultiplied by the probability of one); returns the optical depth ``integral sigma_t dt``
+    (``scale = kext / ds0`` turns the table's depth per reference step into 1/mm)."""
+    w, d = ray
+    t0, t1 = span
+    scale = s.extinction_scale / s.ds0
+    h = s.ds
+    g = a.majorant
+    o, dv, c, steps, nx, de = grid_walk(a, s, w, d, t0)
     med = frame_medium(a, s)
     t = t0
     tau = 0.0
@@ -97,10 +105,10 @@ def view_features(a, s, w, d, t0, t1, scale, h, wt, feat, px, py):
                     p = math.exp(-tau) * -math.expm1(-sg * scale * dt)
                     if p > 1e-6:
                         _add_event(a, s, (w[0] + tm * d[0], w[1] + tm * d[1], w[2] + tm * d[2]), d, idx, p * wt,
-                                   feat, px, py)
+                                   feat, pix)
                     tau += sg * scale * dt
         t = tn
-        c, nx, inside = advance_cell(g, c, st, nx, de)
+        c, nx, inside = advance_cell(g, c, steps, nx, de)
         if not inside:
             break
     return tau

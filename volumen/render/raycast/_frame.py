@@ -38,93 +38,96 @@ FAR = 1e30
 class Arrays(NamedTuple):
     """The per-frame arrays (see the modules named for their layouts)."""
 
-    cam: np.ndarray     #: packed camera, float64 (18,) (``_geometry.pack_camera``)
-    geo: np.ndarray     #: packed region: world->index affine, index and world crop boxes (``_geometry``)
+    cam: np.ndarray  #: packed camera, float64 (18,) (``_geometry.pack_camera``)
+    geo: np.ndarray  #: packed region: world->index affine, index and world crop boxes (``_geometry``)
     planes: np.ndarray  #: clip planes (n, 6): point, unit normal
-    vol: np.ndarray     #: int16 samples [z, y, x]: the data itself or an int16 copy (``_precompute.int16_samples``)
-    nrm: np.ndarray     #: gradient matrix and 1 / gmax (4, 3) float64 (``_precompute.normal_params``)
-    ncode: np.ndarray   #: normal direction codes, a pool of bricks uint16 (``_normals``), (1, 1, 1) when unused
-    nslot: np.ndarray   #: each brick's slot in ``ncode`` int32 (``_normals``), (1, 1, 1) when unused
-    gcode: np.ndarray   #: gradient-magnitude code per voxel [z, y, x] uint8, (1, 1, 1) when unused
-    ndir: np.ndarray    #: direction code -> unit vector, packed in a uint32 (``_normals.DIRS``)
-    lut: np.ndarray     #: colour / opacity table (NLUT, 4) (``_tables``)
-    pre: np.ndarray     #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
-    glut: np.ndarray    #: gradient-opacity factor per magnitude code (128,)
-    bflag: np.ndarray   #: skip side per ray octant and block (8, gz, gy, gx) uint8 (``_octants``); (1, 1, 1, 1) off
-    bmin: np.ndarray    #: block minima (normalized units)
-    bmax: np.ndarray    #: block maxima
-    bcoarse: np.ndarray  #: adaptive sampling: octant sides of coarse blocks (``_tables``); (1, 1, 1, 1) off
-    cells: np.ndarray   #: a bit per cell that can hold a visible sample (``_cells``); (1, 1, 1) off
+    vol: np.ndarray  #: int16 samples [z, y, x]: the data itself or an int16 copy (``_precompute.int16_samples``)
+    gradient_matrix: np.ndarray  #: gradient matrix and 1 / gmax (4, 3) float64 (``_precompute.normal_params``)
+    normal_codes: np.ndarray  #: normal direction codes, a pool of bricks uint16 (``_normals``), (1, 1, 1) when unused
+    normal_slots: np.ndarray  #: each brick's slot in ``normal_codes`` int32 (``_normals``), (1, 1, 1) when unused
+    gradient_codes: np.ndarray  #: gradient-magnitude code per voxel [z, y, x] uint8, (1, 1, 1) when unused
+    normal_dirs: np.ndarray  #: direction code -> unit vector, packed in a uint32 (``_normals.DIRS``)
+    lut: np.ndarray  #: colour / opacity table (NLUT, 4) (``_tables``)
+    preintegrated: np.ndarray  #: pre-integrated table (NPRE, NPRE, 4), (1, 1, 4) when unused
+    gradient_lut: np.ndarray  #: gradient-opacity factor per magnitude code (128,)
+    skip_flags: np.ndarray  #: skip side per ray octant and block (8, gz, gy, gx) uint8 (``_octants``); (1, 1, 1, 1) off
+    bmin: np.ndarray  #: block minima (normalized units)
+    bmax: np.ndarray  #: block maxima
+    coarse_flags: np.ndarray  #: adaptive sampling: octant sides of coarse blocks (``_tables``); (1, 1, 1, 1) off
+    cells: np.ndarray  #: a bit per cell that can hold a visible sample (``_cells``); (1, 1, 1) off
     lights: np.ndarray  #: packed lights (n, NLCOL) (``_shade``)
-    lvm: np.ndarray     #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
-    lvd: np.ndarray     #: illumination-volume buffer (float32)
-    sig: np.ndarray     #: optical depth per reference step of each table entry (NLUT,)
-    lab: np.ndarray     #: label map [z, y, x] on the volume's grid (``_labelled``), (1, 1, 1) when unused
-    llut: np.ndarray    #: per label value (r, g, b, opacity, textured) (n, 5) (``_labelled``)
-    rgb: np.ndarray     #: colour volume's RGB [z, y, x, 3] uint8 (``_color``), (1, 1, 1, 3) for a scalar volume
-    whole: np.ndarray   #: packed region whose sample grid the rays follow: ``geo`` itself, or a part's whole (``_ray``)
-    carry: np.ndarray   #: a part's opacity carried in per pixel (H, W) float32 (``_ray``), (1, 1) when unused
-    env: np.ndarray     #: environment radiance map (He, We, 3) float32 (``_environment``), (2, 2, 3) when uniform
-    envbasis: np.ndarray  #: the map frame's axes in world space (3, 3) float64
-    envcdf: np.ndarray  #: the map's importance-sampling tables (He + 1, We + 1) float64
-    envsh: np.ndarray   #: the map's SH coefficients to order 2 (9, 3) float64: the ray-cast models' ambient term
-    maj: np.ndarray     #: path tracing: majorant extinction (1/mm) per block of ``mblock^3`` voxels (``_majorant``)
+    light_meta: np.ndarray  #: illumination-volume meta rows (n, NMETA) (``_lightvol``)
+    light_data: np.ndarray  #: illumination-volume buffer (float32)
+    extinction: np.ndarray  #: optical depth per reference step of each table entry (NLUT,)
+    label_map: np.ndarray  #: label map [z, y, x] on the volume's grid (``_labelled``), (1, 1, 1) when unused
+    label_lut: np.ndarray  #: per label value (r, g, b, opacity, textured) (n, 5) (``_labelled``)
+    rgb: np.ndarray  #: colour volume's RGB [z, y, x, 3] uint8 (``_color``), (1, 1, 1, 3) for a scalar volume
+    whole: np.ndarray  #: packed region whose sample grid the rays follow: ``geo`` itself, or a part's whole (``_ray``)
+    carry: np.ndarray  #: a part's opacity carried in per pixel (H, W) float32 (``_ray``), (1, 1) when unused
+    env: np.ndarray  #: environment radiance map (He, We, 3) float32 (``_environment``), (2, 2, 3) when uniform
+    env_basis: np.ndarray  #: the map frame's axes in world space (3, 3) float64
+    env_cdf: np.ndarray  #: the map's importance-sampling tables (He + 1, We + 1) float64
+    env_sh: np.ndarray  #: the map's SH coefficients to order 2 (9, 3) float64: the ray-cast models' ambient term
+    #: path tracing: majorant extinction (1/mm) per block of ``majorant_block^3`` voxels (``_majorant``)
+    majorant: np.ndarray
 
 
 #: fields of :class:`Arrays` that belong to the volume, or to it and a transfer function (cached objects, never
-#: changed in place): a device keeps its copy while the object is the same, without comparing contents (``bflag``
+#: changed in place): a device keeps its copy while the object is the same, without comparing contents (``skip_flags``
 #: is 4.7 MB at 366 x 303 x 336: comparing it took 1 ms of a 7.6 ms CUDA frame)
-PER_VOLUME = ("vol", "nrm", "ncode", "nslot", "gcode", "ndir", "bmin", "bmax", "bflag", "lab", "rgb", "cells")
+PER_VOLUME = ("vol", "gradient_matrix", "normal_codes", "normal_slots", "gradient_codes", "normal_dirs", "bmin",
+              "bmax", "skip_flags", "label_map", "rgb", "cells")
 
 
 class Settings(NamedTuple):
     """The scalar settings of a frame (lengths in mm, values in the table's normalized units)."""
 
-    ds: float = 1.0          #: sample step
-    ds0: float = 1.0         #: reference step (smallest voxel spacing) the opacities are defined for
-    et: float = 0.98         #: early ray termination opacity
-    ka: float = 0.15         #: ambient (scattering: environment radiance)
-    kd: float = 0.65         #: diffuse (scattering: light scale)
-    ks: float = 0.2          #: specular
-    shine: float = 20.0      #: specular exponent
-    u0: float = 0.0          #: stored sample -> table units: ``(v - u0) * ufac`` (``Arrays.vol`` may be raw data)
-    ufac: float = 1.0
-    vmin: float = 0.0        #: data value of normalized 0
-    vscale: float = 1.0      #: data units per normalized unit
-    iso: float = 0.0         #: isosurface threshold (normalized)
-    iso_r: float = 1.0       #: isosurface colour
-    iso_g: float = 1.0
-    iso_b: float = 1.0
-    pre_scale: float = 1.0   #: normalized value -> pre-integrated table index
-    sh_off: float = 2.0      #: light paths start this far off the sample (no self-shadowing)
-    sh_step: float = 1.0     #: direct shadow-ray step
-    kext: float = 1.0        #: extinction scale: sigma_t = kext * (-ln(1 - alpha)) / ds0
-    albedo: float = 1.0      #: single-scattering albedo
-    g: float = 0.0           #: Henyey-Greenstein anisotropy
-    nearest: bool = False    #: nearest-neighbour instead of trilinear reconstruction
+    ds: float = 1.0  #: sample step
+    ds0: float = 1.0  #: reference step (smallest voxel spacing) the opacities are defined for
+    early_termination: float = 0.98  #: early ray termination opacity
+    ambient: float = 0.15  #: ambient (scattering: environment radiance)
+    diffuse: float = 0.65  #: diffuse (scattering: light scale)
+    specular: float = 0.2  #: specular
+    shininess: float = 20.0  #: specular exponent
+    #: stored sample -> table units: ``(v - sample_offset) * sample_scale`` (``Arrays.vol`` may be raw data)
+    sample_offset: float = 0.0
+    sample_scale: float = 1.0
+    value_min: float = 0.0  #: data value of normalized 0
+    value_scale: float = 1.0  #: data units per normalized unit
+    iso_value: float = 0.0  #: isosurface threshold (normalized)
+    iso_red: float = 1.0  #: isosurface colour
+    iso_green: float = 1.0
+    iso_blue: float = 1.0
+    pre_scale: float = 1.0  #: normalized value -> pre-integrated table index
+    shadow_offset: float = 2.0  #: light paths start this far off the sample (no self-shadowing)
+    shadow_step: float = 1.0  #: direct shadow-ray step
+    extinction_scale: float = 1.0  #: extinction scale: sigma_t = extinction_scale * (-ln(1 - alpha)) / ds0
+    albedo: float = 1.0  #: single-scattering albedo
+    phase_g: float = 0.0  #: Henyey-Greenstein anisotropy
+    nearest: bool = False  #: nearest-neighbour instead of trilinear reconstruction
     recon: Any = Trilinear()  #: reconstruction tag (``_pieces``): Trilinear() (or nearest), or BSpline() (``_bspline``)
-    jitter: bool = False     #: jitter each ray's first sample
-    lattice: bool = False    #: samples at t = (m + jitter) ds from the ray's origin, not from its entry (``_ray``)
-    seed: int = 0            #: jitter / path-tracing seed
-    skip: bool = False       #: empty-space skipping
-    block: int = 4           #: block size of the skipping grids (voxels)
-    stride: int = 1          #: adaptive sampling: most grid steps one sample stands for in ``Arrays.bcoarse`` blocks
-    cells: bool = False      #: pass over the samples in the cells ``Arrays.cells`` marks transparent (``_cells``)
-    gradop: bool = False     #: gradient-magnitude opacity modulation
-    sobel: bool = False      #: normals from the 3x3x3 Sobel operator instead of central differences
-    nlights: int = 0         #: lights in use (rows of ``Arrays.lights``)
-    nplanes: int = 0         #: clip planes in use
-    bounces: int = 1         #: path tracing: most scattering events per path
-    nlab: int = 0            #: label-aware classification (rows of ``Arrays.llut``; 0: off)
-    labels: Any = ScanOnly()  #: label tag (``_pieces``): ``WithLabels()`` exactly when nlab > 0
-    lsolid: bool = False     #: some shown structure is solid (an opacity of its own, ``_labelled.solid_rows``)
-    color: bool = False      #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
-    part: bool = False       #: draw the samples of ``Arrays.whole``'s grid inside ``geo`` only (a brick, ``_ray``)
-    envmode: int = 0         #: 0: ambient radiance ``ka`` (uniform environment); 1: ``Arrays.env`` (``_environment``)
-    env_power: float = 0.0   #: path tracing: weight of the environment against the lights in light selection
-    mblock: int = 8          #: path tracing: block edge of ``Arrays.maj`` (voxels)
-    proj: int = 0            #: the projection (``_pieces.PROJECTIONS``): 0 maximum, 1 minimum, 2 mean
-    hdr: bool = False        #: composite colour left unclipped (high dynamic range, for a tone curve), else at most 1
+    jitter: bool = False  #: jitter each ray's first sample
+    lattice: bool = False  #: samples at t = (m + jitter) ds from the ray's origin, not from its entry (``_ray``)
+    seed: int = 0  #: jitter / path-tracing seed
+    skip: bool = False  #: empty-space skipping
+    block: int = 4  #: block size of the skipping grids (voxels)
+    stride: int = 1  #: adaptive sampling: most grid steps one sample stands for in ``Arrays.coarse_flags`` blocks
+    cells: bool = False  #: pass over the samples in the cells ``Arrays.cells`` marks transparent (``_cells``)
+    gradient_opacity: bool = False  #: gradient-magnitude opacity modulation
+    sobel: bool = False  #: normals from the 3x3x3 Sobel operator instead of central differences
+    nlights: int = 0  #: lights in use (rows of ``Arrays.lights``)
+    nplanes: int = 0  #: clip planes in use
+    bounces: int = 1  #: path tracing: most scattering events per path
+    nlabels: int = 0  #: label-aware classification (rows of ``Arrays.label_lut``; 0: off)
+    labels: Any = ScanOnly()  #: label tag (``_pieces``): ``WithLabels()`` exactly when nlabels > 0
+    solid_labels: bool = False  #: some shown structure is solid (an opacity of its own, ``_labelled.solid_rows``)
+    color: bool = False  #: colour volume: emission colour from ``Arrays.rgb``, not the table (``_color``)
+    part: bool = False  #: draw the samples of ``Arrays.whole``'s grid inside ``geo`` only (a brick, ``_ray``)
+    env_mode: int = 0  #: 0: ambient radiance ``ambient`` (uniform environment); 1: ``Arrays.env`` (``_environment``)
+    env_power: float = 0.0  #: path tracing: weight of the environment against the lights in light selection
+    majorant_block: int = 8  #: path tracing: block edge of ``Arrays.majorant`` (voxels)
+    projection: int = 0  #: the projection (``_pieces.PROJECTIONS``): 0 maximum, 1 minimum, 2 mean
+    hdr: bool = False  #: composite colour left unclipped (high dynamic range, for a tone curve), else at most 1
 
 
 class Outputs(NamedTuple):

@@ -21,12 +21,14 @@ import numpy as np
 from numba import njit
 
 __all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "pixel_ray", "ray_interval", "region_interval",
-           "footprint", "C_ORTHO", "G_BOX"]
+           "footprint", "C_ORTHO", "G_BOX", "G_INV", "P_POINT", "P_NORMAL"]
 
 # packed camera layout
 C_EYE, C_RIGHT, C_UP, C_FWD, C_ORTHO, C_HALF, C_W, C_H, C_NEAR, C_FAR = 0, 3, 6, 9, 12, 13, 14, 15, 16, 17
 # packed geometry layout: world->index 3x4, then index box lo/hi (with crop), then world crop lo/hi
 G_INV, G_BOX, G_WORLD = 0, 12, 18
+# packed clip plane layout (a row of ``pack_planes``): a point on the plane, its unit normal
+P_POINT, P_NORMAL = 0, 3
 _FAR = 1e30  # finite stand-in for infinity (the kernels use fastmath)
 
 
@@ -140,22 +142,25 @@ def _slab(o, d, lo, hi, t0, t1):
 @njit(cache=True, fastmath=False, inline="always")
 def to_index(geo, x, y, z, w):
     """World point (w = 1) or direction (w = 0) -> voxel index space."""
-    i = geo[0] * x + geo[1] * y + geo[2] * z + geo[3] * w
-    j = geo[4] * x + geo[5] * y + geo[6] * z + geo[7] * w
-    k = geo[8] * x + geo[9] * y + geo[10] * z + geo[11] * w
+    i = geo[G_INV] * x + geo[G_INV + 1] * y + geo[G_INV + 2] * z + geo[G_INV + 3] * w
+    j = geo[G_INV + 4] * x + geo[G_INV + 5] * y + geo[G_INV + 6] * z + geo[G_INV + 7] * w
+    k = geo[G_INV + 8] * x + geo[G_INV + 9] * y + geo[G_INV + 10] * z + geo[G_INV + 11] * w
     return i, j, k
 
 
 @njit(cache=True, fastmath=False, inline="always")
 def _side(planes, p, x, y, z):
     """Signed distance (mm) of world point (x, y, z) from clip plane ``p``: the kept side is positive."""
-    return (x - planes[p, 0]) * planes[p, 3] + (y - planes[p, 1]) * planes[p, 4] + (z - planes[p, 2]) * planes[p, 5]
+    return ((x - planes[p, P_POINT]) * planes[p, P_NORMAL] + (y - planes[p, P_POINT + 1]) * planes[p, P_NORMAL + 1]
+            + (z - planes[p, P_POINT + 2]) * planes[p, P_NORMAL + 2])
 
 
 @njit(cache=True, fastmath=False, inline="always")
-def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
+def region_interval(geo, planes, nplanes, o, d, t0, t1):
     """``[t0, t1]`` intersected with the drawn region (volume box, crop, clip planes) along ``o + t d``
-    (world mm; ``d`` of any length); empty when the result has t1 < t0."""
+    (world mm, ``o`` and ``d`` (x, y, z) tuples; ``d`` of any length); empty when the result has t1 < t0."""
+    ox, oy, oz = o
+    dx, dy, dz = d
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)
     di, dj, dk = to_index(geo, dx, dy, dz, 0.0)
     t0, t1 = _slab(oi, di, geo[G_BOX], geo[G_BOX + 3], t0, t1)
@@ -166,7 +171,7 @@ def region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t0, t1):
     t0, t1 = _slab(oz, dz, geo[G_WORLD + 2], geo[G_WORLD + 5], t0, t1)
     for p in range(nplanes):
         s = _side(planes, p, ox, oy, oz)
-        dn = dx * planes[p, 3] + dy * planes[p, 4] + dz * planes[p, 5]
+        dn = dx * planes[p, P_NORMAL] + dy * planes[p, P_NORMAL + 1] + dz * planes[p, P_NORMAL + 2]
         if dn == 0.0:
             if s < 0.0:
                 return 1.0, 0.0
@@ -194,16 +199,19 @@ def _inside(geo, planes, nplanes, x, y, z):
 
 
 @njit(cache=True, fastmath=False, inline="always")
-def segment_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, t1):
+def segment_interval(geo, planes, nplanes, o, d, t1):
     """:func:`region_interval` of ``[0, t1]``; without its divisions where both ends lie in the region (which is
     convex, so the whole segment does: ``(0, t1)``)."""
+    ox, oy, oz = o
+    dx, dy, dz = d
     if _inside(geo, planes, nplanes, ox, oy, oz) and _inside(geo, planes, nplanes, ox + t1 * dx, oy + t1 * dy,
                                                              oz + t1 * dz):
         return 0.0, t1
-    return region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, t1)
+    return region_interval(geo, planes, nplanes, o, d, 0.0, t1)
 
 
 @njit(cache=True, fastmath=False, inline="always")
-def ray_interval(cam, geo, planes, nplanes, ox, oy, oz, dx, dy, dz):
-    """``(t0, t1)`` of the view ray inside the drawn region and the camera's [near, far] (empty when t1 < t0)."""
-    return region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, cam[C_NEAR], cam[C_FAR])
+def ray_interval(cam, geo, planes, nplanes, o, d):
+    """``(t0, t1)`` of the view ray ``o + t d`` inside the drawn region and the camera's [near, far] (empty when
+    t1 < t0)."""
+    return region_interval(geo, planes, nplanes, o, d, cam[C_NEAR], cam[C_FAR])

@@ -55,7 +55,7 @@ class _BlockCopier:
     """``copy`` as ``inline_closurecall`` sees it, whose ``deepcopy`` of an ``ir.Block`` from its IR copy
     (``copy_ir``: the ``FunctionIR`` being copied is its local ``the_ir``) shares one memo with the other blocks
     of the same copy. A block seen again, or another IR, starts a new copy; without ``the_ir`` (another Numba)
-    every block is copied on its own, as before."""
+    every block is copied on its own, as Numba's own ``copy`` does."""
 
     def __init__(self, block_type):
         self._block_type = block_type

@@ -11,11 +11,12 @@ sees the surface where the value first falls below it. The crossing is found
 between the last sample on the eye's side and the first beyond it by 4
 regula-falsi steps (:func:`iso_refine`). The pixel is the surface colour lit
 by the light tag's model with the normal at the hit (two-sided: it faces the
-eye). State: ``(depth, previous value, previous t, side)``, side +1 when
-looking for a rise, -1 for a fall.
+eye). State: :class:`IsoState`.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 from numba import njit
 
@@ -25,15 +26,26 @@ from ._geometry import C_NEAR
 from ._pieces import Isosurface, Trilinear, eager, finish, init, radius, shade, step, uses_normals
 from ._ray import sample_at
 
-__all__ = ["iso_refine"]
+__all__ = ["iso_refine", "IsoState"]
+
+
+class IsoState(NamedTuple):
+    """What an isosurface ray carries from sample to sample."""
+
+    depth: float       #: the crossing found (``FAR``: none yet)
+    prev_value: float  #: the previous sample's value
+    prev_t: float      #: the previous sample's ray parameter
+    side: float        #: +1.0 looking for a rise through the threshold, -1.0 for a fall
 
 
 @njit(cache=True, fastmath=True)
-def _crossing(vol, norm, iso, side, ta, fa, tb, fb, o, d):
-    """Crossing between ``ta`` (on the eye's side) and ``tb`` (beyond): regula falsi on ``side * (v - iso)``,
-    4 steps. ``norm = (u0, ufac, nearest, recon)``: how ``vol`` is read (``_bspline.reconstruct``); ``o``, ``d``:
-    the ray in voxel indices."""
+def _crossing(vol, norm, iso, side, near, far, o, d):
+    """Crossing between ``near = (ta, fa)`` (ray parameter and value on the eye's side) and ``far = (tb, fb)``
+    (beyond): regula falsi on ``side * (v - iso)``, 4 steps. ``norm = (u0, ufac, nearest, recon)``: how ``vol`` is
+    read (``_bspline.reconstruct``); ``o``, ``d``: the ray in voxel indices."""
     u0, ufac, nearest, recon = norm
+    ta, fa = near
+    tb, fb = far
     fa = side * (fa - iso)
     fb = side * (fb - iso)
     for _ in range(4):
@@ -55,9 +67,10 @@ _TRILINEAR = Trilinear()
 
 
 @njit(cache=True, fastmath=True)
-def iso_refine(vol, nearest, iso, ta, fa, tb, fb, oi, oj, ok, di, dj, dk):
-    """Threshold crossing between (ta, fa < iso) and (tb, fb >= iso): regula falsi, 4 steps."""
-    return _crossing(vol, (0.0, 1.0, nearest, _TRILINEAR), iso, 1.0, ta, fa, tb, fb, (oi, oj, ok), (di, dj, dk))
+def iso_refine(vol, nearest, iso, below, above, o, d):
+    """Threshold crossing between ``below = (ta, fa < iso)`` and ``above = (tb, fb >= iso)`` (ray parameter and
+    value) on the ray ``o + t d`` (voxel indices): regula falsi, 4 steps."""
+    return _crossing(vol, (0.0, 1.0, nearest, _TRILINEAR), iso, 1.0, below, above, o, d)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -71,44 +84,46 @@ def _beyond(v, iso, side):
 def _init(light, r, a, s):
     v = sample_at(r, a, s, r.t0)
     eye_inside = r.t0 <= a.cam[C_NEAR]
-    side = -1.0 if (eye_inside and v >= s.iso) else 1.0
-    dep = r.t0 if _beyond(v, s.iso, side) else FAR
-    return (dep, v, r.t0, side), 1, dep < FAR, True
+    side = -1.0 if (eye_inside and v >= s.iso_value) else 1.0
+    dep = r.t0 if _beyond(v, s.iso_value, side) else FAR
+    return IsoState(dep, v, r.t0, side), 1, dep < FAR, True
 
 
 @step.register(Isosurface)
 @njit(cache=True, fastmath=True, inline="always")
-def _step(light, r, a, s, st, k, t, v, have, span):
-    side = st[3]
-    if not _beyond(v, s.iso, side):
-        return (FAR, v, t, side), 0, False
-    vp, tp = st[1], st[2]
+def _step(light, r, a, s, st, smp):
+    t, v = smp.t, smp.v
+    side = st.side
+    if not _beyond(v, s.iso_value, side):
+        return IsoState(FAR, v, t, side), 0, False
+    vp, tp = st.prev_value, st.prev_t
     extra = 0
-    if not have:
+    if not smp.have:
         tp = max(t - s.ds, r.t0)
         vp = sample_at(r, a, s, tp)
         extra = 1
     dep = t
-    if not _beyond(vp, s.iso, side):
-        dep = _crossing(a.vol, (s.u0, s.ufac, s.nearest, s.recon), s.iso, side, tp, vp, t, v, (r.oi, r.oj, r.ok),
-                        (r.di, r.dj, r.dk))
-    return (dep, v, t, side), extra, True
+    if not _beyond(vp, s.iso_value, side):
+        dep = _crossing(a.vol, (s.sample_offset, s.sample_scale, s.nearest, s.recon), s.iso_value, side, (tp, vp),
+                        (t, v), (r.oi, r.oj, r.ok), (r.di, r.dj, r.dk))
+    return IsoState(dep, v, t, side), extra, True
 
 
 @finish.register(Isosurface)
 @njit(cache=True, fastmath=True)
-def _finish(light, r, a, s, st, taken, have, out, px, py):
-    out.nsamp[py, px] = taken
-    dep = st[0]
+def _finish(light, r, a, s, st, end, pix):
+    out, px, py = pix.out, pix.x, pix.y
+    out.nsamp[py, px] = end.taken
+    dep = st.depth
     if dep >= FAR:
         return
     x, y, z = r.oi + dep * r.di, r.oj + dep * r.dj, r.ok + dep * r.dk
     gx, gy, gz, _ = normal(s.recon, a, x, y, z, s.nearest, uses_normals(light), False)
     fr, fg, fb, sr, sg, sb = shade(light, a, s, (gx, gy, gz), (-r.dx, -r.dy, -r.dz),
                                    (r.ox + dep * r.dx, r.oy + dep * r.dy, r.oz + dep * r.dz))
-    out.rgba[py, px, 0] = min(s.iso_r * fr + sr, 1.0)
-    out.rgba[py, px, 1] = min(s.iso_g * fg + sg, 1.0)
-    out.rgba[py, px, 2] = min(s.iso_b * fb + sb, 1.0)
+    out.rgba[py, px, 0] = min(s.iso_red * fr + sr, 1.0)
+    out.rgba[py, px, 1] = min(s.iso_green * fg + sg, 1.0)
+    out.rgba[py, px, 2] = min(s.iso_blue * fb + sb, 1.0)
     out.rgba[py, px, 3] = 1.0
     out.depth[py, px] = dep
 
@@ -116,8 +131,8 @@ def _finish(light, r, a, s, st, taken, have, out, px, py):
 @radius.register(Isosurface)
 @njit(cache=True, fastmath=True, inline="always")
 def _radius(a, s, st, o, bk, bj, bi):
-    if st[3] > 0.0:  # skip distances of the blocks no value of which reaches the threshold
-        return int(a.bflag[o, bk, bj, bi])
+    if st.side > 0.0:  # skip distances of the blocks no value of which reaches the threshold
+        return int(a.skip_flags[o, bk, bj, bi])
     return 0  # looking for a fall: no block grid of those (rare: eye inside the surface)
 
 

@@ -1,9 +1,9 @@
 """Label-aware classification: each sample's structure picks its colour and opacity.
 
-The frame carries the label map ``a.lab`` (the scan's grid, integer values) and a table
-``a.llut`` with a row ``(r, g, b, opacity, textured)`` per label value (row 0: the unlabelled
+The frame carries the label map ``a.label_map`` (the scan's grid, integer values) and a table
+``a.label_lut`` with a row ``(r, g, b, opacity, textured)`` per label value (row 0: the unlabelled
 scan, ``r < 0`` meaning the transfer function's own colour; see ``core.LabelLayer.table``).
-``s.nlab`` > 0 turns it on.
+``s.nlabels`` > 0 turns it on.
 
 Smooth boundaries: the sample's classification is the trilinear blend of the classifications
 of the 8 surrounding voxels' labels (``Sampling.interpolation`` nearest: the nearest voxel's)
@@ -70,8 +70,8 @@ def label_table(layer, ratio: float) -> np.ndarray:
 @njit(cache=True, fastmath=True, inline="always")
 def _add(a, lab, w, idx, acc):
     """``acc`` plus the classification of label value ``lab`` weighted by ``w``."""
-    m = min(int(lab) & (UNIFORM16 - 1 if a.lab.itemsize == 2 else UNIFORM8 - 1), a.llut.shape[0] - 1)
-    llut = a.llut
+    m = min(int(lab) & (UNIFORM16 - 1 if a.label_map.itemsize == 2 else UNIFORM8 - 1), a.label_lut.shape[0] - 1)
+    llut = a.label_lut
     al = llut[m, 3] * w
     if llut[m, 4] > 0.0:
         al *= a.lut[idx, 3]
@@ -83,9 +83,9 @@ def _add(a, lab, w, idx, acc):
 @njit(cache=True, fastmath=True, inline="always")
 def classify_sample(a, s, x, y, z, idx):
     """:func:`classify` for the primary rays (frame settings ``s``): where the transfer function is transparent
-    and no shown structure is solid (``s.lsolid`` false: every row's opacity follows the table's), the sample
+    and no shown structure is solid (``s.solid_labels`` false: every row's opacity follows the table's), the sample
     is transparent whatever its labels, and none is read."""
-    if not s.lsolid and a.lut[idx, 3] <= 0.0:
+    if not s.solid_labels and a.lut[idx, 3] <= 0.0:
         return 0.0, 0.0, 0.0, 0.0
     return classify(a, x, y, z, idx, s.nearest)
 
@@ -96,9 +96,10 @@ def classify(a, x, y, z, idx, nearest):
     ``idx``); the nearest voxel's label alone when ``nearest`` (the raw voxel staircase). In a cell inside one
     structure (flagged by :func:`packed_labels`, the common case) one label and one table row are read.
 
-    ``a`` is any record with the fields ``lab``, ``llut`` and ``lut`` (the frame's :class:`._frame.Arrays`, or
-    the light paths' :class:`._medium.Medium`): the primary rays and the light paths classify alike."""
-    lab = a.lab
+    ``a`` is any record with the fields ``label_map``, ``label_lut`` and ``lut`` (the frame's
+    :class:`._frame.Arrays`, or the light paths' :class:`._medium.Medium`): the primary rays and the light paths
+    classify alike."""
+    lab = a.label_map
     nz, ny, nx = lab.shape
     zero = (0.0, 0.0, 0.0, 0.0)
     if nearest:

@@ -36,8 +36,8 @@ from ._params import (
 )
 from ._pieces import ScanOnly, Trilinear, labelled
 
-__all__ = ["build_lattice", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice", "lattice_step",
-           "lattice_transmittance_of", "sweep_medium"]
+__all__ = ["build_lattice", "LatticeRay", "lattice_frame", "lattice_offsets", "lattice_ray", "lattice_slice",
+           "lattice_step", "lattice_transmittance_of", "sweep_medium"]
 
 
 @njit(cache=True, fastmath=True)
@@ -62,7 +62,7 @@ def _depth_slice(med, k, cb, cc):
     (read as such without labels; with labels, :func:`._medium.depth_at` classifies it)."""
     if labelled(med.labels):
         return _depth(med, np.float64(k), cb, cc)
-    volt, sig = med.vol, med.sig
+    volt, sig = med.vol, med.extinction
     nb = volt.shape[1]
     nc = volt.shape[2]
     if cb <= 0.0:
@@ -81,7 +81,7 @@ def _depth_slice(med, k, cb, cc):
         i1, fc = i0 + 1, cc - i0
     r0 = volt[k, j0, i0] + fc * (volt[k, j0, i1] - volt[k, j0, i0])
     r1 = volt[k, j1, i0] + fc * (volt[k, j1, i1] - volt[k, j1, i0])
-    v = (r0 + fb * (r1 - r0) - med.u0) * med.ufac
+    v = (r0 + fb * (r1 - r0) - med.sample_offset) * med.sample_scale
     return sig[min(max(int(v + 0.5), 0), sig.shape[0] - 1)]
 
 
@@ -125,7 +125,7 @@ def lattice_ray(aff, geo, planes, nplanes, meta, v, u):
     db, dc = lattice_offsets(meta, v, u)
     ox, oy, oz = _to_world(aff, axa, axb, axc, pa, pb, pc, 1.0)
     dx, dy, dz = _to_world(aff, axa, axb, axc, da, db, dc, 0.0)
-    t0, t1 = region_interval(geo, planes, nplanes, ox, oy, oz, dx, dy, dz, 0.0, 2.0)
+    t0, t1 = region_interval(geo, planes, nplanes, (ox, oy, oz), (dx, dy, dz), 0.0, 2.0)
     sub = int(math.ceil(math.sqrt(da * da + db * db + dc * dc) * dsl / MAX_STEP))
     return db, dc, t0, t1, math.sqrt(dx * dx + dy * dy + dz * dz), sub
 
@@ -140,15 +140,33 @@ def lattice_slice(st, nk, k0, pa, dsl, fwd):
     return i, k, s
 
 
+class LatticeRay(NamedTuple):
+    """One lattice ray as :func:`lattice_step` carries it: ``p + s d`` in index coordinates along the lattice's
+    axes (a, b, c), from the light (``s = 0``) to its node on the far slice (``s = 1``)."""
+
+    pa: float      #: the light's position along a, b, c (:func:`lattice_frame`)
+    pb: float
+    pc: float
+    da: float      #: the direction along a, b, c (:func:`lattice_frame`, :func:`lattice_offsets`)
+    db: float
+    dc: float
+    t0: float      #: its interval in ``s`` inside the drawn region (empty when t1 < t0; :func:`lattice_ray`)
+    t1: float
+    length: float  #: its length in mm per unit ``s``
+    sub: int       #: steps between two slices (:func:`lattice_ray`'s ``sub``)
+
+
 @njit(cache=True, fastmath=True, inline="always")
-def lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, t0, t1, length, m, acc, sp):
-    """Carry one lattice ray across slice ``k`` (at ``s``) through the medium ``med`` (:func:`sweep_medium`) in ``m``
-    steps (:func:`lattice_ray`'s ``sub``): returns its new ``(acc, sp)``.
+def lattice_step(med, k, s, dsl, ray, acc, sp):
+    """Carry lattice ray ``ray`` (a :class:`LatticeRay`) across slice ``k`` (at ``s``, ``dsl`` past the slice
+    before) through the medium ``med`` (:func:`sweep_medium`) in ``ray.sub`` steps: returns its new ``(acc, sp)``.
 
     ``acc`` is the ray's optical depth so far (reference-step units x mm),
     ``sp`` its last sample (-1 before the region, -2 after it); the
     transmittance stored at the slice is :func:`lattice_transmittance_of`.
     """
+    pa, pb, pc, da, db, dc = ray.pa, ray.pb, ray.pc, ray.da, ray.db, ray.dc
+    t0, t1, length, m = ray.t0, ray.t1, ray.length, ray.sub
     if t1 >= t0 and s >= t0 and s <= t1:
         sg = _depth_slice(med, k, pb + db * s, pc + dc * s)
         if sp < 0.0:  # entering: the partial segment from the region's boundary
@@ -181,21 +199,21 @@ class Sweep(NamedTuple):
     """What a lattice sweep reads (the CPU driver and the CUDA kernel take it whole)."""
 
     volt: Any      #: the samples with their axes ordered (a, b, c), read as ``_medium.depth_at`` does
-    sig: Any       #: optical depth per reference step of each table entry
+    extinction: Any  #: optical depth per reference step of each table entry
     aff: Any       #: voxel -> world affine rows (3, 4)
     geo: Any       #: packed region (``_geometry``)
     planes: Any    #: clip planes (n, 6)
     meta: Any      #: the light's meta row (``_params``)
     nplanes: int
     ds0: float     #: reference step, mm
-    kext: float    #: extinction scale
-    u0: float      #: samples -> table units: (v - u0) * ufac
-    ufac: float
-    labt: Any      #: label map with its axes ordered (a, b, c) (``_medium.Medium.lab``)
-    llut: Any      #: label table, colour table, ``lscale``, ``nlab``: as in ``_medium.Medium``
+    extinction_scale: float  #: extinction scale
+    sample_offset: float  #: samples -> table units: (v - sample_offset) * sample_scale
+    sample_scale: float
+    labt: Any      #: label map with its axes ordered (a, b, c) (``_medium.Medium.label_map``)
+    label_lut: Any  #: label table, colour table, ``lscale``, ``nlabels``: as in ``_medium.Medium``
     lut: Any
     lscale: float
-    nlab: int
+    nlabels: int
     recon: Any = Trilinear()  #: reconstruction tag (``_medium.Medium.recon``)
     labels: Any = ScanOnly()  #: label tag (``_medium.Medium.labels``)
 
@@ -203,15 +221,17 @@ class Sweep(NamedTuple):
     def of(cls, med, axes, aff, geo, planes, meta, nplanes, ds0, kext):
         """The sweep of lattice ``meta`` through the (host or device) medium ``med`` (``_medium.Medium``, axes
         [z, y, x]), given ``permute(array, axes)`` views of its volume and label map in ``axes``."""
-        volt, labt = axes(med.vol), axes(med.lab)
-        return cls(volt, med.sig, aff, geo, planes, meta, int(nplanes), float(ds0), float(kext), float(med.u0),
-                   float(med.ufac), labt, med.llut, med.lut, float(med.lscale), int(med.nlab), med.recon, med.labels)
+        volt, labt = axes(med.vol), axes(med.label_map)
+        return cls(volt, med.extinction, aff, geo, planes, meta, int(nplanes), float(ds0), float(kext),
+                   float(med.sample_offset), float(med.sample_scale), labt, med.label_lut, med.lut, float(med.lscale),
+                   int(med.nlabels), med.recon, med.labels)
 
 
 @njit(cache=True, fastmath=True, inline="always")
 def sweep_medium(sw):
     """The :class:`._medium.Medium` a sweep reads."""
-    return Medium(sw.volt, sw.sig, sw.u0, sw.ufac, sw.labt, sw.llut, sw.lut, sw.lscale, sw.nlab, sw.recon, sw.labels)
+    return Medium(sw.volt, sw.extinction, sw.sample_offset, sw.sample_scale, sw.labt, sw.label_lut, sw.lut, sw.lscale,
+                  sw.nlabels, sw.recon, sw.labels)
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
@@ -230,7 +250,7 @@ def _sweep(part, parts, sw, work, out):
     """
     nk, nv, nu = out.shape
     pa, pb, pc, da, k0, _, dsl, fwd = lattice_frame(sw.meta)
-    scale = sw.kext / sw.ds0
+    scale = sw.extinction_scale / sw.ds0
     wt0, wt1, wacc, wsp, wlen, wsub = work
     med = sweep_medium(sw)
     for v in range(part * nv // parts, (part + 1) * nv // parts):
@@ -248,8 +268,8 @@ def _sweep(part, parts, sw, work, out):
             for u in range(nu):
                 db, dc = lattice_offsets(sw.meta, v, u)
                 before = wacc[v, u]
-                acc, sp = lattice_step(med, k, s, dsl, pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u], wlen[v, u],
-                                       int(wsub[v, u]), before, wsp[v, u])
+                ray = LatticeRay(pa, pb, pc, da, db, dc, wt0[v, u], wt1[v, u], wlen[v, u], int(wsub[v, u]))
+                acc, sp = lattice_step(med, k, s, dsl, ray, before, wsp[v, u])
                 wacc[v, u] = acc
                 wsp[v, u] = sp
                 # the same optical depth as at the slice before (a stretch of transparent tissue): its transmittance

@@ -1,7 +1,7 @@
 """Free-flight sampling and transmittance through a majorant grid: delta and ratio tracking per block.
 
 The path tracer's medium (``_medium.depth_at``: extinction ``sigma_t = kext * tau / ds0``) is bounded per block
-of ``B^3`` voxels by the majorant grid ``Arrays.maj`` ``[z, y, x]`` (1/mm, :func:`majorant_grid`): the largest
+of ``B^3`` voxels by the majorant grid ``Arrays.majorant`` ``[z, y, x]`` (1/mm, :func:`majorant_grid`): the largest
 extinction any table entry in the block's value range gives (the range of every trilinear or tricubic B-spline
 sample inside the block: ``_precompute.build_blocks``, dilated by one voxel, covers the B-spline's 4^3 taps).
 With label maps, their solid structures' bound (``_medium.depth_bound``) raises every block to it.
@@ -71,8 +71,8 @@ def grid_walk(a, s, w, d, t0):
     """The grid walk of world ray ``w + t d`` from ``t0``: ``(o, di, cell, step, next, delta)`` as index-space
     triples (``o`` the origin, ``di`` the direction per mm, ``cell`` the cell at t0, then per axis the step, the t
     of the next boundary and the t per cell)."""
-    g = a.maj
-    b = np.float64(s.mblock)
+    g = a.majorant
+    b = np.float64(s.majorant_block)
     oi, oj, ok = to_index(a.geo, w[0], w[1], w[2], 1.0)
     di, dj, dk = to_index(a.geo, d[0], d[1], d[2], 0.0)
     ci = min(max(int(math.floor((oi + t0 * di) / b)), 0), g.shape[2] - 1)
@@ -85,36 +85,40 @@ def grid_walk(a, s, w, d, t0):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def advance_cell(g, c, st, nx, de):
+def advance_cell(g, c, steps, nx, de):
     """The next cell along the walk: ``(cell, next, inside)``."""
     ci, cj, ck = c
     ni, nj, nk = nx
     if ni <= nj and ni <= nk:
-        ci += st[0]
+        ci += steps[0]
         ni += de[0]
         inside = 0 <= ci < g.shape[2]
     elif nj <= nk:
-        cj += st[1]
+        cj += steps[1]
         nj += de[1]
         inside = 0 <= cj < g.shape[1]
     else:
-        ck += st[2]
+        ck += steps[2]
         nk += de[2]
         inside = 0 <= ck < g.shape[0]
     return (ci, cj, ck), (ni, nj, nk), inside
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _track(a, s, w, d, t0, t1, scale, ratio, key, dim, ctr):
-    """Track along world ray ``w + t d`` (d unit) from ``t0`` to ``t1`` through the majorant grid.
+def _track(a, s, ray, span, ratio, key, dim, ctr):
+    """Track along world ray ``ray = (w, d)``, ``w + t d`` (d unit), over ``span = (t0, t1)`` through the majorant
+    grid, the table's optical depths per reference step scaled to 1/mm by ``kext / ds0``.
 
     Returns ``(hit, t, table index, weight, ctr)``: delta tracking (``ratio`` False): ``hit`` at the first real
     collision ``t`` (its table index), weight 1; ratio tracking: ``hit`` False, the transmittance estimate in
     ``weight``. The first uniform number is ``draw(key, dim)`` (``dim < 0``: none), the others draw dimensions
     ``ctr, ctr + 1, ...`` (returned advanced).
     """
-    g = a.maj
-    o, dv, c, st, nx, de = grid_walk(a, s, w, d, t0)
+    w, d = ray
+    t0, t1 = span
+    scale = s.extinction_scale / s.ds0
+    g = a.majorant
+    o, dv, c, steps, nx, de = grid_walk(a, s, w, d, t0)
     med = frame_medium(a, s)
     t = t0
     wt = 1.0
@@ -147,21 +151,23 @@ def _track(a, s, w, d, t0, t1, scale, ratio, key, dim, ctr):
                 ctr += 1
             tau -= mu * (tn - t)
         t = tn
-        c, nx, inside = advance_cell(g, c, st, nx, de)
+        c, nx, inside = advance_cell(g, c, steps, nx, de)
         if not inside:
             break
     return False, t1, 0, wt, ctr
 
 
 @njit(cache=True, fastmath=True)
-def free_flight(a, s, w, d, t0, t1, scale, key, dim, ctr):
-    """Delta tracking (:func:`_track`): ``(hit, t, table index, ctr)`` of the first real collision."""
-    hit, t, idx, _, ctr = _track(a, s, w, d, t0, t1, scale, False, key, dim, ctr)
+def free_flight(a, s, w, d, span, key, dim, ctr):
+    """Delta tracking (:func:`_track`) over ``span = (t0, t1)``: ``(hit, t, table index, ctr)`` of the first real
+    collision."""
+    hit, t, idx, _, ctr = _track(a, s, (w, d), span, False, key, dim, ctr)
     return hit, t, idx, ctr
 
 
 @njit(cache=True, fastmath=True)
-def transmittance(a, s, w, d, t0, t1, scale, key, ctr):
-    """Ratio tracking (:func:`_track`): ``(transmittance estimate, ctr)``, every number from the hash dimensions."""
-    _, _, _, wt, ctr = _track(a, s, w, d, t0, t1, scale, True, key, -1, ctr)
+def transmittance(a, s, w, d, span, key, ctr):
+    """Ratio tracking (:func:`_track`) over ``span = (t0, t1)``: ``(transmittance estimate, ctr)``, every number
+    from the hash dimensions."""
+    _, _, _, wt, ctr = _track(a, s, (w, d), span, True, key, -1, ctr)
     return wt, ctr

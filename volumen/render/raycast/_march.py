@@ -44,10 +44,10 @@ from . import _composite, _iso, _project  # noqa: F401 - they register the mode 
 from ._cells import cell_visible
 from ._frame import FAR
 from ._normals import prefetch_codes
-from ._pieces import finish, init, step, uses_normals
+from ._pieces import Pixel, RayEnd, Sample, finish, init, step, uses_normals
 from ._ray import begin_ray, sample_at
 from ._sample import prefetch_cell
-from ._walk import enter, sample_t, walk
+from ._walk import Cursor, enter, sample_t, walk
 
 __all__ = ["trace_pixel", "render_tiles", "PREFETCH_STEPS"]
 
@@ -72,8 +72,8 @@ def _ahead(r, a, s, t, light):
     prefetch_cell(a.vol, x, y, z)
     if uses_normals(light):
         prefetch_codes(a, x, y, z)
-    if s.gradop:
-        prefetch_cell(a.gcode, x, y, z)
+    if s.gradient_opacity:
+        prefetch_cell(a.gradient_codes, x, y, z)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -132,15 +132,16 @@ def trace_pixel(px, py, a, s, out, mode, light):
         return
     _clear(out, px, py)
     st, taken, done, have = init(mode, light, r, a, s)
-    prev_skip = coarse = False
+    coarse = False
     t_check = r.t0 - 1.0
     k = r.k0
     tc = sample_t(r, s, k) - s.ds  # a step before the first sample: the walk starts in its block
     bk, bj, bi = enter(r, a, s, tc + s.ds)
+    cur = Cursor(bk, bj, bi, tc, False)
     while k < r.k1 and not done:
         t = sample_t(r, s, k)
         if s.skip and t >= t_check:
-            kk, t_check, coarse, bk, bj, bi, tc, prev_skip = walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip)
+            kk, t_check, coarse, cur = walk(mode, r, a, s, st, k, cur)
             if kk != k:
                 have = False
                 k = kk
@@ -153,11 +154,11 @@ def trace_pixel(px, py, a, s, out, mode, light):
             have = False  # a transparent cell: the sample (and the steps it stands for) would add nothing
             k += span
             continue
-        st, extra, done = step(mode, light, r, a, s, st, k, t, sample_at(r, a, s, t), have, span)
+        st, extra, done = step(mode, light, r, a, s, st, Sample(k, t, sample_at(r, a, s, t), have, span))
         taken += 1 + extra
         have = span == 1
         k += span
-    finish(mode, light, r, a, s, st, taken, have, out, px, py)
+    finish(mode, light, r, a, s, st, RayEnd(taken, have), Pixel(out, px, py))
     _settle(out, px, py)
 
 

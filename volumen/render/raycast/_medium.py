@@ -4,14 +4,14 @@ Shadow rays (:mod:`._shadow`), the illumination-volume sweeps (:mod:`._lightswee
 tracking (:mod:`._pathtrace`) all read the medium through :func:`depth_at`, so they see what the primary
 rays draw:
 
-* without labels, the transfer function's optical depth per reference step ``sig`` of the trilinear value
+* without labels, the transfer function's optical depth per reference step ``extinction`` of the trilinear value
   (docs/design.md section 3);
-* with a label map (``nlab > 0``), the label-aware classification of the primary rays
+* with a label map (``nlabels > 0``), the label-aware classification of the primary rays
   (:func:`._labelled.classify`: per-structure colour and opacity, hidden structures transparent), turned
   from the opacity ``A`` of one sample step into optical depth per reference step:
-  ``tau = -ln(1 - A) * lscale``, ``lscale = ds0 / (ds * kext)`` (the tables the primary rays read are
-  corrected to the step ``ds`` and scaled by the extinction ``kext``; the unlabelled scan's rows give back
-  ``sig`` exactly, up to rounding).
+  ``tau = -ln(1 - A) * lscale``, ``lscale = ds0 / (ds * extinction_scale)`` (the tables the primary rays read
+  are corrected to the step ``ds`` and scaled by ``extinction_scale``; the unlabelled scan's rows give back
+  ``extinction`` exactly, up to rounding).
 """
 
 from __future__ import annotations
@@ -30,19 +30,20 @@ __all__ = ["Medium", "frame_medium", "depth_at", "event_color", "depth_bound", "
 
 
 class Medium(NamedTuple):
-    """What a light path reads (the volume's axes may be permuted, ``lab``'s alike: a lattice sweep)."""
+    """What a light path reads (the volume's axes may be permuted, ``label_map``'s alike: a lattice sweep). The
+    fields it shares with the frame's records (``_frame.Arrays``, ``_frame.Settings``) have their names."""
 
-    vol: Any       #: samples [z, y, x], read as ``_bspline.reconstruct`` does with ``recon``
-    sig: Any       #: optical depth per reference step of each table entry (NLUT,)
-    u0: float      #: samples -> table units: ``(v - u0) * ufac``
-    ufac: float
-    lab: Any       #: label map on ``vol``'s grid (``_labelled.packed_labels``), (1, 1, 1) when unused
-    llut: Any      #: per label value (r, g, b, opacity, textured) (n, 5)
-    lut: Any       #: the primary rays' colour / opacity table (NLUT, 4), opacity per step ``ds``
-    lscale: float  #: ``ds0 / (ds * kext)``: optical depth of a step's opacity -> per reference step
-    nlab: int      #: label-aware classification when > 0
+    vol: Any             #: samples [z, y, x], read as ``_bspline.reconstruct`` does with ``recon``
+    extinction: Any      #: optical depth per reference step of each table entry (NLUT,)
+    sample_offset: float  #: samples -> table units: ``(v - sample_offset) * sample_scale``
+    sample_scale: float
+    label_map: Any       #: label map on ``vol``'s grid (``_labelled.packed_labels``), (1, 1, 1) when unused
+    label_lut: Any       #: per label value (r, g, b, opacity, textured) (n, 5)
+    lut: Any             #: the primary rays' colour / opacity table (NLUT, 4), opacity per step ``ds``
+    lscale: float        #: ``ds0 / (ds * extinction_scale)``: optical depth of a step's opacity -> per reference step
+    nlabels: int         #: label-aware classification when > 0
     recon: Any = Trilinear()  #: reconstruction tag (``_pieces``: ``Settings.recon``)
-    labels: Any = ScanOnly()  #: label tag (``_pieces``: ``Settings.labels``): ``WithLabels()`` exactly when nlab > 0
+    labels: Any = ScanOnly()  #: label tag (``_pieces``: ``Settings.labels``): ``WithLabels()`` exactly when nlabels > 0
 
 
 def label_scale(ds: float, ds0: float, kext: float) -> float:
@@ -53,8 +54,8 @@ def label_scale(ds: float, ds0: float, kext: float) -> float:
 @njit(cache=True, fastmath=True, inline="always")
 def frame_medium(a, s):
     """The :class:`Medium` of a packed frame (``a``, ``s``: ``_frame.Arrays``, ``_frame.Settings``)."""
-    return Medium(a.vol, a.sig, s.u0, s.ufac, a.lab, a.llut, a.lut, s.ds0 / (s.ds * s.kext), s.nlab, s.recon,
-                  s.labels)
+    return Medium(a.vol, a.extinction, s.sample_offset, s.sample_scale, a.label_map, a.label_lut, a.lut,
+                  s.ds0 / (s.ds * s.extinction_scale), s.nlabels, s.recon, s.labels)
 
 
 @njit(cache=True, fastmath=True, _nrt=False)
@@ -68,10 +69,10 @@ def _classified(m, x, y, z, idx):
 def depth_at(m, x, y, z):
     """``(optical depth per reference step, table index)`` at voxel-index position ``(x, y, z)`` (trilinear, or the
     B-spline: ``m.recon``)."""
-    v = reconstruct(m.recon, m.vol, m.u0, m.ufac, x, y, z, False)
-    idx = min(max(int(v + 0.5), 0), m.sig.shape[0] - 1)
+    v = reconstruct(m.recon, m.vol, m.sample_offset, m.sample_scale, x, y, z, False)
+    idx = min(max(int(v + 0.5), 0), m.extinction.shape[0] - 1)
     if not labelled(m.labels):
-        return m.sig[idx], idx
+        return m.extinction[idx], idx
     return optical_depth(_classified(m, x, y, z, idx)[3]) * m.lscale, idx
 
 

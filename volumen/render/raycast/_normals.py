@@ -10,9 +10,9 @@ degree, mean 0.3) -- code ``1 + 255 qu + qv``, code 0 for a vanishing gradient.
 
 The codes are kept per brick (:func:`brick_codes`): bricks start every :data:`BRICK` voxels along each axis and
 hold :data:`SPAN` = BRICK + 1, so the cells whose lower corner lies in a brick have all eight corners in it (one
-brick per sample). ``ncode`` is a pool of bricks stacked along its first axis (slot ``s`` is
-``ncode[s * SPAN:(s + 1) * SPAN]``), ``nslot`` the slot of each brick of the volume, 0 for a brick whose codes are
-not kept (slot 0 holds zeros: the zero vector). A frame keeps the bricks its transfer function can show
+brick per sample). ``normal_codes`` is a pool of bricks stacked along its first axis (slot ``s`` is
+``normal_codes[s * SPAN:(s + 1) * SPAN]``), ``normal_slots`` the slot of each brick of the volume, 0 for a brick
+whose codes are not kept (slot 0 holds zeros: the zero vector). A frame keeps the bricks its transfer function can show
 (``_tables.block_visibility`` of the blocks of BRICK voxels, whose ranges cover their cells' corners), so a CT
 shown as bone keeps the codes of the bone's bricks only; every brick where what is shown is not known from the
 table alone (isosurfaces, labels, pre-integration). Two bytes a kept voxel, built in one parallel pass over the
@@ -84,7 +84,7 @@ def unpack(p: np.ndarray) -> np.ndarray:
 #: code -> unit direction (world), packed: one uint32 per code (1 + Q^2,), three 10-bit components (:func:`unpack`;
 #: largest error 1e-3 per component, 0.06 degree, against the codes' own 0.93). A third of a float32 table's
 #: 780 KiB, and one load per voxel: the ray caster reads it at random, and on 366x303x336 CTs headlight frames
-#: took 0.84-0.95x the time of the float table's (issue 27, paired in one process)
+#: took 0.84-0.95x the time of the float table's (paired in one process)
 DIRS = _packed(_decode_table())
 #: the placeholders of a frame that reads no codes (pool, slots): one object each, so a device keeps them between
 #: frames
@@ -181,8 +181,9 @@ def brick_grid(shape) -> tuple[int, int, int]:
 class BrickCodes(NamedTuple):
     """The direction codes of some bricks of a volume (:func:`brick_codes`)."""
 
-    pool: np.ndarray   #: (slots * SPAN, SPAN, SPAN) uint16: slot 0 zeros, then the kept bricks (``Arrays.ncode``)
-    slots: np.ndarray  #: (gz, gy, gx) int32: each brick's slot, 0 where not kept (``Arrays.nslot``)
+    #: (slots * SPAN, SPAN, SPAN) uint16: slot 0 zeros, then the kept bricks (``Arrays.normal_codes``)
+    pool: np.ndarray
+    slots: np.ndarray  #: (gz, gy, gx) int32: each brick's slot, 0 where not kept (``Arrays.normal_slots``)
     kept: np.ndarray   #: (gz, gy, gx) bool: the bricks kept
 
 
@@ -216,7 +217,7 @@ def covers(codes: BrickCodes | None, keep: np.ndarray | None) -> bool:
 class Cell(NamedTuple):
     """A voxel cell's codes in the pool (:func:`_cell_at`)."""
 
-    z0: Any  #: its lower corner in ``ncode``: its brick's first plane plus the corner's place in the brick
+    z0: Any  #: its lower corner in ``normal_codes``: its brick's first plane plus the corner's place in the brick
     y0: Any
     x0: Any
     dz: Any  #: the steps to its upper corners (0 where clamped at the volume's end)
@@ -233,7 +234,7 @@ def _cell_at(a, x, y, z):
     j0, j1, fy = _cell(y, ny)
     k0, k1, fz = _cell(z, nz)
     sh, low = np.uintp(_SHIFT), np.uintp(BRICK - 1)
-    base = np.uintp(a.nslot[k0 >> sh, j0 >> sh, i0 >> sh]) * np.uintp(SPAN)
+    base = np.uintp(a.normal_slots[k0 >> sh, j0 >> sh, i0 >> sh]) * np.uintp(SPAN)
     return Cell(base + (k0 & low), j0 & low, i0 & low, k1 - k0, j1 - j0, i1 - i0), (fx, fy, fz)
 
 
@@ -242,10 +243,10 @@ def prefetch_codes(a, x, y, z):
     """Ask for the cache lines of the codes of the voxel cell at index position (x, y, z) (``volumen.jit.prefetch``):
     the line of each of its four rows' lower voxel, in its brick."""
     c, _ = _cell_at(a, x, y, z)
-    prefetch(a.ncode, (c.z0, c.y0, c.x0))
-    prefetch(a.ncode, (c.z0, c.y0 + c.dy, c.x0))
-    prefetch(a.ncode, (c.z0 + c.dz, c.y0, c.x0))
-    prefetch(a.ncode, (c.z0 + c.dz, c.y0 + c.dy, c.x0))
+    prefetch(a.normal_codes, (c.z0, c.y0, c.x0))
+    prefetch(a.normal_codes, (c.z0, c.y0 + c.dy, c.x0))
+    prefetch(a.normal_codes, (c.z0 + c.dz, c.y0, c.x0))
+    prefetch(a.normal_codes, (c.z0 + c.dz, c.y0 + c.dy, c.x0))
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -270,7 +271,7 @@ def _weight(fx, fy, fz, n):
 def _code(a, c, n):
     """The code of corner ``n`` of the cell ``c`` (:func:`_cell_at`; bits of ``n``: the upper voxel along z, y, x)."""
     none = np.uintp(0)
-    return a.ncode[c.z0 + (c.dz if n & 4 else none), c.y0 + (c.dy if n & 2 else none),
+    return a.normal_codes[c.z0 + (c.dz if n & 4 else none), c.y0 + (c.dy if n & 2 else none),
                    c.x0 + (c.dx if n & 1 else none)]
 
 
@@ -280,7 +281,7 @@ def _corner(a, c, f, n):
     trilinear weight."""
     fx, fy, fz = f
     w = _weight(fx, fy, fz, n)
-    qx, qy, qz = _component(a.ndir[_code(a, c, n)])
+    qx, qy, qz = _component(a.normal_dirs[_code(a, c, n)])
     return w * qx, w * qy, w * qz
 
 
@@ -291,9 +292,9 @@ def _add(p, q):
 
 @njit(cache=True, fastmath=True, inline="always")
 def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
-    """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of the codes (``a.ncode`` by
-    brick through ``a.nslot``, decoded by ``a.ndir``) when ``want_dir`` and magnitude codes of ``a.gcode`` when
-    ``want_mag`` (0 otherwise)."""
+    """``(gx, gy, gz, code)`` at index position (x, y, z): the interpolated directions of the codes
+    (``a.normal_codes`` by brick through ``a.normal_slots``, decoded by ``a.normal_dirs``) when ``want_dir`` and
+    magnitude codes of ``a.gradient_codes`` when ``want_mag`` (0 otherwise)."""
     nz, ny, nx = a.vol.shape
     gx = gy = gz = gm = 0.0
     if nearest:
@@ -304,10 +305,10 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
             c, f = _cell_at(a, x, y, z)
             fx, fy, fz = f
             n = (4 if fz >= 0.5 else 0) + (2 if fy >= 0.5 else 0) + (1 if fx >= 0.5 else 0)
-            qx, qy, qz = _component(a.ndir[_code(a, c, n)])
+            qx, qy, qz = _component(a.normal_dirs[_code(a, c, n)])
             gx, gy, gz = _direction(qx, qy, qz)
         if want_mag:
-            gm = np.float64(a.gcode[k, j, i])
+            gm = np.float64(a.gradient_codes[k, j, i])
         return gx, gy, gz, gm
     i0, i1, fx = _cell(x, nx)
     j0, j1, fy = _cell(y, ny)
@@ -321,6 +322,7 @@ def sample_normal(a, x, y, z, nearest, want_dir, want_mag):
         gx, gy, gz = _direction(gx, gy, gz)  # the trilinear weights sum to 1: the offset is taken off once
     if want_mag:
         for n in range(8):
-            gm += _weight(fx, fy, fz, n) * a.gcode[k1 if n & 4 else k0, j1 if n & 2 else j0, i1 if n & 1 else i0]
+            gm += _weight(fx, fy, fz, n) * a.gradient_codes[k1 if n & 4 else k0, j1 if n & 2 else j0,
+                                                            i1 if n & 1 else i0]
     return gx, gy, gz, gm
 

@@ -26,7 +26,7 @@ from ._octants import octant_sides
 from ._pieces import LIGHT_TAGS, MODE_TAGS, PROJECTIONS, RECON_TAGS, label_tag
 from ._precompute import NLUT
 from ._scatter import medium
-from ._shade import headlight, pack_lights
+from ._shade import L_POS, headlight, pack_lights
 from ._tables import (
     ADAPTIVE_ALPHA,
     ADAPTIVE_STRIDE,
@@ -72,9 +72,10 @@ def _light_keys(scene, lights, geo, planes, kext, med):
     tf = scene.transfer.to_json() if scene.mode != "isosurface" else f"iso:{scene.isosurface.value!r}"
     clip = geo.tobytes() + planes.tobytes()
     scale = scene.shading.shadows.light_volume_scale
-    labels = (_Same(med.lab), med.llut.tobytes(), med.lscale) if med.nlab > 0 else None
+    labels = (_Same(med.label_map), med.label_lut.tobytes(), med.lscale) if med.nlabels > 0 else None
     recon = type(med.recon).__name__
-    return [(np.round(lights[i, :3], 9).tobytes(), tf, clip, scale, kext, labels, recon) for i in range(len(lights))]
+    return [(np.round(lights[i, L_POS:L_POS + 3], 9).tobytes(), tf, clip, scale, kext, labels, recon)
+            for i in range(len(lights))]
 
 
 def _model(scene) -> tuple[str, bool]:
@@ -122,7 +123,7 @@ def _shown(scene, prep, lut, preint):
 
 
 def _coarse_table(scene, prep, lut, lab):
-    """``Arrays.bcoarse``: the blocks adaptive sampling takes longer steps in (post-classified composite without
+    """``Arrays.coarse_flags``: the blocks adaptive sampling takes longer steps in (post-classified composite without
     labels, with skipping), else a (1, 1, 1, 1) zero placeholder."""
     smp = scene.sampling
     if not (adaptive_on(scene) and smp.skip_empty and scene.mode == "composite" and lab is None
@@ -260,15 +261,15 @@ def _light_volumes(scene, prep, t, st, lights, model, build):
     """``(lvm, lvd, built)``: the illumination volumes of the lit models that read them."""
     sh = scene.shading
     path_traced = sh.mode == "pathtrace" and scene.mode == "composite"  # ratio tracking, no light volumes
-    nlights, kext = st.nlights, st.kext
+    nlights, kext = st.nlights, st.extinction_scale
     if model in ("unlit", "phong") or path_traced or not nlights:
         prep.light_set = None  # nothing reads the volume's light volumes now: they go (built again when asked for)
         return np.zeros((1, NMETA)), np.ones(1, np.float32), 0
     geo, planes = t["geo"], t["planes"]
     inv = np.linalg.inv(np.asarray(scene.volume.affine, float))
-    pos_index = (np.c_[lights[:nlights, :3], np.ones(nlights)] @ inv.T)[:, :3]
+    pos_index = (np.c_[lights[:nlights, L_POS:L_POS + 3], np.ones(nlights)] @ inv.T)[:, :3]
     med = Medium(prep.u, t["sig"], prep.u0, prep.ufac, t["lab"], t["llut"], t["lut"],
-                 label_scale(st.ds, st.ds0, kext), st.nlab, st.recon, st.labels)
+                 label_scale(st.ds, st.ds0, kext), st.nlabels, st.recon, st.labels)
     keys = _light_keys(scene, lights[:nlights], geo, planes, kext, med)
     method = "fast" if sh.mode == "pathtrace" else sh.shadows.method
     return build(prep, keys, pos_index, geo[G_BOX:G_BOX + 3], geo[G_BOX + 3:G_BOX + 6], med, geo, planes,
@@ -282,19 +283,20 @@ def _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, env_po
     c = scene.isosurface.color
     nlab = len(t["llut"]) if scene.labels is not None and t["lab"].size > 1 else 0
     return Settings(
-        ds=ds0 / smp.samples_per_voxel, ds0=ds0, et=smp.early_termination, ka=ph.ambient, kd=ph.diffuse,
-        ks=ph.specular, shine=ph.shininess, u0=prep.u0, ufac=prep.ufac, vmin=prep.vmin, vscale=prep.scale,
-        iso=u_iso, iso_r=c[0], iso_g=c[1], iso_b=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), sh_off=shw.offset * ds0,
-        sh_step=shw.step * ds0, kext=kext, albedo=albedo, g=sh.scattering.phase_g,
+        ds=ds0 / smp.samples_per_voxel, ds0=ds0, early_termination=smp.early_termination, ambient=ph.ambient,
+        diffuse=ph.diffuse, specular=ph.specular, shininess=ph.shininess, sample_offset=prep.u0,
+        sample_scale=prep.ufac, value_min=prep.vmin, value_scale=prep.scale, iso_value=u_iso, iso_red=c[0],
+        iso_green=c[1], iso_blue=c[2], pre_scale=(NPRE - 1) / (NLUT - 1), shadow_offset=shw.offset * ds0,
+        shadow_step=shw.step * ds0, extinction_scale=kext, albedo=albedo, phase_g=sh.scattering.phase_g,
         nearest=smp.interpolation == "nearest", recon=RECON_TAGS[smp.interpolation](), jitter=bool(smp.jitter),
         lattice=smp.lattice, seed=int(smp.seed),
         skip=t["skip"], stride=ADAPTIVE_STRIDE if t["bcoarse"] is not _NO_COARSE else 1, cells=t["cells"].size > 1,
-        block=int(smp.block_size), gradop=t["gradop"], sobel=sh.phong.gradient == "sobel",
+        block=int(smp.block_size), gradient_opacity=t["gradop"], sobel=sh.phong.gradient == "sobel",
         nlights=nlights, nplanes=len(scene.clipping.planes),
-        bounces=sh.pathtrace.bounces, nlab=nlab, labels=label_tag(nlab),
-        lsolid=bool(solid_rows(t["llut"]).any()),
-        color=prep.is_color, envmode=envmode, env_power=env_power,
-        proj=PROJECTIONS.index(scene.mode) if scene.mode in PROJECTIONS else 0,
+        bounces=sh.pathtrace.bounces, nlabels=nlab, labels=label_tag(nlab),
+        solid_labels=bool(solid_rows(t["llut"]).any()),
+        color=prep.is_color, env_mode=envmode, env_power=env_power,
+        projection=PROJECTIONS.index(scene.mode) if scene.mode in PROJECTIONS else 0,
         hdr=scene.display.resolved(scene.shading.mode, scene.mode).tonemap != "linear")
 
 
@@ -323,13 +325,15 @@ def pack_frame(scene, camera, size: tuple[int, int], *, build_light_volumes=ligh
     st = _settings(scene, prep, t, ds0, kext, albedo, u_iso, nlights, envmode, _env_power(lights, nlights, env))
     lvm, lvd, built = _light_volumes(scene, prep, t, st, lights, model, build_light_volumes)
     timings.update(prep.timings)
-    arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u, nrm=t["nrm"],
-                    ncode=t["ncode"], nslot=t["nslot"], gcode=t["gcode"], ndir=DIRS,
-                    lut=t["lut"], pre=t["pre"], glut=t["glut"], bflag=t["bflag"], bmin=t["bmin"], bmax=t["bmax"],
-                    bcoarse=t["bcoarse"], cells=t["cells"], lights=lights, lvm=lvm, lvd=lvd, sig=t["sig"],
-                    lab=t["lab"], llut=t["llut"], rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY,
-                    env=env[0], envbasis=env[1], envcdf=env[2], envsh=env[3], maj=NO_MAJ)
-    mode = "preintegrated" if t["preint"] else "labelled" if st.nlab > 0 else scene.mode
+    arrays = Arrays(cam=pack_camera(camera, (w, h)), geo=t["geo"], planes=t["planes"], vol=prep.u,
+                    gradient_matrix=t["nrm"], normal_codes=t["ncode"], normal_slots=t["nslot"],
+                    gradient_codes=t["gcode"], normal_dirs=DIRS,
+                    lut=t["lut"], preintegrated=t["pre"], gradient_lut=t["glut"], skip_flags=t["bflag"],
+                    bmin=t["bmin"], bmax=t["bmax"], coarse_flags=t["bcoarse"], cells=t["cells"], lights=lights,
+                    light_meta=lvm, light_data=lvd, extinction=t["sig"], label_map=t["lab"], label_lut=t["llut"],
+                    rgb=prep.rgb, whole=t["geo"], carry=NO_CARRY, env=env[0], env_basis=env[1], env_cdf=env[2],
+                    env_sh=env[3], majorant=NO_MAJ)
+    mode = "preintegrated" if t["preint"] else "labelled" if st.nlabels > 0 else scene.mode
     at_eye = model == "phong" and scene.shading.mode == "headlight" and camera.projection == "perspective"
     return Frame(arrays, st, MODE_TAGS[mode](),
                  LIGHT_TAGS["headlight" if at_eye else model](), (w, h), prep, built, timings)

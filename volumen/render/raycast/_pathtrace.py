@@ -33,6 +33,7 @@ are callable from a CUDA kernel.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from numba import njit
 
@@ -40,9 +41,9 @@ from ...jit import claim
 from ..optics import hg_phase
 from ._environment import env_pdf, env_radiance, env_sample, sh_phase
 from ._features import NFEAT, event_albedo, view_features
-from ._geometry import pixel_ray, ray_interval, region_interval
+from ._geometry import C_W, pixel_ray, ray_interval, region_interval
 from ._majorant import free_flight, transmittance
-from ._shade import L_COL, L_RAD, light_vector
+from ._shade import L_COL, L_POS, L_RAD, light_vector
 from ._sobol import SOBOL_DIMS, draw, path_key
 
 __all__ = ["trace_path", "coverage_pixel", "sample_hg", "trace_tiles", "NACC", "NFEAT"]
@@ -57,6 +58,14 @@ _D_FLIGHT, _D_PICK, _D_LIGHT, _D_PHASE, _D_ROULETTE = 0, 1, 2, 5, 7
 _D_PIXEL = (_D_ROULETTE, EVENT_DIMS + _D_ROULETTE)
 #: sub-pixel points per axis of the pixel's opacity and denoiser features (a regular grid)
 COVERAGE_GRID = 3
+
+
+class Event(NamedTuple):
+    """A scattering event of a path, as next-event estimation reads it."""
+
+    point: tuple      #: where it happens, world mm
+    direction: tuple  #: the direction the path arrived along (unit)
+    number: int       #: events before it on the path (it picks its Sobol dimensions, ``_dim``)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -107,17 +116,18 @@ def _transmittance(a, s, w, lv, dist, off, key, ctr):
     """Ratio-tracking transmittance from ``w + off lv`` toward unit ``lv`` over ``dist - off`` mm within the
     drawn region: ``(T, ctr)``."""
     q = (w[0] + off * lv[0], w[1] + off * lv[1], w[2] + off * lv[2])
-    ta, tb = region_interval(a.geo, a.planes, s.nplanes, q[0], q[1], q[2], lv[0], lv[1], lv[2], 0.0, dist - off)
+    ta, tb = region_interval(a.geo, a.planes, s.nplanes, q, lv, 0.0, dist - off)
     if not tb > ta:
         return 1.0, ctr
-    return transmittance(a, s, q, lv, ta, tb, s.kext / s.ds0, key, ctr)
+    return transmittance(a, s, q, lv, (ta, tb), key, ctr)
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _light_sample(a, s, li, w, d, n, pick, scale, key, ctr):
-    """Light ``li`` reaching event ``w`` (path direction ``d``), per unit throughput, over its pick probability."""
+def _light_sample(a, s, li, ev, pick, key, ctr):
+    """Light ``li`` reaching event ``ev`` (an :class:`Event`), per unit throughput, over its pick probability."""
+    w, d, n = ev.point, ev.direction, ev.number
     rad = a.lights[li, L_RAD]
-    qx, qy, qz = a.lights[li, 0], a.lights[li, 1], a.lights[li, 2]
+    qx, qy, qz = a.lights[li, L_POS], a.lights[li, L_POS + 1], a.lights[li, L_POS + 2]
     u1, ctr = _u(key, n, _D_LIGHT, ctr)
     u2, ctr = _u(key, n, _D_LIGHT + 1, ctr)
     u3, ctr = _u(key, n, _D_LIGHT + 2, ctr)
@@ -128,25 +138,26 @@ def _light_sample(a, s, li, w, d, n, pick, scale, key, ctr):
         qx += r * sz * math.cos(2.0 * math.pi * u3)
         qy += r * sz * math.sin(2.0 * math.pi * u3)
         qz += r * cz
-    lx, ly, lz, dist, spot = light_vector(a.lights, li, w[0] - (qx - a.lights[li, 0]),
-                                          w[1] - (qy - a.lights[li, 1]), w[2] - (qz - a.lights[li, 2]))
-    if spot <= 0.0 or dist <= s.sh_off:
+    lx, ly, lz, dist, spot = light_vector(a.lights, li, w[0] - (qx - a.lights[li, L_POS]),
+                                          w[1] - (qy - a.lights[li, L_POS + 1]), w[2] - (qz - a.lights[li, L_POS + 2]))
+    if spot <= 0.0 or dist <= s.shadow_offset:
         return 0.0, 0.0, 0.0, ctr
-    vis, ctr = _transmittance(a, s, w, (lx, ly, lz), dist, s.sh_off, key, ctr)
-    e = s.kd * spot * 4.0 * math.pi * hg_phase(lx * d[0] + ly * d[1] + lz * d[2], s.g) * vis / pick
+    vis, ctr = _transmittance(a, s, w, (lx, ly, lz), dist, s.shadow_offset, key, ctr)
+    e = s.diffuse * spot * 4.0 * math.pi * hg_phase(lx * d[0] + ly * d[1] + lz * d[2], s.phase_g) * vis / pick
     return e * a.lights[li, L_COL], e * a.lights[li, L_COL + 1], e * a.lights[li, L_COL + 2], ctr
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _env_sample(a, s, w, d, n, pick, last, scale, key, ctr):
-    """The environment reaching event ``w`` along a direction drawn from its tables, MIS-weighted against phase
-    sampling unless the path ends here (``last``), over its pick probability."""
+def _env_sample(a, s, ev, pick, last, key, ctr):
+    """The environment reaching event ``ev`` (an :class:`Event`) along a direction drawn from its tables,
+    MIS-weighted against phase sampling unless the path ends here (``last``), over its pick probability."""
+    w, d, n = ev.point, ev.direction, ev.number
     u1, ctr = _u(key, n, _D_LIGHT, ctr)
     u2, ctr = _u(key, n, _D_LIGHT + 1, ctr)
     lx, ly, lz, pdf = env_sample(a, u1, u2)
     if not pdf > 0.0:
         return 0.0, 0.0, 0.0, ctr
-    ph = hg_phase(lx * d[0] + ly * d[1] + lz * d[2], s.g)
+    ph = hg_phase(lx * d[0] + ly * d[1] + lz * d[2], s.phase_g)
     vis, ctr = _transmittance(a, s, w, (lx, ly, lz), 1e30, 0.0, key, ctr)  # exact: MIS pairs it with paths
     pn = pick * pdf
     mis = 1.0 if last else pn * pn / (pn * pn + ph * ph)
@@ -156,9 +167,10 @@ def _env_sample(a, s, w, d, n, pick, last, scale, key, ctr):
 
 
 @njit(cache=True, fastmath=True)
-def _next_event(a, s, w, d, n, env_w, last, scale, key, ctr):
-    """One light (or the environment, of weight ``env_w``) reaching event ``w``: ``(r, g, b, ctr)`` per unit
-    throughput."""
+def _next_event(a, s, ev, env_w, last, key, ctr):
+    """One light (or the environment, of weight ``env_w``) reaching event ``ev`` (an :class:`Event`):
+    ``(r, g, b, ctr)`` per unit throughput."""
+    n = ev.number
     total = env_w
     for li in range(s.nlights):
         total += _power(a, li)
@@ -167,7 +179,7 @@ def _next_event(a, s, w, d, n, env_w, last, scale, key, ctr):
     u, ctr = _u(key, n, _D_PICK, ctr)
     x = u * total
     if x < env_w:
-        return _env_sample(a, s, w, d, n, env_w / total, last, scale, key, ctr)
+        return _env_sample(a, s, ev, env_w / total, last, key, ctr)
     acc = env_w
     li = s.nlights - 1
     for k in range(s.nlights):
@@ -175,7 +187,7 @@ def _next_event(a, s, w, d, n, env_w, last, scale, key, ctr):
         if x < acc:
             li = k
             break
-    return _light_sample(a, s, li, w, d, n, _power(a, li) / total, scale, key, ctr)
+    return _light_sample(a, s, li, ev, _power(a, li) / total, key, ctr)
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -203,14 +215,13 @@ def _first_hit(t, px, py, acc):
 def trace_path(px, py, sample, a, s, acc):
     """Add one path-traced sample of pixel (px, py) to ``acc[py, px]`` (:data:`NACC` channels: radiance r, g, b,
     hits, depth sum); ``a``, ``s`` the packed frame (``_frame``)."""
-    key = path_key(s.seed, py * int(a.cam[14]) + px, sample)
+    key = path_key(s.seed, py * int(a.cam[C_W]) + px, sample)
     ctr = SOBOL_DIMS
     ox, oy, oz, dx, dy, dz = pixel_ray(a.cam, px + draw(key, _D_PIXEL[0]), py + draw(key, _D_PIXEL[1]))
     o, d = (ox, oy, oz), (dx, dy, dz)
-    ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
+    ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, (ox, oy, oz), (dx, dy, dz))
     if not tb > ta:
         return
-    scale = s.kext / s.ds0
     env_w = s.env_power if s.bounces > 1 else 0.0
     total = env_w
     for li in range(s.nlights):
@@ -221,11 +232,11 @@ def trace_path(px, py, sample, a, s, acc):
     n = 0
     ph_pdf = 0.0  # density of the phase sampling that chose the current direction
     while True:
-        hit, t, idx, ctr = free_flight(a, s, o, d, ta, tb, scale, key, _dim(n, _D_FLIGHT), ctr)
+        hit, t, idx, ctr = free_flight(a, s, o, d, (ta, tb), key, _dim(n, _D_FLIGHT), ctr)
         if not hit:
             if n > 0:  # the path leaves and sees the environment
-                if s.envmode == 0:
-                    lr, lg, lb = lr + tr[0] * s.ka, lg + tr[1] * s.ka, lb + tr[2] * s.ka
+                if s.env_mode == 0:
+                    lr, lg, lb = lr + tr[0] * s.ambient, lg + tr[1] * s.ambient, lb + tr[2] * s.ambient
                 else:
                     pe = env_pick * env_pdf(a, d[0], d[1], d[2])
                     mis = ph_pdf * ph_pdf / (ph_pdf * ph_pdf + pe * pe)
@@ -238,14 +249,14 @@ def trace_path(px, py, sample, a, s, acc):
             _first_hit(t, px, py, acc)
         tr = (tr[0] * s.albedo * c[0], tr[1] * s.albedo * c[1], tr[2] * s.albedo * c[2])
         last = n + 1 >= s.bounces
-        er, eg, eb, ctr = _next_event(a, s, w, d, n, env_w, last, scale, key, ctr)
+        er, eg, eb, ctr = _next_event(a, s, Event(w, d, n), env_w, last, key, ctr)
         lr, lg, lb = lr + tr[0] * er, lg + tr[1] * eg, lb + tr[2] * eb
         n += 1
         if s.bounces <= 1:  # single scattering: the unshadowed ambient term, then stop
-            if s.envmode == 0:
-                er = eg = eb = s.ka
+            if s.env_mode == 0:
+                er = eg = eb = s.ambient
             else:
-                er, eg, eb = sh_phase(a, d[0], d[1], d[2], s.g)
+                er, eg, eb = sh_phase(a, d[0], d[1], d[2], s.phase_g)
             lr, lg, lb = lr + tr[0] * er, lg + tr[1] * eg, lb + tr[2] * eb
             break
         if last:
@@ -255,12 +266,12 @@ def trace_path(px, py, sample, a, s, acc):
             break
         u1, ctr = _u(key, n - 1, _D_PHASE, ctr)
         u2, ctr = _u(key, n - 1, _D_PHASE + 1, ctr)
-        nx, ny, nz = sample_hg(s.g, d[0], d[1], d[2], u1, u2)
+        nx, ny, nz = sample_hg(s.phase_g, d[0], d[1], d[2], u1, u2)
         nl = math.sqrt(nx * nx + ny * ny + nz * nz)
         nd = (nx / nl, ny / nl, nz / nl)
-        ph_pdf = hg_phase(nd[0] * d[0] + nd[1] * d[1] + nd[2] * d[2], s.g)
+        ph_pdf = hg_phase(nd[0] * d[0] + nd[1] * d[1] + nd[2] * d[2], s.phase_g)
         o, d = w, nd
-        ta, tb = region_interval(a.geo, a.planes, s.nplanes, o[0], o[1], o[2], d[0], d[1], d[2], 0.0, 1e30)
+        ta, tb = region_interval(a.geo, a.planes, s.nplanes, o, d, 0.0, 1e30)
         if not tb > ta:  # leaves the region at once: the environment, through no medium
             ta = tb = 0.0
     acc[py, px, 0] += lr
@@ -282,18 +293,21 @@ def coverage_pixel(px, py, a, s, alpha, feat):
     for j in range(n):
         for i in range(n):
             ox, oy, oz, dx, dy, dz = pixel_ray(a.cam, px + (i + 0.5) / n, py + (j + 0.5) / n)
-            ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
+            ta, tb = ray_interval(a.cam, a.geo, a.planes, s.nplanes, (ox, oy, oz), (dx, dy, dz))
             if tb > ta:
-                tau = view_features(a, s, (ox, oy, oz), (dx, dy, dz), ta, tb, s.kext / s.ds0, s.ds, wt, feat, px, py)
+                tau = view_features(a, s, ((ox, oy, oz), (dx, dy, dz)), (ta, tb), wt, feat, (px, py))
                 cov += wt * (1.0 - math.exp(-tau))
     alpha[py, px] = cov
 
 
 @njit(cache=True, fastmath=True, nogil=True, _nrt=False)
-def trace_tiles(counter, order, tile, s0, s1, a, s, acc, alpha, feat):
-    """The tiles ``order[claim(counter)]`` (``volumen.jit.run_claiming``) until none is left: samples ``s0 .. s1 - 1``
-    of each pixel (none when ``s1 <= s0``) into ``acc``, and when ``s0 == 0`` its opacity into ``alpha`` and its
-    denoiser features into ``feat`` (:func:`coverage_pixel`)."""
+def trace_tiles(counter, order, tile, samples, a, s, buffers):
+    """The tiles ``order[claim(counter)]`` (``volumen.jit.run_claiming``) until none is left: samples
+    ``samples = (s0, s1)``, ``s0 .. s1 - 1``, of each pixel (none when ``s1 <= s0``) into ``acc``, and when
+    ``s0 == 0`` its opacity into ``alpha`` and its denoiser features into ``feat`` (:func:`coverage_pixel`);
+    ``buffers = (acc, alpha, feat)``."""
+    s0, s1 = samples
+    acc, alpha, feat = buffers
     h, w = acc.shape[0], acc.shape[1]
     ntx = (w + tile - 1) // tile
     n = claim(counter)

@@ -8,7 +8,7 @@ compiles to the composite step for a ``Composite()`` tag and to the projections'
 step for a ``Projection()`` tag -- one skeleton, one specialised kernel per (mode, light),
 each compiled on its first use (and cached: the tags' types pickle by class),
 with no branch on the mode at run time (but among the three projections, which share one kernel:
-``Settings.proj``, ``_project``).
+``Settings.projection``, ``_project``).
 
 The *reconstruction tag* (``Settings.recon``: :class:`Trilinear`, which also
 covers nearest-voxel sampling by ``Settings.nearest``, or :class:`BSpline`) rides
@@ -17,7 +17,7 @@ frame compiles kernels of its own on first use, and the trilinear ones are
 unchanged by it (``_bspline``).
 
 The *label tag* (``Settings.labels``: :class:`ScanOnly`, or :class:`WithLabels` exactly where a label map
-classifies the samples, ``Settings.nlab > 0``) rides there too, and in the light paths' medium
+classifies the samples, ``Settings.nlabels > 0``) rides there too, and in the light paths' medium
 (``_medium.Medium.labels``). So the light paths of a frame without labels hold no call to the label
 classification, not even one behind a branch: such a call in the shadow rays' loop never ran and still cost 2-7 %
 of a scattering frame.
@@ -38,7 +38,32 @@ __all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "sh
            "LIGHT_TAGS",
            "Composite", "LabelledComposite", "Preintegrated", "Projection", "PROJECTIONS",
            "Isosurface", "Unlit", "Phong", "Headlight", "Shadowed", "Scatter", "Trilinear", "BSpline", "RECON_TAGS",
-           "ScanOnly", "WithLabels", "label_tag", "labelled"]
+           "ScanOnly", "WithLabels", "label_tag", "labelled", "Sample", "RayEnd", "Pixel"]
+
+
+class Sample(NamedTuple):
+    """One sample the marching loop hands a mode's ``step``."""
+
+    k: int       #: its index on the ray's sample grid
+    t: float     #: its ray parameter (mm)
+    v: float     #: its value (table units)
+    have: bool   #: whether the sample before it (``k - 1``) was taken: a mode that reads it need not sample it again
+    span: int    #: grid steps it stands for (more than 1 only where adaptive sampling merges steps, ``_march``)
+
+
+class RayEnd(NamedTuple):
+    """How the marching loop ended, handed to a mode's ``finish``."""
+
+    taken: int   #: samples taken
+    have: bool   #: whether the last sample of the grid before the exit was taken
+
+
+class Pixel(NamedTuple):
+    """Where a mode's ``finish`` writes: the outputs (``_frame.Outputs``) and the pixel's column and row."""
+
+    out: object
+    x: int
+    y: int
 
 
 class Composite(NamedTuple):
@@ -54,7 +79,7 @@ class Preintegrated(NamedTuple):
 
 
 class Projection(NamedTuple):
-    """Maximum, minimum or mean of the samples along the ray (``Settings.proj``: :data:`PROJECTIONS`): one kernel
+    """Maximum, minimum or mean of the samples along the ray (``Settings.projection``: :data:`PROJECTIONS`): one kernel
     for the three, which differ by a branch on a value every ray of the frame shares, not by a compile of their
     own."""
 
@@ -101,14 +126,14 @@ class WithLabels(NamedTuple):
 
 
 def label_tag(nlab: int):
-    """The label tag of a frame with ``nlab`` label-table rows (``Settings.nlab``; 0: no label map)."""
+    """The label tag of a frame with ``nlab`` label-table rows (``Settings.nlabels``; 0: no label map)."""
     return WithLabels() if nlab > 0 else ScanOnly()
 
 
 #: Scene.mode (and pre-integration, label-aware composite) -> mode tag class
 MODE_TAGS = {"composite": Composite, "labelled": LabelledComposite, "preintegrated": Preintegrated, "mip": Projection,
              "minip": Projection, "average": Projection, "isosurface": Isosurface}
-#: the projection modes, by ``Settings.proj`` (the :class:`Projection` tag's kernel)
+#: the projection modes, by ``Settings.projection`` (the :class:`Projection` tag's kernel)
 PROJECTIONS = ("mip", "minip", "average")
 #: lighting model name -> light tag class
 LIGHT_TAGS = {"unlit": Unlit, "phong": Phong, "headlight": Headlight, "shadows": Shadowed, "scatter": Scatter}
@@ -195,9 +220,9 @@ def piece(name: str, params: str, doc: str = ""):
 # the pieces of the marching skeleton (``_march``), implemented per mode tag in ``_composite``,
 # ``_project`` and ``_iso``, and the lighting piece, implemented per light tag in ``_shade``
 init = piece("init", "light, r, a, s", "-> (state, samples taken, done, previous sample usable)")
-step = piece("step", "light, r, a, s, st, k, t, v, have, span",
-             "-> (state, extra samples taken, done); span: grid steps the sample stands for (adaptive sampling)")
-finish = piece("finish", "light, r, a, s, st, taken, have, out, px, py", "write the pixel")
+step = piece("step", "light, r, a, s, st, smp", "-> (state, extra samples taken, done); smp: the :class:`Sample`")
+finish = piece("finish", "light, r, a, s, st, end, pix",
+               "write the pixel; end: the :class:`RayEnd`, pix: the :class:`Pixel`")
 radius = piece("radius", "a, s, st, o, bk, bj, bi", "-> blocks to jump (0: take the sample); o: the ray's octant")
 eager = piece("eager", "", "-> True when one skippable block suffices to jump")
 shade = piece("shade", "a, s, n, v, w", "-> (fr, fg, fb, sr, sg, sb) lighting factors of a sample")

@@ -39,15 +39,16 @@ def _majorants(f) -> np.ndarray:
     depth like the scan (the grid), the solid ones by their own everywhere (``_medium.depth_bound``): a label
     map drawn with the scan's own table tracks exactly as the scan alone."""
     a, st = f.arrays, f.settings
-    scale = st.kext / st.ds0
+    scale = st.extinction_scale / st.ds0
     solid = 0.0
-    if st.nlab > 0:
-        solid_rows = a.llut[a.llut[:, 4] == 0.0]
-        solid = depth_bound(a.sig[:1] * 0.0, solid_rows, label_scale(st.ds, st.ds0, st.kext), len(solid_rows)) \
-            if len(solid_rows) else 0.0
+    if st.nlabels > 0:
+        solid_rows = a.label_lut[a.label_lut[:, 4] == 0.0]
+        solid = depth_bound(a.extinction[:1] * 0.0, solid_rows, label_scale(st.ds, st.ds0, st.extinction_scale),
+                            len(solid_rows)) if len(solid_rows) else 0.0
     bmin, bmax = f.prep.blocks(MAJ_BLOCK)
-    key = ("majorants", MAJ_BLOCK, a.sig.tobytes(), scale, solid)
-    return f.prep.memo(key, lambda: np.maximum(majorant_grid(a.sig, bmin, bmax, scale), np.float32(solid * scale)))
+    key = ("majorants", MAJ_BLOCK, a.extinction.tobytes(), scale, solid)
+    return f.prep.memo(key, lambda: np.maximum(majorant_grid(a.extinction, bmin, bmax, scale),
+                                               np.float32(solid * scale)))
 
 
 class PathTracer:
@@ -84,8 +85,8 @@ class PathTracer:
             raise ValueError(f"path tracing needs mode 'composite', got {scene.mode!r}")
         scene = replace(slabbed(scene), shading=replace(scene.shading, mode="pathtrace"))
         f = pack_frame(scene, camera, size)
-        arrays = f.arrays._replace(maj=_majorants(f), nrm=_gradient_matrix(scene.volume))
-        self.frame = replace(f, arrays=arrays, settings=f.settings._replace(mblock=MAJ_BLOCK))
+        arrays = f.arrays._replace(majorant=_majorants(f), gradient_matrix=_gradient_matrix(scene.volume))
+        self.frame = replace(f, arrays=arrays, settings=f.settings._replace(majorant_block=MAJ_BLOCK))
         w, h = self.frame.size
         self.acc = np.zeros((h, w, NACC), np.float64)
         self.coverage = np.zeros((h, w), np.float32)
@@ -100,8 +101,8 @@ class PathTracer:
         f = self.frame
         w, h = f.size
         order = tile_order(w, h)
-        run_claiming(trace_tiles, order.shape[0], order, TILE, s0, s1, f.arrays, f.settings, self.acc,
-                     self.coverage, self.features)
+        run_claiming(trace_tiles, order.shape[0], order, TILE, (s0, s1), f.arrays, f.settings,
+                     (self.acc, self.coverage, self.features))
 
     def reset(self) -> None:
         """Forget the accumulated samples."""
@@ -129,8 +130,8 @@ class PathTracer:
         """The current :class:`~volumen.core.Image`.
 
         ``rgba``: the running mean of the radiance (premultiplied, linear; above 1 where the medium is
-        brighter than white, unless the display is ``linear``, which saturates it at the opacity as before the
-        tone curve existed), denoised by Open Image Denoise when ``denoised`` (default: ``pathtrace.denoise``),
+        brighter than white, unless the display is ``linear``, which saturates it at the opacity: the picture
+        without a tone curve), denoised by Open Image Denoise when ``denoised`` (default: ``pathtrace.denoise``),
         alpha :attr:`coverage`; ``depth``: the mean distance (mm) of the first scattering event along the view
         ray (inf where none happened); ``stats["spp"]``, ``stats["denoised"]``,
         ``stats["timings"]`` (``kernel`` the seconds of the last step, ``denoise``).

@@ -72,7 +72,7 @@ def _grid_index(t, tw0, tw1, t0, ds, jit, n):
 def begin_ray(px, py, a, s):
     """The :class:`Ray` of pixel (px, py); its ``t1 < t0`` when it misses the drawn region."""
     ox, oy, oz, dx, dy, dz = primary_ray(a.cam, px, py)
-    t0, t1 = ray_interval(a.cam, a.whole, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
+    t0, t1 = ray_interval(a.cam, a.whole, a.planes, s.nplanes, (ox, oy, oz), (dx, dy, dz))
     tw0, tw1 = t0, t1
     oi, oj, ok = to_index(a.geo, ox, oy, oz, 1.0)
     di, dj, dk = to_index(a.geo, dx, dy, dz, 0.0)
@@ -86,7 +86,7 @@ def begin_ray(px, py, a, s):
         n = max(int(math.floor((t1 - t0) / s.ds - jit + 1e-4)) + 1, 1)
     k0, k1, a0 = 0, n, 0.0
     if s.part and t1 >= t0:
-        b0, b1 = ray_interval(a.cam, a.geo, a.planes, s.nplanes, ox, oy, oz, dx, dy, dz)
+        b0, b1 = ray_interval(a.cam, a.geo, a.planes, s.nplanes, (ox, oy, oz), (dx, dy, dz))
         k0 = _grid_index(b0, tw0, tw1, t0, s.ds, jit, n)
         k1 = _grid_index(b1, tw0, tw1, t0, s.ds, jit, n) if b1 >= b0 else k0
         a0 = a.carry[py, px]
@@ -96,4 +96,5 @@ def begin_ray(px, py, a, s):
 @njit(cache=True, fastmath=True, inline="always")
 def sample_at(r, a, s, t):
     """The reconstructed value at parameter ``t`` of the ray."""
-    return reconstruct(s.recon, a.vol, s.u0, s.ufac, r.oi + t * r.di, r.oj + t * r.dj, r.ok + t * r.dk, s.nearest)
+    return reconstruct(s.recon, a.vol, s.sample_offset, s.sample_scale, r.oi + t * r.di, r.oj + t * r.dj,
+                       r.ok + t * r.dk, s.nearest)

@@ -17,8 +17,8 @@ Models (the ``shade`` piece of each light tag):
 * ``Scatter``: single scattering (:mod:`._scatter`): the sample's colour is
   scaled by ``albedo * (ambient + diffuse * sum_l 4 pi p_HG E_l T_l)``; no normals.
 
-The ambient term is the environment's (``Settings.envmode``, :mod:`._environment`): the uniform radiance
-``ambient`` (``envmode`` 0), or the environment map's irradiance over pi about the facing normal (Phong) and its
+The ambient term is the environment's (``Settings.env_mode``, :mod:`._environment`): the uniform radiance
+``ambient`` (``env_mode`` 0), or the environment map's irradiance over pi about the facing normal (Phong) and its
 radiance weighted by the phase function toward the eye (``Scatter``), from its spherical harmonics.
 
 The lit colour is ``c * f + s`` (straight colour), or ``C * f + alpha * s``
@@ -91,14 +91,14 @@ def light_visibility(li, w, lv, dist, a, s):
     read from the light's illumination volume (``LATTICE``, the first
     ``NEAR_STEPS`` reference steps marched) or marched (``DIRECT``, :mod:`._shadow`).
     """
-    off = s.sh_off
+    off = s.shadow_offset
     if dist <= off:
         return 1.0
     lx, ly, lz = lv
     yx = w[0] + off * lx
     yy = w[1] + off * ly
     yz = w[2] + off * lz
-    kind = a.lvm[li, LV_KIND]
+    kind = a.light_meta[li, LV_KIND]
     if kind != DIRECT and kind != LATTICE:
         return 1.0
     span = dist - off
@@ -107,12 +107,12 @@ def light_visibility(li, w, lv, dist, a, s):
     site = NO_SITE
     if beyond:  # where the lattice will be read, asked for before the near march
         xi, yi, zi = to_index(a.geo, yx + near * lx, yy + near * ly, yz + near * lz, 1.0)
-        site = lattice_site(a.lvm, li, xi, yi, zi)
-        lattice_ahead(a.lvd, site)
-    tr = shadow_transmittance(frame_medium(a, s), a.cells, s.cells, a.geo, a.planes, s.nplanes, yx, yy, yz, lx, ly,
-                              lz, near, s.sh_step, s.ds0, s.kext)
+        site = lattice_site(a.light_meta, li, xi, yi, zi)
+        lattice_ahead(a.light_data, site)
+    tr = shadow_transmittance(frame_medium(a, s), a.cells, s.cells, (a.geo, a.planes, s.nplanes), (yx, yy, yz),
+                              (lx, ly, lz), near, (s.shadow_step, s.ds0, s.extinction_scale))
     if beyond and tr > 0.0:
-        tr *= lattice_read(a.lvd, site)
+        tr *= lattice_read(a.light_data, site)
     return tr
 
 
@@ -151,10 +151,10 @@ def _visible_shadowed(li, w, lv, dist, a, s):
 
 @njit(cache=True, fastmath=True, inline="always")
 def _ambient(a, s, nx, ny, nz):
-    """The Phong models' ambient term: ``ka`` (uniform environment) or the environment's irradiance / pi about the
-    unit normal n ((0, 0, 0) where the gradient vanishes: the mean radiance)."""
-    if s.envmode == 0:
-        return s.ka, s.ka, s.ka
+    """The Phong models' ambient term: ``s.ambient`` (uniform environment) or the environment's irradiance / pi
+    about the unit normal n ((0, 0, 0) where the gradient vanishes: the mean radiance)."""
+    if s.env_mode == 0:
+        return s.ambient, s.ambient, s.ambient
     return sh_irradiance(a, nx, ny, nz)
 
 
@@ -170,19 +170,19 @@ def _phong(light, a, s, n, v, w):
             continue
         diff, spec = 1.0, 0.0
         if not flat:
-            diff, spec = phong_terms(nx, ny, nz, lx, ly, lz, v[0], v[1], v[2], s.shine)
+            diff, spec = phong_terms((nx, ny, nz), (lx, ly, lz), v, s.shininess)
         if diff <= 0.0:
             continue
         wt = spot * visibility(light, li, w, (lx, ly, lz), dist, a, s)
         cr = wt * a.lights[li, L_COL]
         cg = wt * a.lights[li, L_COL + 1]
         cb = wt * a.lights[li, L_COL + 2]
-        fr += s.kd * diff * cr
-        fg += s.kd * diff * cg
-        fb += s.kd * diff * cb
-        sr += s.ks * spec * cr
-        sg += s.ks * spec * cg
-        sb += s.ks * spec * cb
+        fr += s.diffuse * diff * cr
+        fg += s.diffuse * diff * cg
+        fb += s.diffuse * diff * cb
+        sr += s.specular * spec * cr
+        sg += s.specular * spec * cg
+        sb += s.specular * spec * cb
     return fr, fg, fb, sr, sg, sb
 
 
@@ -216,12 +216,12 @@ def _shade_phong(a, s, n, v, w):
 @shade.register(Headlight)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_headlight(a, s, n, v, w):
-    diff, spec = _headlight_terms(n, v, s.shine)
-    kd = s.kd * diff
-    ks = s.ks * spec
+    diff, spec = _headlight_terms(n, v, s.shininess)
+    kd = s.diffuse * diff
+    ks = s.specular * spec
     cr, cg, cb = a.lights[0, L_COL], a.lights[0, L_COL + 1], a.lights[0, L_COL + 2]
-    ar = ag = ab = s.ka
-    if s.envmode != 0:  # the environment's irradiance about the unit normal
+    ar = ag = ab = s.ambient
+    if s.env_mode != 0:  # the environment's irradiance about the unit normal
         nx, ny, nz, _ = _unit_facing(n, v)
         ar, ag, ab = _ambient(a, s, nx, ny, nz)
     return ar + kd * cr, ag + kd * cg, ab + kd * cb, ks * cr, ks * cg, ks * cb
@@ -236,21 +236,21 @@ def _shade_shadowed(a, s, n, v, w):
 @shade.register(Scatter)
 @njit(cache=True, fastmath=True, inline="always")
 def _shade_scatter(a, s, n, v, w):
-    fr = fg = fb = s.ka if s.envmode == 0 else 0.0
+    fr = fg = fb = s.ambient if s.env_mode == 0 else 0.0
     for li in range(s.nlights):
         lx, ly, lz, dist, spot = light_vector(a.lights, li, w[0], w[1], w[2])
         if spot <= 0.0:
             continue
-        wt = spot * phase_weight(lx, ly, lz, v[0], v[1], v[2], s.g)
+        wt = spot * phase_weight(lx, ly, lz, v[0], v[1], v[2], s.phase_g)
         wt *= light_visibility(li, w, (lx, ly, lz), dist, a, s)
         fr += wt * a.lights[li, L_COL]
         fg += wt * a.lights[li, L_COL + 1]
         fb += wt * a.lights[li, L_COL + 2]
-    kd, alb = s.kd, s.albedo
-    if s.envmode == 0:
-        ka = s.ka
+    kd, alb = s.diffuse, s.albedo
+    if s.env_mode == 0:
+        ka = s.ambient
         return (ka + kd * (fr - ka)) * alb, (ka + kd * (fg - ka)) * alb, (ka + kd * (fb - ka)) * alb, 0.0, 0.0, 0.0
-    er, eg, eb = sh_phase(a, -v[0], -v[1], -v[2], s.g)
+    er, eg, eb = sh_phase(a, -v[0], -v[1], -v[2], s.phase_g)
     return (er + kd * fr) * alb, (eg + kd * fg) * alb, (eb + kd * fb) * alb, 0.0, 0.0, 0.0
 
 

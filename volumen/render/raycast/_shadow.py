@@ -39,9 +39,8 @@ TAU_STOP = 14.0
 
 
 @njit(cache=True, fastmath=True)
-def shadow_transmittance(med, cells, use_cells, geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax, step, ds0,
-                         kext):
-    """Transmittance ``exp(-kext * tau)`` from world point ``o`` along unit ``L`` over ``[0, smax]`` mm.
+def shadow_transmittance(med, cells, use_cells, region, o, light, smax, steps):
+    """Transmittance ``exp(-kext * tau)`` from world point ``o`` along unit ``light`` over ``[0, smax]`` mm.
 
     Parameters
     ----------
@@ -49,13 +48,16 @@ def shadow_transmittance(med, cells, use_cells, geo, planes, nplanes, ox, oy, oz
         What the path reads (``_medium``): the samples, their optical depth per reference step.
     cells, use_cells : the frame's pre-classified cells (``Arrays.cells``) and whether it has them
         (``Settings.cells``): a sample in a closed cell has optical depth zero.
-    geo, planes, nplanes : packed geometry (``_geometry``)
-    ox, oy, oz : start, world mm; lx, ly, lz : unit direction toward the light
+    region : ``(geo, planes, nplanes)``, the packed region (``_geometry``)
+    o : ``(ox, oy, oz)`` start, world mm; light : ``(lx, ly, lz)`` unit direction toward the light
     smax : distance to the light, mm
-    step, ds0 : march step and reference step, mm
-    kext : extinction scale
+    steps : ``(step, ds0, kext)``: march step and reference step, mm; extinction scale
     """
-    ta, tb = segment_interval(geo, planes, nplanes, ox, oy, oz, lx, ly, lz, smax)
+    geo, planes, nplanes = region
+    ox, oy, oz = o
+    lx, ly, lz = light
+    step, ds0, kext = steps
+    ta, tb = segment_interval(geo, planes, nplanes, o, light, smax)
     if not tb > ta:
         return 1.0
     oi, oj, ok = to_index(geo, ox, oy, oz, 1.0)

@@ -3,12 +3,12 @@
 The walk keeps the block it stands in as three integers and the ray parameter ``tc`` at which the ray enters it.
 At each block it asks the mode's ``radius`` (``_pieces``: composite -- no visible value in the block's range,
 else the side of the largest empty cube of blocks that starts at the block and extends the way the ray goes, the
-ray's octant's row of ``Arrays.bflag`` (``_octants``); isosurface -- the same of the blocks the threshold is
+ray's octant's row of ``Arrays.skip_flags`` (``_octants``); isosurface -- the same of the blocks the threshold is
 outside the range of; mip / minip -- the block cannot beat the running max / min):
 
 * a block that can contribute is sampled: the first sample of the ray's grid at or past ``tc`` is returned if
   it lies in the block, with the ray parameter at which the ray leaves the block (under adaptive sampling, the
-  cube of coarse blocks ahead of it, ``Arrays.bcoarse``, per octant as well); else the walk goes on;
+  cube of coarse blocks ahead of it, ``Arrays.coarse_flags``, per octant as well); else the walk goes on;
 * a block that cannot is passed over: with radius 1 to the neighbour across the nearest face (integer steps, the
   faces' parameters from the indices: no float-to-int conversion), with a larger one past the whole cube of
   empty blocks ahead (its far faces are those of the cube of that radius less one around the block).
@@ -31,6 +31,7 @@ last sample there.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from numba import njit
 
@@ -38,7 +39,18 @@ from ._frame import FAR
 from ._octants import octant
 from ._pieces import eager, radius
 
-__all__ = ["enter", "walk", "sample_t"]
+__all__ = ["enter", "walk", "sample_t", "Cursor"]
+
+
+class Cursor(NamedTuple):
+    """Where the walk stands: its block, the ray parameter at which the ray enters it, and whether the last sample
+    returned lies in a block that cannot contribute."""
+
+    bk: int           #: block index along z
+    bj: int           #: along y
+    bi: int           #: along x
+    tc: float         #: the ray parameter at which the ray enters the block
+    prev_skip: bool   #: the sample returned last lies in a block that cannot contribute
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -103,19 +115,19 @@ def _first(r, s, k, tc):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip):
-    """From sample ``k`` and the block ``(bk, bj, bi)`` the ray enters at ``tc``, to the next sample to take:
-    ``(k, t_check, coarse, bk, bj, bi, tc, prev_skip)`` -- the sample (``r.k1``: none is left), the parameter past
-    which the walk must be asked again, whether the sample stands in a cube of coarse blocks, the walk's next
-    block and its entry, and whether the sample lies in a block that cannot contribute. A sample belongs to the
-    block whose interval ``[entry, exit)`` holds its parameter (:func:`sample_t`); a block entered at ``r.t1``
-    still holds the last sample."""
+def walk(mode, r, a, s, st, k, cur):
+    """From sample ``k`` and the walk's :class:`Cursor` ``cur``, to the next sample to take:
+    ``(k, t_check, coarse, cursor)`` -- the sample (``r.k1``: none is left), the parameter past which the walk
+    must be asked again, whether the sample stands in a cube of coarse blocks, and the walk's next cursor. A
+    sample belongs to the block whose interval ``[entry, exit)`` holds its parameter (:func:`sample_t`); a block
+    entered at ``r.t1`` still holds the last sample."""
+    bk, bj, bi, tc, prev_skip = cur.bk, cur.bj, cur.bi, cur.tc, cur.prev_skip
     o = octant(r)
     while tc <= r.t1:
         rad = radius(mode, a, s, st, o, bk, bj, bi)
         take_empty = rad > 0 and not (prev_skip or eager(mode))  # the first sample of a skipped run is taken
-        coarse = rad <= 0 and s.stride > 1 and a.bcoarse[o, bk, bj, bi] > 0
-        r1 = 1 if take_empty else max(int(a.bcoarse[o, bk, bj, bi]) if coarse else rad, 1)
+        coarse = rad <= 0 and s.stride > 1 and a.coarse_flags[o, bk, bj, bi] > 0
+        r1 = 1 if take_empty else max(int(a.coarse_flags[o, bk, bj, bi]) if coarse else rad, 1)
         nk, nj, ni, te = _past(r, a, s, bk, bj, bi, r1)
         if rad <= 0 or take_empty:
             kk = _first(r, s, k, tc)
@@ -123,7 +135,7 @@ def walk(mode, r, a, s, st, k, bk, bj, bi, tc, prev_skip):
                 break
             if sample_t(r, s, kk) < te:
                 if take_empty:  # asked again at the next sample, from this block
-                    return kk, sample_t(r, s, kk), False, bk, bj, bi, tc, True
-                return kk, te, coarse, nk, nj, ni, te, False
+                    return kk, sample_t(r, s, kk), False, Cursor(bk, bj, bi, tc, True)
+                return kk, te, coarse, Cursor(nk, nj, ni, te, False)
         bk, bj, bi, tc = nk, nj, ni, te
-    return r.k1, FAR, False, bk, bj, bi, tc, True
+    return r.k1, FAR, False, Cursor(bk, bj, bi, tc, True)

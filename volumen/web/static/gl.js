@@ -2,13 +2,15 @@
 //   vol    3-D R16F, trilinear, clamped (the served volume: volumen/web/_served.py; table units through
 //          u_vol_map); texel centres are voxel centres
 //   rgb    3-D RGB8 placeholder (colour volumes are not served)
-//   bflag  3-D R8UI (the eight octants' skip sides side by side), bmin / bmax 3-D R32F: the empty-space
+//   skip_flags  3-D R8UI (the eight octants' skip sides side by side), bmin / bmax 3-D R32F: the empty-space
 //          skipping grids, read per texel
-//   lut    (NLUT x 1) RGBA32F, sig (NLUT x 1) R32F, glut (128 x 1) R32F, pre (NPRE x NPRE) RGBA32F
-//   lvd    the illumination volumes' buffer as rows of `lvdWidth` R32F values
+//   lut    (NLUT x 1) RGBA32F, extinction (NLUT x 1) R32F, gradient_lut (128 x 1) R32F, preintegrated
+//          (NPRE x NPRE) RGBA32F
+//   light_data  the illumination volumes' buffer as rows of `lightDataWidth` R32F values
 // Only the frame's tables change between frames; the volume is uploaded once.
 
-export const FIELDS = ['vol', 'lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd', 'rgb'];
+export const FIELDS = ['vol', 'lut', 'preintegrated', 'gradient_lut', 'extinction', 'skip_flags', 'bmin', 'bmax',
+  'light_data', 'rgb'];
 
 /** @import { Arrays, WireArray } from './api.js' */
 /** @import { Uniforms } from './program.js' */
@@ -74,7 +76,7 @@ export class Textures {
     this.volMap = undefined;
     /** @type {number[] | undefined} */
     this.shape = undefined;
-    this.lvdWidth = Math.min(gl.getParameter(gl.MAX_TEXTURE_SIZE), 8192);
+    this.lightDataWidth = Math.min(gl.getParameter(gl.MAX_TEXTURE_SIZE), 8192);
     this.tex.rgb = texture3d(gl, [1, 1, 1], gl.RGB8, gl.RGB, gl.UNSIGNED_BYTE, new Uint8Array(3), gl.LINEAR);
   }
 
@@ -93,21 +95,23 @@ export class Textures {
   /** @param {Arrays} a */
   setFrame(a) {
     const gl = this.gl;
-    const w = this.lvdWidth, n = a.lvd.data.length, rows = Math.ceil(n / w);
+    const w = this.lightDataWidth, n = a.light_data.data.length, rows = Math.ceil(n / w);
     if (rows > w) throw new Error(`illumination volumes of ${n} values are past this browser's ${w} x ${w} texture`);
-    const old = ['lut', 'pre', 'glut', 'sig', 'bflag', 'bmin', 'bmax', 'lvd'].map((name) => this.tex[name]);
+    const old = FIELDS.filter((name) => name !== 'vol' && name !== 'rgb').map((name) => this.tex[name]);
     /** @param {WireArray} x @param {GLenum} internal @param {GLenum} format */
     const row = (x, internal, format) => texture2d(gl, x.shape[0], 1, internal, format, gl.FLOAT, x.data);
     this.tex.lut = row(a.lut, gl.RGBA32F, gl.RGBA);
-    this.tex.sig = row(a.sig, gl.R32F, gl.RED);
-    this.tex.glut = row(a.glut, gl.R32F, gl.RED);
-    this.tex.pre = texture2d(gl, a.pre.shape[1], a.pre.shape[0], gl.RGBA32F, gl.RGBA, gl.FLOAT, a.pre.data);
-    this.tex.bflag = texture3d(gl, a.bflag.shape, gl.R8UI, gl.RED_INTEGER, gl.UNSIGNED_BYTE, a.bflag.data, gl.NEAREST);
+    this.tex.extinction = row(a.extinction, gl.R32F, gl.RED);
+    this.tex.gradient_lut = row(a.gradient_lut, gl.R32F, gl.RED);
+    const pre = a.preintegrated;
+    this.tex.preintegrated = texture2d(gl, pre.shape[1], pre.shape[0], gl.RGBA32F, gl.RGBA, gl.FLOAT, pre.data);
+    const skip = a.skip_flags;
+    this.tex.skip_flags = texture3d(gl, skip.shape, gl.R8UI, gl.RED_INTEGER, gl.UNSIGNED_BYTE, skip.data, gl.NEAREST);
     this.tex.bmin = texture3d(gl, a.bmin.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmin.data, gl.NEAREST);
     this.tex.bmax = texture3d(gl, a.bmax.shape, gl.R32F, gl.RED, gl.FLOAT, a.bmax.data, gl.NEAREST);
-    const lvd = new Float32Array(rows * w).fill(1);
-    lvd.set(a.lvd.data);
-    this.tex.lvd = texture2d(gl, w, rows, gl.R32F, gl.RED, gl.FLOAT, lvd);
+    const light = new Float32Array(rows * w).fill(1);
+    light.set(a.light_data.data);
+    this.tex.light_data = texture2d(gl, w, rows, gl.R32F, gl.RED, gl.FLOAT, light);
     for (const t of old) if (t) gl.deleteTexture(t);
   }
 
@@ -121,11 +125,12 @@ export class Textures {
     const u = {};
     FIELDS.forEach((name, unit) => {
       gl.activeTexture(gl.TEXTURE0 + unit);
-      const target = ['lut', 'pre', 'glut', 'sig', 'lvd'].includes(name) ? gl.TEXTURE_2D : gl.TEXTURE_3D;
+      const flat = ['lut', 'preintegrated', 'gradient_lut', 'extinction', 'light_data'].includes(name);
+      const target = flat ? gl.TEXTURE_2D : gl.TEXTURE_3D;
       gl.bindTexture(target, this.tex[name] ?? null);
       u[`u_${name}`] = unit;
     });
-    u.u_lvd_w = this.lvdWidth;
+    u.u_light_data_w = this.lightDataWidth;
     u.u_vol_map = this.volMap ?? null;
     return u;
   }

@@ -43,14 +43,14 @@ uniform sampler3D u_vol;      // samples, trilinear, clamped; in table units: (t
 uniform vec2 u_vol_map;       // (0, 1) where the texture holds table units (OpenGL's R32F; WebGL's 16-bit differs)
 uniform sampler3D u_rgb;      // colour volume: voxel RGB in [0, 1] (raycast._color), used when u_color
 uniform sampler2D u_lut;      // (NLUT x 1) straight rgb, alpha per step
-uniform sampler2D u_pre;      // (NPRE x NPRE) pre-integrated, x = back value, y = front value
-uniform sampler2D u_glut;     // (128 x 1) gradient-opacity factor
-uniform sampler2D u_sig;      // (NLUT x 1) optical depth per reference step
-uniform usampler3D u_bflag;   // skip side per block and ray octant, the 8 grids 2x2x2 (_octants.tiled)
+uniform sampler2D u_preintegrated;  // (NPRE x NPRE) pre-integrated, x = back value, y = front value
+uniform sampler2D u_gradient_lut;   // (128 x 1) gradient-opacity factor
+uniform sampler2D u_extinction;     // (NLUT x 1) optical depth per reference step
+uniform usampler3D u_skip_flags;   // skip side per block and ray octant, the 8 grids 2x2x2 (_octants.tiled)
 uniform sampler3D u_bmin;
 uniform sampler3D u_bmax;
-uniform sampler2D u_lvd;      // illumination-volume buffer, row-major rows of LVD_W values
-uniform int u_lvd_w;
+uniform sampler2D u_light_data;     // illumination-volume buffer, row-major rows of u_light_data_w values
+uniform int u_light_data_w;
 
 // camera (_geometry.pack_camera)
 uniform vec3 u_eye, u_right, u_up, u_fwd;
@@ -73,17 +73,18 @@ uniform float u_lexp[MAX_LIGHTS];
 uniform vec4 u_lvm[MAX_LIGHTS * 4];   // each light's 16 meta values (LV_*), four per vec4
 uniform int u_lvoff[MAX_LIGHTS];
 // settings (raycast.Settings)
-uniform float u_ds, u_ds0, u_et, u_ka, u_kd, u_ks, u_shine, u_iso, u_pre_scale, u_sh_off, u_sh_step, u_kext;
-uniform float u_albedo, u_g;
+uniform float u_ds, u_ds0, u_early_termination, u_ambient, u_diffuse, u_specular, u_shininess, u_iso_value;
+uniform float u_pre_scale, u_shadow_offset, u_shadow_step, u_extinction_scale;
+uniform float u_albedo, u_phase_g;
 uniform vec3 u_iso_rgb;
-uniform bool u_nearest, u_jitter, u_skip, u_gradop, u_sobel, u_color;
+uniform bool u_nearest, u_jitter, u_skip, u_gradient_opacity, u_sobel, u_color;
 uniform int u_recon;          // Settings.recon: 0 trilinear (or nearest), 1 the tricubic B-spline (_bspline)
-// normals (Arrays.nrm): index -> world gradient matrix, 1 / largest |gradient| in table units per mm
+// normals (Arrays.gradient_matrix): index -> world gradient matrix, 1 / largest |gradient| in table units per mm
 uniform mat3 u_nmat;
 uniform float u_inv_gmax;
 uniform int u_seed, u_block;
-// the environment's ambient term (raycast._environment): u_envmode 0 the uniform u_ka, 1 its SH to order 2
-uniform int u_envmode;
+// the environment's ambient term (raycast._environment): u_env_mode 0 the uniform u_ambient, 1 its SH to order 2
+uniform int u_env_mode;
 uniform vec3 u_envsh[9];
 uniform bool u_hdr;           // composite colour unclipped (for a tone curve)
 
@@ -246,8 +247,8 @@ bool begin_ray(int px, int py) {
 
 // ---- shadows (_shadow, _lightvol) ----
 float sig_at(vec3 p) {
-    int n = textureSize(u_sig, 0).x;
-    return texelFetch(u_sig, ivec2(clamp(int(sample_idx(p) + 0.5), 0, n - 1), 0), 0).r;
+    int n = textureSize(u_extinction, 0).x;
+    return texelFetch(u_extinction, ivec2(clamp(int(sample_idx(p) + 0.5), 0, n - 1), 0), 0).r;
 }
 
 float shadow_transmittance(vec3 o, vec3 l, float smax) {
@@ -255,21 +256,21 @@ float shadow_transmittance(vec3 o, vec3 l, float smax) {
     if (!(ab.y > ab.x)) return 1.0;
     vec3 oi = (u_to_index * vec4(o, 1.0)).xyz;
     vec3 di = (u_to_index * vec4(l, 0.0)).xyz;
-    float stop = TAU_STOP * u_ds0 / u_kext;
+    float stop = TAU_STOP * u_ds0 / u_extinction_scale;
     float sp = sig_at(oi + ab.x * di), acc = 0.0, t = ab.x;
-    int m = int((ab.y - ab.x) / u_sh_step);
+    int m = int((ab.y - ab.x) / u_shadow_step);
     for (int j = 1; j <= m; j++) {
-        t = ab.x + float(j) * u_sh_step;
+        t = ab.x + float(j) * u_shadow_step;
         float s = sig_at(oi + t * di);
-        acc += 0.5 * (sp + s) * u_sh_step;
+        acc += 0.5 * (sp + s) * u_shadow_step;
         sp = s;
         if (acc > stop) return 0.0;
     }
-    if (ab.y - t > 1e-6 * u_sh_step) acc += 0.5 * (sp + sig_at(oi + ab.y * di)) * (ab.y - t);
-    return exp(-u_kext * acc / u_ds0);
+    if (ab.y - t > 1e-6 * u_shadow_step) acc += 0.5 * (sp + sig_at(oi + ab.y * di)) * (ab.y - t);
+    return exp(-u_extinction_scale * acc / u_ds0);
 }
 
-float lvd(int i) { return texelFetch(u_lvd, ivec2(i % u_lvd_w, i / u_lvd_w), 0).r; }
+float lvd(int i) { return texelFetch(u_light_data, ivec2(i % u_light_data_w, i / u_light_data_w), 0).r; }
 float lvm(int li, int f) { return u_lvm[li * 4 + f / 4][f % 4]; }
 
 float slice_value(int base, int nv, int nu, float q, float ub, float uc, float cb, float cc, float pb, float pc) {
@@ -306,7 +307,7 @@ float lattice_transmittance(int li, vec3 p) {   // _lightvol.lattice_site + latt
 }
 
 float light_visibility(int li, vec3 w, vec3 l, float dist) {   // _shade.light_visibility
-    float off = u_sh_off;
+    float off = u_shadow_offset;
     if (dist <= off) return 1.0;
     vec3 y = w + off * l;
     int kind = int(lvm(li, 0));
@@ -341,7 +342,7 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
     bool flat_ = gl < 1e-3;
     vec3 n = flat_ ? vec3(0.0) : g / gl;
     if (dot(n, v) < -FACING) n = -n;   // core.FACING: at right angles it keeps its side
-    f = u_envmode == 0 ? vec3(u_ka) : (flat_ ? sh_sum(n, 0.0, 0.0) : sh_sum(n, 2.0 / 3.0, 0.25));
+    f = u_env_mode == 0 ? vec3(u_ambient) : (flat_ ? sh_sum(n, 0.0, 0.0) : sh_sum(n, 2.0 / 3.0, 0.25));
     for (int li = 0; li < u_nlights; li++) {
         vec4 lv = light_vector(li, w);
         float spot = spot_factor(li, lv.xyz);
@@ -352,7 +353,7 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
             diff = max(ndl, 0.0);
             if (ndl > 0.0) {
                 float rdv = dot(2.0 * ndl * n - lv.xyz, v);
-                spec = rdv > 0.0 ? pow(rdv, u_shine) : 0.0;
+                spec = rdv > 0.0 ? pow(rdv, u_shininess) : 0.0;
             }
         }
         if (diff <= 0.0) continue;
@@ -360,22 +361,22 @@ void shade(vec3 g, vec3 v, vec3 w, out vec3 f, out vec3 s) {
 #if LIGHT == LIGHT_SHADOWED
         wt *= light_visibility(li, w, lv.xyz, lv.w);
 #endif
-        f += u_kd * diff * wt * u_lcol[li];
-        s += u_ks * spec * wt * u_lcol[li];
+        f += u_diffuse * diff * wt * u_lcol[li];
+        s += u_specular * spec * wt * u_lcol[li];
     }
 #elif LIGHT == LIGHT_SCATTER
-    f = vec3(u_envmode == 0 ? u_ka : 0.0);
+    f = vec3(u_env_mode == 0 ? u_ambient : 0.0);
     for (int li = 0; li < u_nlights; li++) {
         vec4 lv = light_vector(li, w);
         float spot = spot_factor(li, lv.xyz);
         if (spot <= 0.0) continue;
-        float c = -dot(lv.xyz, v), g2 = u_g * u_g;   // _scatter.phase_weight: 4 pi HG
-        float wt = spot * (1.0 - g2) / pow(1.0 + g2 - 2.0 * u_g * c, 1.5);
+        float c = -dot(lv.xyz, v), g2 = u_phase_g * u_phase_g;   // _scatter.phase_weight: 4 pi HG
+        float wt = spot * (1.0 - g2) / pow(1.0 + g2 - 2.0 * u_phase_g * c, 1.5);
         wt *= light_visibility(li, w, lv.xyz, lv.w);
         f += wt * u_lcol[li];
     }
-    if (u_envmode == 0) f = (u_ka + u_kd * (f - u_ka)) * u_albedo;
-    else f = (sh_sum(-v, u_g, u_g * u_g) + u_kd * f) * u_albedo;
+    if (u_env_mode == 0) f = (u_ambient + u_diffuse * (f - u_ambient)) * u_albedo;
+    else f = (sh_sum(-v, u_phase_g, u_phase_g * u_phase_g) + u_diffuse * f) * u_albedo;
 #endif
 }
 

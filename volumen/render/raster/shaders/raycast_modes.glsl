@@ -23,7 +23,7 @@ vec4 lit(float t, vec4 c, bool gradop) {   // _composite.lit
 #else
     if (gradop) g = normal_idx(R.oi + t * R.di);
 #endif
-    if (gradop) c *= texelFetch(u_glut, ivec2(min(int(g.w + 0.5), 127), 0), 0).r;
+    if (gradop) c *= texelFetch(u_gradient_lut, ivec2(min(int(g.w + 0.5), 127), 0), 0).r;
     if (c.a > 0.0) {
         vec3 f, s;
         shade(g.xyz, -R.d, R.o + t * R.d, f, s);
@@ -37,12 +37,13 @@ void accumulate(vec4 c, float t) {   // _composite._accumulate, optics.composite
         S_acc += (1.0 - S_acc.a) * c;
         if (S_dep == FAR && S_acc.a >= DEPTH_OPACITY) S_dep = t;
     }
-    done = S_acc.a >= u_et;
+    done = S_acc.a >= u_early_termination;
 }
 
 vec4 lookup_pre(float vf, float vb) {
-    int n = textureSize(u_pre, 0).x - 1;
-    return texelFetch(u_pre, ivec2(min(int(vb * u_pre_scale + 0.5), n), min(int(vf * u_pre_scale + 0.5), n)), 0);
+    int n = textureSize(u_preintegrated, 0).x - 1;
+    ivec2 at = ivec2(min(int(vb * u_pre_scale + 0.5), n), min(int(vf * u_pre_scale + 0.5), n));
+    return texelFetch(u_preintegrated, at, 0);
 }
 
 vec4 lut_at(float v) {
@@ -50,14 +51,14 @@ vec4 lut_at(float v) {
     return vec4(e.rgb * e.a, e.a);
 }
 
-bool beyond(float v, float side) { return side > 0.0 ? v >= u_iso : v < u_iso; }
+bool beyond(float v, float side) { return side > 0.0 ? v >= u_iso_value : v < u_iso_value; }
 
 float crossing(float side, float ta, float fa, float tb, float fb) {   // _iso._crossing
-    fa = side * (fa - u_iso);
-    fb = side * (fb - u_iso);
+    fa = side * (fa - u_iso_value);
+    fb = side * (fb - u_iso_value);
     for (int i = 0; i < 4; i++) {
         float tm = ta + (0.0 - fa) / (fb - fa) * (tb - ta);
-        float vm = side * (sample_at(tm) - u_iso);
+        float vm = side * (sample_at(tm) - u_iso_value);
         if (vm >= 0.0) { tb = tm; fb = vm; } else { ta = tm; fa = vm; }
     }
     if (fb - fa <= 0.0) return tb;
@@ -75,7 +76,7 @@ void init_mode() {
     S_t = 0.0;
 #elif MODE == MODE_ISO
     float v = sample_at(R.t0);
-    S_side = (R.t0 <= u_near && v >= u_iso) ? -1.0 : 1.0;
+    S_side = (R.t0 <= u_near && v >= u_iso_value) ? -1.0 : 1.0;
     S_dep = beyond(v, S_side) ? R.t0 : FAR;
     S_v = v; taken = 1; done = S_dep < FAR; have = true;
 #endif
@@ -86,7 +87,7 @@ void step_mode(int k, float t, float v) {
     float seg = u_ds;
     if (k == 0 || k == R.n - 1) seg = (k == R.n - 1 ? R.t1 : t + 0.5 * u_ds) - (k == 0 ? R.t0 : t - 0.5 * u_ds);
     vec4 c = corrected(lut_at(v), seg, u_ds);
-    if (c.a > 0.0) c = lit(t, c, u_gradop);
+    if (c.a > 0.0) c = lit(t, c, u_gradient_opacity);
     accumulate(c, t);
 #elif MODE == MODE_PREINT
     float vp = S_v, tp = S_t;
@@ -94,7 +95,7 @@ void step_mode(int k, float t, float v) {
     else if (!have) { tp = R.t0 + (float(k - 1) + R.jit) * u_ds; vp = sample_at(tp); extra = 1; }
     float seg = (k == 0 || k == R.n - 1) ? t - tp : u_ds;
     vec4 c = corrected(lookup_pre(vp, v), seg, u_ds);
-    if (c.a > 0.0) c = lit(t, c, u_gradop);
+    if (c.a > 0.0) c = lit(t, c, u_gradient_opacity);
     accumulate(c, t);
     S_v = v; S_t = t;
 #elif MODE == MODE_MIP
@@ -114,7 +115,7 @@ void step_mode(int k, float t, float v) {
 
 int octant_side(ivec3 b) {   // _octants.tiled: the ray's octant's grid in the (2 gz, 2 gy, 2 gx) texture
     ivec3 g = textureSize(u_bmin, 0);
-    return int(texelFetch(u_bflag, b + ivec3(R.di.x < 0.0 ? g.x : 0, R.di.y < 0.0 ? g.y : 0,
+    return int(texelFetch(u_skip_flags, b + ivec3(R.di.x < 0.0 ? g.x : 0, R.di.y < 0.0 ? g.y : 0,
                                              R.di.z < 0.0 ? g.z : 0), 0).r);
 }
 
@@ -165,7 +166,7 @@ void write_value(float v, float dep) {
 
 void finish_mode() {
 #if MODE == MODE_PREINT
-    if (S_acc.a < u_et && R.t1 - S_t > 1e-6 * u_ds) {
+    if (S_acc.a < u_early_termination && R.t1 - S_t > 1e-6 * u_ds) {
         float vp = S_v, tp = S_t;
         if (!have) { tp = min(R.t0 + (float(R.n - 1) + R.jit) * u_ds, R.t1); vp = sample_at(tp); taken++; }
         vec4 c = lookup_pre(vp, sample_at(R.t1));

@@ -345,9 +345,8 @@ def test_no_comment_cites_an_issue():
 
 #: Numba's decorators that compile: a module takes them from :mod:`volumen.jit`, whose import stamps every group
 _COMPILING = {"njit", "jit", "vectorize", "guvectorize", "cfunc", "stencil", "generated_jit"}
-#: folders that register their kernels' group themselves (``render/_kernel_sources.py``, imported before any
-#: kernel of the ray caster is defined); the group they register is checked to be the table's
-_OWN_REGISTRATION = ("volumen/render/", "volumen/jit/")
+#: the one folder that takes Numba's decorators itself and registers the groups (``volumen.jit``)
+_OWN_REGISTRATION = ("volumen/jit/",)
 
 
 def numba_decorator_uses(source: str) -> list[int]:
@@ -389,7 +388,7 @@ def test_compiled_code_goes_through_volumen_jit():
              for line in numba_decorator_uses(p.read_text(encoding="utf-8"))]
     assert not found, "take the decorator from volumen.jit, declare the group in volumen.jit.GROUPS:\n" + \
         "\n".join(found)
-    import volumen.render.raycast  # noqa: F401 - its own registration, compared with the table's below
+    import volumen.render.raycast  # noqa: F401 - its kernels defined, to compare their stamps with the table's
     from volumen.jit import GROUPS, group_files, stamped_with
 
     grouped = {f for name in GROUPS for f in group_files(name)}

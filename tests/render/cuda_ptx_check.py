@@ -2,7 +2,7 @@
 
 Prints ``PTX-OK <kernel> <bytes> <seconds>`` per kernel (``--only``: those named), or ``PTX-SKIP <reason>`` when
 no CUDA compiler (numba-cuda with libNVVM) is available, and ``PATCHES on`` / ``off``: whether volumen's
-inliner patches (``raycast._inlining.install_cuda``) were in numba-cuda's compiler. Numba asks the
+inliner patches (``jit._inlining.install_cuda``) were in numba-cuda's compiler. Numba asks the
 current device for its compute capability when it compiles a device
 function; with no device, that question is answered with ``--cc`` here.
 """
@@ -67,7 +67,7 @@ def main() -> int:
     med = Medium(a.vol, a.extinction, 0.0, 1.0, a.label_map, a.label_lut, a.lut, 1.0, 0)
     sw = Sweep.of(med, lambda x: np.transpose(x, axes), np.zeros((3, 4)), a.geo, a.planes, m, 1, 1.0, 1.0)
     sig_sweep = (ty(sw), ty(np.zeros((2, 2, 2), np.float32)))
-    from volumen.render.raycast import _inlining
+    from volumen.jit import _inlining
 
     print("PATCHES", "on" if _inlining._state["cuda"] else "off")
     failed = 0

@@ -217,11 +217,13 @@ def test_where_neither_folder_can_be_written_a_temporary_one_holds_the_kernels_k
 
 def test_kernel_markers_sit_in_the_ray_casters_kernel_folder(monkeypatch, tmp_path):
     """The stand-ins' markers (``render._ready``: this kernel is in the cache) sit beside the kernels they speak for."""
-    from volumen.jit import group_folder
+    import volumen
+    from volumen.jit import GROUPS, group_files, group_folder
     from volumen.render import _ready
-    from volumen.render._kernel_sources import SOURCES
 
-    assert _ready.marker_dir() == group_folder(SOURCES) / "ready"
+    package = Path(volumen.__file__).resolve().parent
+    files = {*group_files("render"), *(package / f for f in GROUPS["render"][1])}
+    assert _ready.marker_dir() == group_folder(tuple(sorted(p.resolve() for p in files))) / "ready"
     monkeypatch.setattr(_ready, "marker_dir", lambda: tmp_path / "ready")
     monkeypatch.setattr(_ready, "_READY", set())
     _ready.note_ready(("a kernel key of this test",))

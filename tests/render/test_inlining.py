@@ -1,4 +1,4 @@
-"""The three patches to Numba's inliner (``raycast._inlining``; numba-cuda's copy of it too), their fences, and the
+"""The three patches to Numba's inliner (``jit._inlining``; numba-cuda's copy of it too), their fences, and the
 one thread driver.
 
 The patches make the kernels' cold compile shorter (``volumen bench compile``: about 1.5x on MIP, more on the
@@ -24,8 +24,8 @@ from numba.core import event, ir
 from numba.core.compiler import run_frontend
 
 from volumen.jit import ENV, NUMBA_TESTED, claim, fetch_add, in_tested_range, patches_allowed, run_claiming, run_parts
+from volumen.jit._inlining import _BlockCopier
 from volumen.render.raycast import inlining_active
-from volumen.render.raycast._inlining import _BlockCopier
 from volumen.render.raycast._pieces import piece
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -103,7 +103,7 @@ def test_numba_cuda_internals_the_patches_replace_have_the_shape_they_expect():
 
 def _shape_problems() -> list[str]:
     """What no longer looks as the four patches expect in the installed Numba: each the internal, the change, and
-    what it costs (``render/raycast/_inlining.py``, ``jit/_locate.py``)."""
+    what it costs (``jit/_inlining.py``, ``jit/_locate.py``)."""
     import inspect
 
     from numba.core import caching, dispatcher, inline_closurecall
@@ -158,8 +158,8 @@ def test_the_numba_internals_the_patches_replace_still_have_the_shape_they_expec
 
 
 def test_each_patch_names_the_upstream_report_it_works_around_and_what_lets_it_go():
+    from volumen.jit import _inlining
     from volumen.jit import _locate as _stamp
-    from volumen.render.raycast import _inlining
 
     patches = _inlining.__doc__.split("\n* ")[1:]
     assert len(patches) == 3

@@ -10,6 +10,8 @@
   group's kernels in one folder per key that every checkout on this machine shares (:func:`kernel_folder`,
   installed on import);
 * :mod:`._savelock`: one process at a time writes a cache index (installed on import);
+* :mod:`._inlining`: Numba's inliner without its repeated work (patched on import; :func:`inline_only`,
+  :func:`install_cuda` for numba-cuda's copy of the compiler, :func:`inlining_active`);
 * :data:`NUMBA_TESTED`, :func:`patches_allowed` (numba-cuda's: :data:`NUMBA_CUDA_TESTED`,
   :func:`cuda_patches_allowed`): the fence around the patches to Numba's internals;
 * :func:`announce`: one line when a command starts compiling (the command line's, for its drawing commands).
@@ -30,6 +32,8 @@ from ._guard import (
     numba_version,
     patches_allowed,
 )
+from ._inlining import active as inlining_active
+from ._inlining import inline_only, install_cuda
 from ._locate import group_folder, kernel_folder
 from ._locate import install as _locate_kernels
 from ._notice import announce
@@ -45,4 +49,4 @@ _register_groups()
 __all__ = ["njit", "GROUPS", "group_files", "run_parts", "run_claiming", "claim", "fetch_add", "prefetch",
            "stamp_sources", "stamped_with", "source_stamp", "machine", "kernel_folder", "group_folder", "NUMBA_TESTED",
            "NUMBA_CUDA_TESTED", "ENV", "numba_version", "in_tested_range", "patches_allowed", "cuda_patches_allowed",
-           "announce"]
+           "announce", "inlining_active", "inline_only", "install_cuda"]

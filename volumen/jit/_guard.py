@@ -1,6 +1,6 @@
 """The fence around volumen's patches to Numba's private internals: the tested range of Numba releases.
 
-``render/raycast/_inlining.py`` patches three internals of Numba's inliner and dispatcher, and
+``jit/_inlining.py`` patches three internals of Numba's inliner and dispatcher, and
 :mod:`._stamp` a fourth (the cache locators). Private code changes without notice, so the inliner patches
 apply only to the Numba releases they were tested with (:data:`NUMBA_TESTED`, the same range as
 ``pyproject.toml``'s ``numba`` requirement; ``tests/render/test_inlining.py`` compiles a kernel with and

@@ -33,10 +33,10 @@ def when_ready(hook) -> None:
 def marker_dir() -> Path:
     """The folder of the markers: ``ready`` in the ray caster's kernel folder (``volumen.jit.group_folder``), the
     one its cached kernels are in, so a marker never outlives the kernels of its key."""
-    from ..jit import group_folder
-    from ._kernel_sources import SOURCES
+    from ..jit import group_folder, stamped_with
+    from . import optics
 
-    return group_folder(SOURCES) / "ready"
+    return group_folder(stamped_with(optics.__file__)) / "ready"
 
 
 def _marker(key: tuple) -> Path:

@@ -31,9 +31,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from ._kernel_sources import SOURCES  # noqa: F401 - first: the Numba cache stamp, before any compiled function
+from ..jit import njit
 
 __all__ = ["correct_opacity", "composite", "spot_factor", "phong_terms", "power", "optical_depth", "hg_phase",
            "REFERENCE_STEP_VOXELS", "MAX_OPACITY"]

@@ -18,10 +18,7 @@ medium), ``_pathtrace`` (path-tracing kernels: ``_majorant`` tracking, ``_sobol`
 The CUDA backend (:mod:`volumen.render.cuda`) uses the names below only.
 """
 
-from ._inlining import active as inlining_active  # first: Numba's inliner without its repeated work (patched)
-from ._sources import SOURCES  # first: the Numba cache stamp, before any compiled function is defined
-
-# isort: split
+from ...jit import inlining_active
 from ._cache import clear_cache, prepare, prepared_volumes
 from ._cpu import TILE, frame_image, render_cpu, render_part
 from ._frame import FAR, PER_VOLUME, Arrays, Frame, Outputs, Settings
@@ -66,5 +63,5 @@ __all__ = ["render_cpu", "render_part", "TILE", "clear_cache",
            "Outputs", "PER_VOLUME", "FAR", "trace_pixel", "trace_path", "coverage_pixel", "NACC",
            "lattice_frame", "lattice_ray", "LatticeRay",
            "lattice_slice", "lattice_step", "lattice_transmittance_of", "plan_lattice", "Sweep", "DIRECT", "LATTICE",
-           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA", "SOURCES",
+           "LV_AXA", "LV_AXB", "LV_AXC", "LV_KIND", "LV_NK", "LV_NU", "LV_NV", "LV_OFF", "NMETA",
            "sweep_medium", "Medium", "inlining_active", "for_cuda"]

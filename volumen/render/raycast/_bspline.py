@@ -36,8 +36,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from ...jit import njit
 from ._normals import sample_normal
 from ._pieces import BSpline, Trilinear, piece
 from ._sample import _cell, sample_table, trilinear

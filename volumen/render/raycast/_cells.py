@@ -20,9 +20,8 @@ classification), the B-spline (its value can leave the corners' range) or the pa
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 from ._tables import entry_prefix
 
 __all__ = ["cell_bits", "cell_visible", "cell_open", "NO_CELLS"]

@@ -15,8 +15,8 @@ Scalar volumes carry a (1, 1, 1, 3) placeholder and ``color = False``.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ...jit import njit
 from ._sample import _cell
 
 __all__ = ["rgb8", "luminance_samples", "sample_rgb", "emission", "NO_RGB", "LUMA_STEPS"]

@@ -18,8 +18,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ...jit import njit
 from ..optics import composite, correct_opacity, power
 from ._bspline import normal
 from ._color import emission

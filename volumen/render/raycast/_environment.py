@@ -23,9 +23,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from ...core import studio_sky
+from ...jit import njit
 
 __all__ = ["pack_environment", "sampling_tables", "sh_project", "sh_basis", "env_radiance", "env_sample",
            "env_pdf", "sh_irradiance", "sh_phase", "UNIFORM_ENV"]

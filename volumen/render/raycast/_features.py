@@ -18,8 +18,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from ...jit import njit
 from ._bspline import reconstruct
 from ._color import sample_rgb
 from ._geometry import to_index

@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from ...jit import njit
 
 __all__ = ["pack_camera", "pack_geometry", "pack_planes", "primary_ray", "pixel_ray", "ray_interval", "region_interval",
            "footprint", "C_ORTHO", "G_BOX", "G_INV", "P_POINT", "P_NORMAL"]

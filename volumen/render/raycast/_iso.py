@@ -18,8 +18,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from numba import njit
-
+from ...jit import njit
 from ._bspline import normal, reconstruct
 from ._frame import FAR
 from ._geometry import C_NEAR

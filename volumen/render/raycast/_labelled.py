@@ -16,9 +16,8 @@ the step). A hidden structure (opacity 0) fades out over one voxel instead of a 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 from ._sample import _cell
 
 __all__ = ["classify", "classify_sample", "solid_rows", "label_table", "packed_labels", "label_blocks"]

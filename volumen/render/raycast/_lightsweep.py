@@ -12,9 +12,8 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 from ._geometry import region_interval
 from ._medium import Medium, depth_at
 from ._params import (

@@ -49,9 +49,8 @@ import math
 import time
 
 import numpy as np
-from numba import njit
 
-from ...jit import prefetch
+from ...jit import njit, prefetch
 from ._lightsweep import (
     build_lattice,
     lattice_frame,

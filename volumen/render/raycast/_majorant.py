@@ -23,8 +23,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from ...jit import njit
 from ._geometry import to_index
 from ._medium import depth_at, frame_medium
 from ._sobol import draw

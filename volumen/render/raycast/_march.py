@@ -37,9 +37,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from ...jit import claim, fetch_add, run_claiming
+from ...jit import claim, fetch_add, njit, run_claiming
 from . import _composite, _iso, _project  # noqa: F401 - they register the mode pieces
 from ._cells import cell_visible
 from ._frame import FAR

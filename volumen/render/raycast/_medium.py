@@ -19,8 +19,8 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ...jit import njit
 from ..optics import MAX_OPACITY, optical_depth
 from ._bspline import reconstruct
 from ._labelled import classify

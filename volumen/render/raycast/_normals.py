@@ -33,9 +33,8 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
 
-from ...jit import prefetch, run_parts
+from ...jit import njit, prefetch, run_parts
 from ._sample import _cell, world_grad
 
 __all__ = ["DIRS", "DIR_HALF", "NO_CODES", "NO_SLOTS", "BRICK", "BrickCodes", "encode_normals", "brick_codes",

@@ -17,9 +17,8 @@ empty (the walk ends there), capped at 255. The smallest of the eight is the Che
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 
 __all__ = ["octant_sides", "octant", "tiled"]
 

@@ -35,9 +35,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from numba import njit
-
-from ...jit import claim
+from ...jit import claim, njit
 from ..optics import hg_phase
 from ._environment import env_pdf, env_radiance, env_sample, sh_phase
 from ._features import NFEAT, event_albedo, view_features

@@ -31,8 +31,8 @@ from typing import NamedTuple
 from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
+from ...jit import inline_only, install_cuda
 from ...jit._prefetch import register_cuda as register_prefetch
-from ._inlining import inline_only, install_cuda
 
 __all__ = ["piece", "for_cuda", "init", "step", "finish", "radius", "eager", "shade", "uses_normals", "MODE_TAGS",
            "LIGHT_TAGS",

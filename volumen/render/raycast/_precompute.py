@@ -22,9 +22,8 @@ kernels then only read arrays.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ...jit import run_parts
+from ...jit import njit, run_parts
 from ._sample import world_grad
 
 __all__ = ["NLUT", "LEVELS", "int16_samples", "normal_params", "build_blocks"]

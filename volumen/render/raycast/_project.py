@@ -13,8 +13,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from numba import njit
-
+from ...jit import njit
 from ._frame import FAR
 from ._pieces import PROJECTIONS, Projection, eager, finish, init, radius, step
 

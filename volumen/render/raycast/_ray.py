@@ -15,8 +15,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from numba import njit
-
+from ...jit import njit
 from ._bspline import reconstruct
 from ._geometry import primary_ray, ray_interval, to_index
 from ._sample import jitter01

@@ -9,9 +9,8 @@ rounding). :func:`prefetch_cell` asks for a cell's cache lines ahead of its read
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ...jit import prefetch
+from ...jit import njit, prefetch
 
 __all__ = ["prefetch_cell", "sample_value", "sample_table", "trilinear", "grad_at", "world_grad", "jitter01"]
 

@@ -21,8 +21,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from ...jit import njit
 from ..optics import hg_phase
 
 __all__ = ["medium", "phase_weight"]

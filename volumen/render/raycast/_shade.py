@@ -31,9 +31,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from ...core import FACING, Light
+from ...jit import njit
 from ..optics import phong_terms, power, spot_factor
 from ._environment import sh_irradiance, sh_phase
 from ._geometry import to_index

@@ -26,8 +26,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from ...jit import njit
 from ._cells import cell_open
 from ._geometry import segment_interval, to_index
 from ._medium import depth_at

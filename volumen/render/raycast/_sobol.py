@@ -18,7 +18,8 @@ how samples are split between calls, callable from a CUDA kernel.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from ...jit import njit
 
 __all__ = ["path_key", "draw", "sobol_table", "SOBOL_DIMS", "sobol_point"]
 

@@ -20,8 +20,8 @@
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ...jit import njit
 from ..optics import correct_opacity, optical_depth
 from ._octants import octant_sides
 from ._precompute import NLUT

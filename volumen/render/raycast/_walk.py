@@ -33,8 +33,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from numba import njit
-
+from ...jit import njit
 from ._frame import FAR
 from ._octants import octant
 from ._pieces import eager, radius

@@ -44,7 +44,7 @@ from __future__ import annotations
 import copy
 import sys
 
-from ...jit import cuda_patches_allowed, patches_allowed
+from ._guard import cuda_patches_allowed, patches_allowed
 
 __all__ = ["install", "install_cuda", "active", "inline_only"]
 

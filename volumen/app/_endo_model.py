@@ -71,7 +71,7 @@ class Endoscopy:
         :class:`~volumen.errors.LumenError` naming the point or the leak) when a point is missing, outside
         the scan, in no lumen, the two are not connected, or the lumen leaks.
         """
-        from ..endoscopy import check_points_in_mask, checked_centerline, load_lumen_mask, lumen_wall
+        from ..endoscopy import check_points_in_mask, checked_centerline, load_lumen_mask, lumen_wall, smooth_wall
 
         if self.start is None or self.end is None:
             raise ValueError("pick a start and an end point in the slice views first")
@@ -81,6 +81,8 @@ class Endoscopy:
             check_points_in_mask(self.volume, mask, {"start": self.start, "end": self.end}, self.mask_file)
         wall = lumen_wall(self.volume, self.start, self.end, kind=self.lumen, mask=mask)
         self.centerline = checked_centerline(self.volume, wall.mask, self.start, self.end)
+        if mask is None:  # a grown lumen whose values vary more than its threshold allows: its smoothed boundary
+            wall = smooth_wall(self.volume, wall, self.centerline)
         self.mask, self.estimate, self.wall, self._drawn, self._collider = wall.mask, wall.estimate, wall, None, None
         return self.centerline
 

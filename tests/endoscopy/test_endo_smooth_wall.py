@@ -69,3 +69,28 @@ def test_an_evenly_filled_tube_keeps_the_data_wall():
     start, end = vol.index_to_world(np.array([[19.5, 19.5, 10.0], [19.5, 19.5, 50.0]]))
     wall = lumen_wall(vol, start, end)
     assert smooth_wall(vol, wall, checked_centerline(vol, wall.mask, start, end)) is wall
+
+
+def test_fly_says_which_wall_it_draws(layered, tmp_path, capsys):
+    """``volumen fly`` on the layered aorta says it draws the grown lumen's smoothed boundary, and the flight it
+    saves carries that lumen (shape only); given ``--threshold`` it draws the data's wall and says nothing."""
+    import argparse
+
+    from volumen.cli import _fly
+    from volumen.endoscopy import Flight
+
+    def run(*extra):
+        p = argparse.ArgumentParser()
+        _fly.register(p.add_subparsers(dest="command"))
+        starts = layered.meta["truth"]["landmarks"]["starts"]
+        point = [",".join(f"{c:.2f}" for c in starts[k]) for k in (0, 10)]
+        argv = ["fly", "phantom:layered_aorta", "--start", point[0], "--end", point[1], "-o",
+                str(tmp_path / "f.gif"), "--size", "24x24", "--frames", "2", "--no-progress", "--save-path",
+                str(tmp_path / "f.json"), *extra]
+        assert _fly.run(p.parse_args(argv)) == 0
+        return capsys.readouterr().out, Flight.load(str(tmp_path / "f.json"), layered)
+
+    said, flight = run()
+    assert "wall: the grown lumen's smoothed boundary" in said and flight.lumen.shape_only
+    said, flight = run("--threshold", "200")
+    assert "smoothed boundary" not in said and not flight.lumen.shape_only

@@ -35,7 +35,7 @@ def fold_energy(img) -> float:
 def test_the_layered_lumen_is_drawn_as_its_smoothed_boundary(layered, a, b):
     """Both directions: the wall drawn is the redrawn lumen's shape; the fold energy of the frames at the
     keyframes at least 4x lower than the threshold wall's (measured 5.0x both ways); 95 % of the wall pixels
-    within one voxel of the true lumen's boundary along their rays (measured 97 % and 95.4 %; the threshold wall's
+    within one voxel of the true lumen's boundary along their rays (measured 97.1 % and 95.4 %; the threshold wall's
     91 %, the jet cut off); the redrawn lumen holds none of the neighbour or the lung."""
     truth = layered.meta["truth"]
     starts = np.array(truth["landmarks"]["starts"])

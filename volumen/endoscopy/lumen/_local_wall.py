@@ -35,7 +35,8 @@ RING = (1.5, 3.0)
 #: the lumen's value near a point is this percentile of its voxels there: its dimmest blood (a layer, a jet of
 #: unopacified blood) is lumen too, and the wall is drawn half-way between it and the wall's value
 DIM = 10.0
-#: the redrawn lumen is smoothed by a Gaussian of this many voxels (noise roughens its edge voxel by voxel) ...
+#: the redrawn lumen is smoothed by a Gaussian of this many voxels of the smallest spacing (noise roughens its edge
+#: voxel by voxel) ...
 SMOOTH = 2.5
 #: ... at most this share of the lumen's median radius (a Gaussian shrinks a tube by about sigma^2 / 2 r)
 SMOOTH_SHARE = 0.3
@@ -130,8 +131,9 @@ def uneven_share(volume, lumen: np.ndarray, threshold: float, sign: float) -> fl
     return float(np.mean(sign * (values - threshold) <= 0)) if values.size else 0.0
 
 
-def _smoothed(lumen: np.ndarray, sigma: float) -> np.ndarray:
-    """``lumen`` smoothed by a Gaussian of ``sigma`` voxels and cut at one half, its largest component."""
+def _smoothed(lumen: np.ndarray, sigma) -> np.ndarray:
+    """``lumen`` smoothed by a Gaussian of ``sigma`` voxels (per axis) and cut at one half, its largest
+    component."""
     from scipy import ndimage
 
     box = _box(lumen)
@@ -144,11 +146,12 @@ def _smoothed(lumen: np.ndarray, sigma: float) -> np.ndarray:
 
 
 def _radius(volume, lumen: np.ndarray, points: np.ndarray) -> float:
-    """The median distance (voxels) from ``points`` (world mm) to ``lumen``'s boundary."""
+    """The median distance (voxels of the smallest spacing) from ``points`` (world mm) to ``lumen``'s boundary."""
     from scipy import ndimage
 
     box = _box(lumen)
-    depth = ndimage.distance_transform_edt(lumen[box])
+    h = np.asarray(volume.spacing, float)
+    depth = ndimage.distance_transform_edt(lumen[box], sampling=h / h.min())
     lo = np.array([b.start for b in box])
     zyx = np.rint(volume.world_to_index(points)[:, ::-1]).astype(int) - lo
     zyx = np.clip(zyx, 0, np.array(depth.shape) - 1)
@@ -169,5 +172,7 @@ def smooth_wall(volume, wall: LumenWall, centerline) -> LumenWall:
     redrawn = locally_thresholded(volume, wall.mask, points, thresholds, sign)
     if uneven_share(volume, redrawn, est.threshold, sign) <= UNEVEN:
         return wall
-    smooth = _smoothed(redrawn, min(SMOOTH, SMOOTH_SHARE * _radius(volume, redrawn, points)))
+    h = np.asarray(volume.spacing, float)
+    sigma = min(SMOOTH, SMOOTH_SHARE * _radius(volume, redrawn, points)) * h.min() / h  # the same mm on every axis
+    smooth = _smoothed(redrawn, tuple(sigma))
     return LumenWall(smooth if smooth.any() else redrawn, est, shape_only=True)

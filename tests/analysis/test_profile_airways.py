@@ -44,12 +44,16 @@ def test_branch_points_and_length(airway, source):
     assert abs(p.length - (arc[-1] - arc[0])) <= 0.01 * (arc[-1] - arc[0])
 
 
-def test_equivalent_diameter_of_the_true_lumen(airway):
-    """Away from the branches' mouths, within 0.3 voxel of the path's analytic diameter."""
+@pytest.mark.parametrize("source", ["mask", "grown"])
+def test_equivalent_diameter(airway, source):
+    """Away from the branches' mouths, within 0.3 voxel of the path's analytic diameter: the true lumen's
+    (measured 0.28 mm at most, mean -0.08) and the grown lumen's, its wall drawn at the half-way value to the
+    crest of a wall one or two voxels thick sampled from cubic B-splines (measured 0.27 mm at most, mean -0.08;
+    trilinear samples blunted the crest: 0.43 mm, mean -0.18)."""
     vol, truth, profiles = airway
-    p = profiles["mask"]
+    p = profiles[source]
     keep = _away_from_branches(p)
     arc = np.array([truth.project(q)[0] for q in p.centerline.points])
-    err = np.abs(p.sections.diameter - 2.0 * np.interp(arc, truth.arc, truth.radius))[keep]
-    print(f"{keep.sum()} sections, |error| max {err.max():.3f} mm")
-    assert keep.sum() >= 25 and err.max() <= 0.3 * min(vol.spacing)
+    err = (p.sections.diameter - 2.0 * np.interp(arc, truth.arc, truth.radius))[keep]
+    print(f"{source}: {keep.sum()} sections, |error| max {np.abs(err).max():.3f} mm, mean {err.mean():.3f} mm")
+    assert keep.sum() >= 25 and np.abs(err).max() <= 0.3 * min(vol.spacing)

@@ -6,7 +6,7 @@ between the points), or from a lumen mask and/or a centerline already made. Then
 
 1. the sections along the centerline (:func:`._sections.measure_sections`; a grown lumen's wall drawn at
    each section's own half-way value, and a contrast lumen redrawn in 3D at those values,
-   :func:`._local_wall.locally_thresholded`, for the inscribed spheres and the branch points: an air lumen
+   :func:`volumen.endoscopy.locally_thresholded`, for the inscribed spheres and the branch points: an air lumen
    is not, its thin walls would let the redrawn lumen through into the air-like lung);
 2. the branch points (:func:`._branches.branch_points`);
 3. the centerline moved onto the sections' centroids (smoothed over :data:`RECENTRE_SIGMA` mm, by at most
@@ -157,9 +157,9 @@ def _recentred(centerline, sections, branch_count):
 def measure(volume, lumen: np.ndarray, centerline, *, refine: bool) -> Profile:
     """The :class:`Profile` of ``lumen`` (bool ``[z, y, x]`` on ``volume``'s grid) along ``centerline``;
     ``refine``: the lumen was grown from the data, whose half-way values draw each section's wall."""
+    from ..endoscopy import locally_thresholded
     from ._branches import branch_points
     from ._lesions import find_maximum, find_stenosis
-    from ._local_wall import locally_thresholded
     from ._sections import measure_sections
 
     first = measure_sections(volume, lumen, centerline, refine=refine)

@@ -11,8 +11,9 @@ bend, or a neighbouring vessel, is not counted.
   trilinearly and cut at one half (the wall half-way between voxel centres). Grown from the data, the
   data decide at each section (``refine``): the threshold is half-way between the lumen's own value
   there (the median of the section a voxel in from its edge) and the wall's (the median of a ring
-  1.5-3 voxels outside it, other lumens left out; round an air lumen the crest of its thin wall, the 98th
-  percentile of a ring 0.5-2 voxels out), the full width at half maximum of the vessel's edge,
+  1.5-3 voxels outside it, other lumens left out; round an air lumen the crest of its thin wall, the
+  99.5th percentile of a ring 0.5-2 voxels out, the scan sampled there from cubic B-splines), the full
+  width at half maximum of the vessel's edge,
   so contrast that fades along the vessel, or layers across it, does not move the wall as one global
   threshold does.
 * **Area, equivalent diameter**: pixels times their area; the diameter of the disc of that area.
@@ -47,7 +48,7 @@ MASK_SMOOTH = 0.7
 RING = (1.5, 3.0)
 #: round an air lumen the wall is a thin crest between the air and the air-like lung: its value is this
 #: percentile of the ring this many voxels from the section's edge
-CREST, CREST_RING = 98.0, (0.5, 2.0)
+CREST, CREST_RING = 99.5, (0.5, 2.0)
 #: the section is drawn again at its half-way value this many times at most, each reaching at most
 #: :data:`REACH` voxels past the last (a grown lumen that missed a dim layer of contrast is caught up)
 REFINE_STEPS = 4
@@ -55,6 +56,10 @@ REFINE_STEPS = 4
 #: that lies in the lumen for centimetres)
 MAX_HALF_RADII = 8.0
 REACH = 2.0
+#: round an air lumen the scan is sampled from cubic B-splines (trilinear samples between the voxel centres
+#: blunt the crest of a wall one or two voxels thick, and the half-way value with it, by tens of HU), on the
+#: lumen's box widened by this many voxels (past the farthest a section is drawn again)
+CUBIC_PAD = 12
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,26 +93,34 @@ def _plane(volume, point, normal, binormal, half: float, pixel: float):
 
 
 def _sample(array, coords, order: int = 1) -> np.ndarray:
-    """Samples (float32, trilinear) of ``array`` at voxel coordinates ``coords`` (3, ...); 0 outside it."""
+    """Samples (float32; trilinear, or of ``order`` 3 from B-spline coefficients) of ``array`` at voxel
+    coordinates ``coords`` (3, ...); 0 outside it."""
     from scipy import ndimage
 
-    return ndimage.map_coordinates(array, coords, order=order, mode="constant", cval=0.0, output=np.float32)
+    return ndimage.map_coordinates(array, coords, order=order, mode="constant", cval=0.0, output=np.float32,
+                                   prefilter=False)
 
 
 @dataclass(frozen=True, eq=False)
 class _Fields:
     """What every section samples: the smoothed ``lumen`` mask on its box (from voxel ``offset``), the
-    :class:`WallDistance` ``distance``, the scan's ``values`` (None: the mask decides the wall) and ``sign``
-    (+1: the lumen is brighter than its wall)."""
+    :class:`WallDistance` ``distance``, the scan's ``values`` (None: the mask decides the wall; B-spline
+    coefficients of the scan on a box from voxel ``values_offset`` round an air lumen, see :data:`CUBIC_PAD`)
+    and ``sign`` (+1: the lumen is brighter than its wall)."""
 
     lumen: np.ndarray
     offset: np.ndarray
     distance: object
     values: np.ndarray | None
     sign: float
+    values_offset: np.ndarray
 
     def lumen_at(self, coords: np.ndarray) -> np.ndarray:
         return _sample(self.lumen, coords - self.offset.reshape(3, 1, 1))
+
+    def values_at(self, coords: np.ndarray) -> np.ndarray:
+        cubic = self.sign < 0
+        return _sample(self.values, coords - self.values_offset.reshape(3, 1, 1), 3 if cubic else 1)
 
 
 def _component(inside: np.ndarray) -> np.ndarray:
@@ -188,7 +201,7 @@ def _measure_one(volume, fields: _Fields, point, normal, binormal, radius: float
         section = _component(inside)
         threshold = np.nan
         if fields.values is not None and section.any():
-            values = _sample(fields.values, coords)
+            values = fields.values_at(coords)
             for _ in range(REFINE_STEPS):
                 before = section
                 section, threshold = _refined(section, inside & ~section, values, fields.sign, voxel, pixel)
@@ -222,13 +235,17 @@ def _fields(volume, mask: np.ndarray, refine: bool) -> _Fields:
     box = tuple(slice(a, b) for a, b in zip(lo, hi, strict=True))
     sub = mask[box]
     smooth = ndimage.gaussian_filter(sub.astype(np.float32), MASK_SMOOTH * h.min() / h)
-    values, sign = None, 1.0
+    values, sign, at = None, 1.0, np.zeros(3)
     if refine and zyx.size:
         values = np.asarray(volume.data)
         data = np.asarray(values[box])
         shell = ndimage.binary_dilation(sub, iterations=2) & ~sub
         sign = 1.0 if np.median(data[sub]) > np.median(data[shell]) else -1.0
-    return _Fields(smooth, lo.astype(float), WallDistance(mask, volume.spacing), values, sign)
+        if sign < 0:
+            at = np.maximum(lo - CUBIC_PAD, 0)
+            wide = tuple(slice(a, b) for a, b in zip(at, np.minimum(hi + CUBIC_PAD, mask.shape), strict=True))
+            values = ndimage.spline_filter(np.asarray(values[wide], np.float32), order=3, output=np.float32)
+    return _Fields(smooth, lo.astype(float), WallDistance(mask, volume.spacing), values, sign, at.astype(float))
 
 
 def measure_sections(volume, lumen: np.ndarray, centerline, *, refine: bool = False) -> Sections:

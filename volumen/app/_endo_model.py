@@ -57,6 +57,7 @@ class Endoscopy:
         self.mask = None
         self.estimate = None
         self.wall = None
+        self.profile = None
         self._drawn = None
         self.navigator = None
         self.guided = None
@@ -67,11 +68,13 @@ class Endoscopy:
     def compute(self):
         """Find the lumen holding :attr:`start` (and :attr:`end`) and the centerline between them (world mm).
 
-        Sets :attr:`mask`, :attr:`estimate` and :attr:`wall`; returns the centerline. Raises ValueError (a
+        Sets :attr:`mask`, :attr:`estimate`, :attr:`wall` and :attr:`profile` (the lumen's cross-sections along
+        the centerline, :func:`volumen.analysis.measure`); returns the centerline. Raises ValueError (a
         :class:`~volumen.errors.LumenError` naming the point or the leak) when a point is missing, outside
         the scan, in no lumen, the two are not connected, or the lumen leaks.
         """
-        from ..endoscopy import check_points_in_mask, checked_centerline, load_lumen_mask, lumen_wall
+        from ..analysis import measure
+        from ..endoscopy import check_points_in_mask, checked_centerline, load_lumen_mask, lumen_wall, smooth_wall
 
         if self.start is None or self.end is None:
             raise ValueError("pick a start and an end point in the slice views first")
@@ -81,7 +84,10 @@ class Endoscopy:
             check_points_in_mask(self.volume, mask, {"start": self.start, "end": self.end}, self.mask_file)
         wall = lumen_wall(self.volume, self.start, self.end, kind=self.lumen, mask=mask)
         self.centerline = checked_centerline(self.volume, wall.mask, self.start, self.end)
+        if mask is None:  # a grown lumen whose values vary more than its threshold allows: its smoothed boundary
+            wall = smooth_wall(self.volume, wall, self.centerline)
         self.mask, self.estimate, self.wall, self._drawn, self._collider = wall.mask, wall.estimate, wall, None, None
+        self.profile = measure(self.volume, wall.mask, self.centerline, refine=mask is None)
         return self.centerline
 
     def lumen_estimate(self):

@@ -6,6 +6,8 @@
   same one-line message); the lumen shows as an overlay in the slice views (so a
   leak shows), the centerline in the slice views and the 3D view; flight and
   recording draw the lumen's own wall (the data held to the lumen);
+* the lumen's diameter along the path under the flight, with the current cross-section's numbers
+  (:class:`~volumen.app._endo_profile.ProfileView`);
 * save the curved planar reformation (straightened or stretched) along the
   centerline, its cross-sections marked, as a PNG;
 * manual flight: W/S forward/back, A/D sideways, R/F up/down, arrow keys or
@@ -33,6 +35,7 @@ from PySide6.QtWidgets import (
 )
 
 from ._endo_model import LUMENS, Endoscopy
+from ._endo_profile import ProfileView
 from ._tasks import run_task
 
 __all__ = ["EndoscopyPanel", "FLY_KEYS"]
@@ -87,6 +90,8 @@ class EndoscopyPanel(QWidget):
         lay.addLayout(form)
         lay.addLayout(grid)
         lay.addWidget(self.status)
+        self.profile_view = ProfileView()
+        lay.addWidget(self.profile_view)
         lay.addWidget(QLabel("Flight: W/S forward/back, A/D sideways, R/F up/down,\narrows or left drag turn."))
         lay.addStretch(1)
         self.timer = QTimer(self, interval=100)
@@ -100,6 +105,7 @@ class EndoscopyPanel(QWidget):
         self.stop()
         v = self.state.volume
         self.model = None if v is None else Endoscopy(v, lumen=self.lumen.currentText())
+        self.profile_view.set_profile(None)
         self._publish()
 
     def _publish(self) -> None:
@@ -139,6 +145,7 @@ class EndoscopyPanel(QWidget):
             said = m.estimate.describe(**values_of(self.state.volume))
             self.status.setText(f"{said}. Centerline: {cl.length:.1f} mm, {len(cl.points)} points.")
             self.state.set_mask(self.state.volume.with_data(m.mask.astype(np.uint8)))  # the slices' overlay
+            self.profile_view.set_profile(m.profile)
             self._publish()
 
         def bad(exc):
@@ -200,6 +207,7 @@ class EndoscopyPanel(QWidget):
         if self._poses:
             pose = self._poses.pop(0)
             self.state.set_camera(pose.camera(fov=m.fov, near=0.5 * m.margin))
+            self.profile_view.set_eye(pose.position)
             if not self._poses:
                 self.timer.stop()
             return
@@ -213,6 +221,7 @@ class EndoscopyPanel(QWidget):
         cam = self.model.camera()
         if cam is not None:
             self.state.set_camera(cam)
+            self.profile_view.set_eye(self.model.pose.position)
 
     def key(self, name: str) -> bool:
         """A flight key (:data:`FLY_KEYS`); True when it was used."""

@@ -128,7 +128,7 @@ def _centerline(args, volume):
     """``(centerline, wall)``: between --start and --end (refused when it detours through a leak), or between
     the lumen's two ends."""
     from volumen.core import values_of
-    from volumen.endoscopy import checked_centerline, compute_centerline
+    from volumen.endoscopy import checked_centerline, compute_centerline, smooth_wall
 
     start, end = parse_point(args.start), parse_point(args.end)
     if start is not None and end is None:
@@ -137,8 +137,16 @@ def _centerline(args, volume):
     shape_only = " (the wall drawn is the lumen mask's own boundary: the data does not separate lumen and wall)"
     print(wall.estimate.describe(**values_of(volume)) + (shape_only if wall.shape_only else ""))
     if start is not None:
-        return checked_centerline(volume, wall.mask, start, end), wall
-    return compute_centerline(volume, wall.mask, start, end), wall
+        cl = checked_centerline(volume, wall.mask, start, end)
+    else:
+        cl = compute_centerline(volume, wall.mask, start, end)
+    if args.lumen_mask or args.threshold is not None:
+        return cl, wall
+    smooth = smooth_wall(volume, wall, cl)
+    if smooth is not wall:
+        print("wall: the grown lumen's smoothed boundary, redrawn at local half-way values (the values inside it "
+              "vary more than the threshold allows)")
+    return cl, smooth
 
 
 def _overrides(args, volume) -> dict:

@@ -7,6 +7,8 @@
 * :func:`estimate_from_mask`, :class:`LumenWall`, :func:`lumen_wall`, :func:`checked_centerline` -- the wall
   a flythrough draws (the data held to the lumen mask, or the mask's own boundary), from a segmentation or a
   grown lumen; centerlines refused when they detour through a leak;
+* :func:`smooth_wall`, :func:`locally_thresholded` -- a grown lumen redrawn at local half-way values, drawn as
+  its smoothed boundary where the values inside it vary more than its threshold allows;
 * :func:`score_flight`, :class:`FlightScore` -- Dice, keyframes inside, frames looking down the lumen, the wall
   drawn against a mask's: the scores the tests and reports use;
 * :func:`compute_centerline` -> :class:`Centerline` -- minimal path kept away from the wall,
@@ -31,6 +33,7 @@ from .flight._scores import FlightScore, dice, keyframes_inside, look_down_ratio
 from .flight._video import VideoWriter
 from .lumen._drawn_wall import LumenWall
 from .lumen._find import AIR_RANGE, CONTRAST_RANGE, find_lumen, lumen_mask, lumen_voxel, nearest_voxel
+from .lumen._local_wall import locally_thresholded, smooth_wall
 from .lumen._mask_estimate import estimate_from_mask
 from .lumen._point_estimate import LUMEN_KINDS, LumenEstimate, estimate_lumen
 from .lumen._segmentation import check_points_in_mask, load_lumen_mask
@@ -57,6 +60,8 @@ __all__ = [
     "estimate_from_mask",
     "LumenWall",
     "lumen_wall",
+    "smooth_wall",
+    "locally_thresholded",
     "checked_centerline",
     "make_flight",
     "score_flight",

@@ -40,6 +40,9 @@ def register(sub):
                    "size in CSS pixels (default 1280x800)")
     p.add_argument("--measurements", metavar="FILE", help="measurements the page opens with: a DICOM SR, a session "
                    "or a measurements JSON of this scan (`volumen measure export`)")
+    p.add_argument("--report", metavar="FOLDER", help="a vessel profile the page plots under its slices: the "
+                   "report folder of `volumen measure vessel` or `volumen fly --report` of this scan")
+    p.add_argument("--profile", metavar="JSON", help="the same from its report.json")
     p.add_argument("--settings", help="scene and camera to open with (a `volumen render --save-settings` file)")
     p.add_argument("--preset", choices=PRESETS, help="transfer function preset to open with")
     p.add_argument("--shift", type=float, default=0.0, help="move the preset along the values by this much (data "
@@ -139,6 +142,13 @@ def run(args):
         from volumen.measure import load_measurements
 
         shown = load_measurements(args.measurements, volume=volume).to_dicts()
+    if args.report and args.profile:
+        raise ValueError("give --report or --profile, not both")
+    plotted = None
+    if args.report or args.profile:
+        from volumen.web._profile_route import read_profile
+
+        plotted = read_profile(args.report or args.profile, volume)
     try:
         server = ViewerServer(volume, scene, camera, host=args.host, port=args.port, budget_mb=args.budget,
                               ssl_context=_ssl(args), shift=args.shift,
@@ -147,6 +157,7 @@ def run(args):
         raise ValueError(f"cannot listen on {args.host} port {args.port}: {exc.strerror or exc} "
                          "(pick another with --port, or 0 for a free one)") from None
     server.handlers.opening = shown
+    server.handlers.profile = plotted
     print(server.url, flush=True)
     if not is_loopback(args.host):
         print(f"volumen serve: warning: listening on {args.host}: the scan is reachable from the network by "

@@ -42,7 +42,8 @@ _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript"}
 _ANSWERS = {"": ("GET", "index"), "info.json": ("GET", "info"), "shaders.json": ("GET", "shaders"),
             "volume.bin": ("GET", "volume"), "frame.bin": ("POST", "frame"), "slice.png": ("GET", "slice"),
             "region.json": ("POST", "region"), "value.json": ("POST", "value"), "pick.json": ("POST", "pick"),
-            "measurements.json": ("GET", "measurements"), "open-measurements.json": ("POST", "open_measurements")}
+            "measurements.json": ("GET", "measurements"), "open-measurements.json": ("POST", "open_measurements"),
+            "profile.json": ("GET", "vessel_profile")}
 
 
 def static_folder():
@@ -119,6 +120,7 @@ class Handlers:
         self._waiting = self._sending = 0
         self._messages: dict[int, bytes] = {}   # volume.bin's message per served size, shared by every answer
         self.opening: list[dict] = []   # the measurements the page opens with (``volumen serve --measurements``)
+        self.profile: dict | None = None   # the vessel profile it plots (``volumen serve --report``)
 
     def served(self, max_3d: int = DEFAULT_MAX_3D) -> ServedVolume:
         """The volume as a client with ``max_3d`` (its 3-D texture size) gets it: made once per power of two,
@@ -237,6 +239,11 @@ class Handlers:
         """The measurements the page opens with, as ``volumen.measure.Measurements.to_dicts``."""
 
         return json.dumps({"measurements": self.opening}).encode(), "application/json"
+
+    async def vessel_profile(self, request):
+        """The vessel profile the page plots under its slices (:func:`~._profile_route.read_profile`), or null."""
+
+        return json.dumps({"profile": self.profile}).encode(), "application/json"
 
     async def open_measurements(self, request):
         """The measurements of a file the user opens on the page (its bytes), checked against the scan."""

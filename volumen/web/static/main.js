@@ -9,6 +9,7 @@ import { createContext, limits, Textures } from './gl.js';
 import { drawOverlay, lightLength, pickLight } from './overlay.js';
 import { RaycastProgram } from './program.js';
 import { SliceMeasures } from './measure.js';
+import { ProfilePlot } from './profile.js';
 import { PictureRuler } from './ruler3d.js';
 import { XRRuler } from './xrruler.js';
 import { SliceViews } from './slices.js';
@@ -66,6 +67,8 @@ async function boot() {
     onCrosshair: () => viewer.redraw() });
   const measures = new SliceMeasures(slices);
   measures.fromDicts((await getJSON('measurements.json')).measurements);   // `volumen serve --measurements`
+  const profile = new ProfilePlot(element('profile', HTMLElement), slices, () => viewer.redraw());
+  profile.set((await getJSON('profile.json')).profile);   // `volumen serve --report`
   const ruler3d = new PictureRuler(viewer, measures, /** @type {HTMLElement} */ (canvas.parentElement));
   const xrRuler = new XRRuler(xr, ruler3d);
   const panel = new Panel(element('panel', HTMLElement), { viewer, slices, xr, xrAvailable: await xrSupported() });
@@ -116,7 +119,7 @@ async function boot() {
    * @property {{width: number, height: number, rgba: string, float: boolean}} [linear]
    */
   const volumen = {
-    viewer, xr, info, limits: lim, shifted, measures, ruler3d, xrRuler,
+    viewer, xr, info, limits: lim, shifted, measures, ruler3d, xrRuler, profile,
     // the slice views' rulers and regions as volumen.measure's JSON (`volumen measure export` reads it)
     measurements() { return { version: 1, measurements: measures.toDicts() }; },
     // put back what `measurements()` gave (the page's state): how many were added

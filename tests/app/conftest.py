@@ -49,6 +49,24 @@ def make_window(qtbot, tmp_path, head64, monkeypatch):
     yield make
 
 
+@pytest.fixture
+def torso_flight(make_window, qtbot):
+    """A window with the torso phantom whose endoscopy panel has found the lumen and path from one end of the
+    phantom's aorta to the other: ``(torso, window, panel)``."""
+    from volumen.data import phantom
+
+    torso = phantom("torso")
+    win = make_window(load=False)
+    win.set_volume(torso, "phantom:torso")
+    panel = win.endo_panel
+    aorta = torso.meta["truth"]["aorta"]
+    panel.pick("endo-start", aorta.centerline[0])
+    panel.pick("endo-end", aorta.centerline[-1])
+    task = panel.compute()
+    qtbot.waitUntil(lambda: task.finished, timeout=120000)
+    return torso, win, panel
+
+
 @pytest.fixture(scope="session")
 def app_output(output_dir):
     d = output_dir / "app"

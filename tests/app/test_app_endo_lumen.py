@@ -6,24 +6,16 @@ from __future__ import annotations
 import numpy as np
 
 
-def test_panel_finds_a_contrast_lumen_overlays_it_and_saves_a_cpr(make_window, qtbot, tmp_path):
+def test_panel_finds_a_contrast_lumen_overlays_it_and_saves_a_cpr(torso_flight, qtbot, tmp_path):
     import nibabel as nib
     from PIL import Image
 
     from volumen.app._endo_model import LUMENS
-    from volumen.data import phantom
     from volumen.endoscopy import LUMEN_KINDS
 
     assert LUMENS == LUMEN_KINDS
-    torso = phantom("torso")
-    win = make_window(load=False)
-    win.set_volume(torso, "phantom:torso")
-    panel = win.endo_panel
+    torso, win, panel = torso_flight
     aorta = torso.meta["truth"]["aorta"]
-    panel.pick("endo-start", aorta.centerline[0])
-    panel.pick("endo-end", aorta.centerline[-1])
-    task = panel.compute()
-    qtbot.waitUntil(lambda: task.finished, timeout=60000)
     m = panel.model
     assert m.estimate.kind == "contrast" and "contrast" in panel.status.text()
     overlay = np.asarray(win.state.mask.data, bool)

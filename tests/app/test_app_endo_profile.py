@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 
-def test_the_panel_shows_the_profile_and_the_section_under_the_eye(make_window, qtbot):
+def test_the_panel_shows_the_profile_and_the_section_under_the_eye(torso_flight):
     """After the centerline the profile (:func:`volumen.analysis.measure`, whose accuracy tests/analysis measures)
     is the panel's; flying forward, the numbers shown are those of the section nearest the eye (its projection
     onto the profile's centerline), and the plot's eye line moves with it (its x within 2 pixels of the eye's
@@ -14,17 +14,8 @@ def test_the_panel_shows_the_profile_and_the_section_under_the_eye(make_window, 
     from PySide6.QtGui import QColor
 
     from volumen.app._endo_profile import EYE, PAD, section_text
-    from volumen.data import phantom
 
-    torso = phantom("torso")
-    win = make_window(load=False)
-    win.set_volume(torso, "phantom:torso")
-    panel = win.endo_panel
-    aorta = torso.meta["truth"]["aorta"]
-    panel.pick("endo-start", aorta.centerline[0])
-    panel.pick("endo-end", aorta.centerline[-1])
-    task = panel.compute()
-    qtbot.waitUntil(lambda: task.finished, timeout=120000)
+    _, _, panel = torso_flight
     p = panel.model.profile
     view = panel.profile_view
     assert p is not None and view.plot.profile is p

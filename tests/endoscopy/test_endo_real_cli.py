@@ -11,7 +11,7 @@ import pytest
 
 from volumen.cli import _fly, main
 from volumen.cli._common import join_negative_values
-from volumen.endoscopy import Flight, find_lumen
+from volumen.endoscopy import Flight, find_lumen, lumen_wall
 
 TINY = ["--size", "24x24", "--frames", "3", "--no-progress"]
 
@@ -41,7 +41,7 @@ def test_lumen_mask_reproduces_the_grown_flight(tmp_path, torso):
     (the same edge, read two ways), and the three mask flights are identical."""
     colon = torso.meta["truth"]["colon"]
     start, end = colon.centerline[0], colon.centerline[-1]
-    lumen, _ = find_lumen(torso, start, end)
+    lumen = lumen_wall(torso, start, end).mask  # grown as volumen fly grows it: from both points
     labels = np.where(lumen, 3, 0).astype(np.int16)
     labels[:5][~lumen[:5]] = 7  # another structure, around the lumen
     _nifti(tmp_path / "labels.nii.gz", labels.transpose(2, 1, 0), torso.affine)  # nibabel is (i, j, k)

@@ -32,6 +32,7 @@ goes to a temporary name first.
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -136,6 +137,8 @@ def _centerline(args, volume):
     wall = _lumen(args, volume)
     shape_only = " (the wall drawn is the lumen mask's own boundary: the data does not separate lumen and wall)"
     print(wall.estimate.describe(**values_of(volume)) + (shape_only if wall.shape_only else ""))
+    if wall.note:
+        print(wall.note, file=sys.stderr)
     if start is not None:
         cl = checked_centerline(volume, wall.mask, start, end)
     else:

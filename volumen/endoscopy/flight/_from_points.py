@@ -3,7 +3,10 @@
 What ``volumen fly`` and the application's endoscopy panel do alike:
 
 * :func:`lumen_wall` -- the lumen and the wall to draw: grown from the start point with
-  the estimate made there (:func:`~volumen.endoscopy.find_lumen`), or given as a mask,
+  the estimate made there (:func:`~volumen.endoscopy.find_lumen`), and from the end point
+  too when there is one and no range or threshold is given, the larger of the two kept
+  when they agree, the smaller when one leaked
+  (:func:`~volumen.endoscopy.lumen._two_ends.lumen_between`), or given as a mask,
   whose boundary values give the estimate (:func:`estimate_from_mask`); ``--range`` and
   ``--threshold`` override either;
 * :func:`make_flight` -- the :class:`~volumen.endoscopy.Flight` along a centerline: keyframes
@@ -39,8 +42,10 @@ def lumen_wall(volume, start, end=None, *, kind: str = "auto", value_range=None,
     """The :class:`~volumen.endoscopy.LumenWall` of the lumen holding ``start`` (and ``end``), world mm.
 
     ``mask`` (bool ``[z, y, x]`` on the volume's grid): the lumen as given, its estimate from its boundary
-    values; None: grown from ``start`` (:func:`~volumen.endoscopy.find_lumen`). ``value_range`` (lo, hi)
-    and ``threshold`` (data units) override the estimate.
+    values; None: grown from ``start`` (:func:`~volumen.endoscopy.find_lumen`), and from ``end`` too when
+    neither ``value_range`` nor ``threshold`` is given (:func:`~volumen.endoscopy.lumen._two_ends.lumen_between`: the
+    wall's ``note`` says when the two disagreed). ``value_range`` (lo, hi) and ``threshold`` (data units)
+    override the estimate.
 
     Raises
     ------
@@ -50,7 +55,11 @@ def lumen_wall(volume, start, end=None, *, kind: str = "auto", value_range=None,
     from ..lumen._drawn_wall import LumenWall
     from ..lumen._find import find_lumen
     from ..lumen._mask_estimate import estimate_from_mask
+    from ..lumen._two_ends import lumen_between
 
+    if mask is None and end is not None and value_range is None and threshold is None:
+        lumen, est, note = lumen_between(volume, start, end, kind=kind)
+        return LumenWall(lumen, est, note=note)
     if mask is None:
         lumen, est = find_lumen(volume, start, end, kind=kind, value_range=value_range, threshold=threshold)
         return LumenWall(lumen, est)

@@ -77,11 +77,14 @@ class LumenWall:
     estimate : LumenEstimate
     shape_only : bool
         The data does not separate lumen and wall: draw the mask's smoothed boundary.
+    note : str
+        One line for the user on how the lumen was chosen (the two ends' lumens disagreed), else ``""``.
     """
 
     mask: np.ndarray
     estimate: LumenEstimate
     shape_only: bool = False
+    note: str = ""
 
     def volume(self, volume):
         """The field to draw, a :class:`~volumen.core.Volume` on the mask's box (plus a margin), float32 in the

@@ -35,9 +35,10 @@ def no_stand_in(monkeypatch):
     monkeypatch.setenv("VOLUMEN_STANDIN", "0")
 
 
-#: the longest single test (the README's commands in order, 2-2.5 minutes), collected last by name: it goes first,
-#: so one worker runs it while the other starts on the rest and neither waits for it at the end
-FIRST = ("tests/test_readme.py::",)
+#: the longest single tests, collected late by name, go first, so one worker runs them while the other starts on the
+#: rest and neither waits for them at the end: the README's commands in order (about 2 minutes warm) and the CUDA
+#: kernels compiled to PTX (about 1 minute where their sources changed since the last run)
+FIRST = ("tests/test_readme.py::", "tests/render/test_cuda_backend.py::test_kernels_compile_to_ptx")
 
 
 def pytest_collection_modifyitems(session, config, items):

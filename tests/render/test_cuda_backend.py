@@ -58,15 +58,60 @@ def test_bench_on_the_cuda_device_fails_fast(what, tmp_path):
     assert not list(tmp_path.iterdir())  # no table written
 
 
+def _ptx_key(*args: str, patches: bool) -> str:
+    """What a PTX compile's outcome depends on: the contents of every source the CUDA kernels are built from
+    (``volumen/render``, ``volumen/jit``, ``volumen/core``) and of the check script, the compiling packages'
+    releases (Numba, numba-cuda, llvmlite, NVIDIA's libNVVM and NVRTC wheels), the arguments and the patches."""
+    import hashlib
+    from importlib import metadata
+
+    import volumen
+
+    h = hashlib.sha256(repr((args, patches, sys.version)).encode())
+    package = Path(volumen.__file__).resolve().parent
+    for f in sorted(p for d in ("render", "jit", "core") for p in (package / d).rglob("*.py")):
+        h.update(f.relative_to(package).as_posix().encode() + hashlib.sha256(f.read_bytes()).digest())
+    h.update((HERE / "cuda_ptx_check.py").read_bytes())
+    for dist in sorted(metadata.distributions(), key=lambda d: d.metadata["Name"] or ""):
+        name = (dist.metadata["Name"] or "").lower()
+        if any(k in name for k in ("numba", "llvmlite", "nvidia", "cuda")):
+            h.update(f"{name}=={dist.version}".encode())
+    return h.hexdigest()[:24]
+
+
 def _ptx_check(out: Path, *args: str, patches: bool = True) -> subprocess.CompletedProcess:
     """``cuda_ptx_check.py`` in a fresh process, writing the PTX into ``out``; without volumen's patches to Numba's
-    compilers (``VOLUMEN_NUMBA_PATCHES=0``) where ``patches`` is false."""
+    compilers (``VOLUMEN_NUMBA_PATCHES=0``) where ``patches`` is false.
+
+    A compile that succeeded is kept (its output and PTX files) in the kernel folder under :func:`_ptx_key`, as
+    Numba keeps the CPU kernels: the same sources with the same compilers give the same PTX, so a later run of
+    the same code reads them back instead of compiling for a minute; any changed source or release compiles."""
+    import json
+    import shutil
+
+    from volumen.jit import kernel_folder
+
+    kept = kernel_folder() / "ptx-checks" / _ptx_key(*args, patches=patches)
+    if (kept / "result.json").is_file():
+        shutil.copytree(kept, out)
+        r = json.loads((kept / "result.json").read_text())
+        return subprocess.CompletedProcess(r["args"], 0, r["stdout"] + "(kept from an earlier compile of the same "
+                                           "sources)\n", r["stderr"])
     env = dict(os.environ)
     env.pop("NUMBA_ENABLE_CUDASIM", None)
     env["VOLUMEN_NUMBA_PATCHES"] = "1" if patches else "0"
     out.mkdir()
-    return subprocess.run([sys.executable, str(HERE / "cuda_ptx_check.py"), "--cc", "9.0", "--out", str(out), *args],
-                          env=env, capture_output=True, text=True, timeout=900)
+    r = subprocess.run([sys.executable, str(HERE / "cuda_ptx_check.py"), "--cc", "9.0", "--out", str(out), *args],
+                       env=env, capture_output=True, text=True, timeout=900)
+    if r.returncode == 0 and "PTX-SKIP" not in r.stdout:
+        part = kept.with_name(f"{kept.name}.{os.getpid()}")
+        shutil.copytree(out, part, dirs_exist_ok=True)
+        (part / "result.json").write_text(json.dumps({"args": r.args, "stdout": r.stdout, "stderr": r.stderr}))
+        try:
+            part.rename(kept)  # whole or not at all
+        except OSError:
+            shutil.rmtree(part, ignore_errors=True)  # another process kept it first
+    return r
 
 
 def _same_code(path: Path) -> list[str]:

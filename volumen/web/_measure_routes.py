@@ -11,15 +11,17 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-import threading
 
+import highdicom  # noqa: F401 - with the server, not in a request thread: reading an SR needs it
 import numpy as np
 from aiohttp import web
 
+from volumen import pacs  # noqa: F401 - likewise: an SR's study is checked against the scan's files
 from volumen.core import Camera, Scene
 from volumen.errors import MeasurementError, OutsideVolumeError, VolumenError
 from volumen.measure import (
     Plane,
+    _sr_read,  # noqa: F401 - likewise: the SR reader itself
     check_scan,
     check_study,
     pick,
@@ -32,10 +34,6 @@ from volumen.measure import (
 from ._requests import BadRequest, frame_request
 
 __all__ = ["region_answer", "value_answer", "measurements_answer", "pick_answer"]
-
-#: one file read at a time: an SR's first reading imports highdicom and volumen.pacs, which two request threads
-#: must not import at once (Python's import locks can answer that with a _DeadlockError)
-_READING = threading.Lock()
 
 #: the numbers of a region the page is told
 FIELDS = ("mean", "sd", "min", "max", "median", "area_mm2", "voxels", "units")
@@ -88,16 +86,15 @@ def measurements_answer(volume, body: bytes) -> bytes:
     JSON): ``{"measurements": [...]}`` as ``Measurements.to_dicts``; 400 with one line that names neither file nor
     scan for a file that holds none, an SR of another study, measurements of another scan."""
 
-    with _READING:
-        try:
-            items, study = _read_body(body)
-        except (MeasurementError, ValueError, KeyError, TypeError, AttributeError) as exc:
-            raise web.HTTPBadRequest(text=f"the file holds no measurements volumen reads ({type(exc).__name__})"
-                                     ) from None
-        try:
-            check_study(study, volume, "the SR") if study else None
-        except MeasurementError:
-            raise web.HTTPBadRequest(text="the SR is of another study than the scan shown") from None
+    try:
+        items, study = _read_body(body)
+    except (MeasurementError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise web.HTTPBadRequest(text=f"the file holds no measurements volumen reads ({type(exc).__name__})"
+                                 ) from None
+    try:
+        check_study(study, volume, "the SR") if study else None
+    except MeasurementError:
+        raise web.HTTPBadRequest(text="the SR is of another study than the scan shown") from None
     try:
         check_scan(items, volume)
     except MeasurementError:

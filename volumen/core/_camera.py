@@ -197,6 +197,22 @@ class Camera(JsonData):
         row = h / 2 - sy * h / 2
         return np.stack([col, row], axis=-1), depth
 
+    def pixel_ray(self, size: tuple[int, int], col, row) -> tuple[np.ndarray, np.ndarray]:
+        """The rays through image points, :meth:`project` backwards: ``(origin, unit direction)``, (..., 3) world mm
+        each, for continuous ``(col, row)`` (scalars or arrays; pixel ``(c, r)`` covers ``[c, c+1) x [r, r+1)``,
+        its centre at ``c + 0.5, r + 0.5``) of a picture of ``size = (width, height)``: from the eye (perspective)
+        or from the image plane's point (orthographic)."""
+        w, h = size
+        right, up, forward = self.basis()
+        sx = (np.asarray(col, float) - w / 2) * 2.0 / h
+        sy = (h / 2 - np.asarray(row, float)) * 2.0 / h
+        plane = sx[..., None] * right + sy[..., None] * up
+        eye = np.asarray(self.position, float)
+        if self.projection == "orthographic":
+            return eye + plane * self.parallel_scale, np.broadcast_to(forward, plane.shape)
+        d = forward + np.tan(np.radians(self.fov) / 2) * plane
+        return np.broadcast_to(eye, d.shape), d / np.linalg.norm(d, axis=-1, keepdims=True)
+
     # -- framing a volume ---------------------------------------------------
     @classmethod
     def anatomical(cls, volume, view: View | None = None, *, projection: Projection = "perspective",

@@ -24,16 +24,8 @@ _NARROW_SCALE = 1e-3
 
 def pixel_ray(camera, size: tuple[int, int], x: float, y: float) -> tuple[np.ndarray, np.ndarray]:
     """``(origin, unit direction)`` in world mm of the ray through the picture's point ``(x, y)`` (continuous
-    pixels, ``(0, 0)`` the top-left corner; ``Camera.project`` backwards)."""
-    w, h = size
-    right, up, forward = camera.basis()
-    sx, sy = (x - w / 2) / (h / 2), (h / 2 - y) / (h / 2)
-    eye = np.asarray(camera.position, float)
-    if camera.projection == "orthographic":
-        return eye + (sx * right + sy * up) * camera.parallel_scale, forward
-    half = np.tan(np.radians(camera.fov) / 2)
-    d = forward + half * (sx * right + sy * up)
-    return eye, d / np.linalg.norm(d)
+    pixels, ``(0, 0)`` the top-left corner): ``Camera.pixel_ray``."""
+    return camera.pixel_ray(size, x, y)
 
 
 def pick(scene, camera, size: tuple[int, int], x: float, y: float, device: str = "cpu") -> np.ndarray | None:

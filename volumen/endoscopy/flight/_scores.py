@@ -69,12 +69,8 @@ def pixel_rays(camera, size) -> np.ndarray:
     """Unit world directions (H, W, 3) of a perspective camera's pixel centres for ``size = (width, height)``
     (the rays whose depths a renderer writes)."""
     w, h = size
-    r, u, f = camera.basis()
-    half = np.tan(np.radians(camera.fov) / 2)
-    sx = ((np.arange(w) + 0.5) - w / 2) * 2.0 / h
-    sy = (h / 2 - (np.arange(h) + 0.5)) * 2.0 / h
-    d = f[None, None, :] + half * (sx[None, :, None] * r[None, None, :] + sy[:, None, None] * u[None, None, :])
-    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+    col, row = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    return camera.pixel_ray(size, col, row)[1]
 
 
 @njit(cache=True, nogil=True)

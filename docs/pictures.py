@@ -61,6 +61,7 @@ PICTURES: dict[str, tuple[Panel, ...]] = {
     "tagged-colon.png": (Panel("tagged-colon.mp4", times=(0, 1 / 4, 1 / 2, 3 / 4)),),
     "aorta-cinematic.png": (Panel("aorta-cinematic.png"),),
     "labels-organs.png": (Panel("organs.png"),),
+    "aorta-profile.png": (Panel("aorta-report/", "profile.png"),),
 }
 
 
